@@ -1,0 +1,70 @@
+"""Oriented bounding box (chapter slide "Oriented bounding box OBB": 15 values — position (3),
+orientation (9), extent (3)). Ericson, *Real-Time Collision Detection*, section 4.4.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from .._validate import as_float_array
+
+#: how far ``axes @ axes.T`` may be from the identity before the axes are rejected as not orthonormal
+ORTHONORMAL_TOL = 1e-9
+
+
+class OBB:
+    """An oriented box: ``center`` (3,), ``axes`` (3, 3) whose ROWS are the box's unit axes, ``half_extents`` (3,).
+
+    A point p lies in the box iff ``|axes[k] @ (p - center)| <= half_extents[k]`` for k = 0, 1, 2.
+    The axes must be orthonormal (to ``ORTHONORMAL_TOL``); a left-handed frame is accepted (it spans the same
+    box). The arrays are copied and made read-only, so an OBB never aliases the caller's arrays.
+    """
+
+    __slots__ = ("center", "axes", "half_extents")
+
+    def __init__(self, center, axes, half_extents):
+        center = as_float_array(center, "center", shape=(3,))
+        axes = as_float_array(axes, "axes", shape=(3, 3))
+        half_extents = as_float_array(half_extents, "half_extents", shape=(3,))
+        if (half_extents < 0).any():
+            k = int(np.argmax(half_extents < 0))
+            raise ValueError(f"half_extents must be >= 0: half_extents[{k}] = {half_extents[k]!r}")
+        err = np.abs(axes @ axes.T - np.eye(3)).max()
+        if err > ORTHONORMAL_TOL:
+            raise ValueError(f"axes must be orthonormal rows (max |A A^T - I| = {err:.3g} > {ORTHONORMAL_TOL})")
+        for arr in (center, axes, half_extents):
+            arr.setflags(write=False)
+        self.center = center
+        self.axes = axes
+        self.half_extents = half_extents
+
+    @classmethod
+    def from_aabb(cls, lo, hi) -> OBB:
+        """The OBB equal to the axis-aligned box [lo, hi] (both (3,))."""
+        lo = as_float_array(lo, "lo", shape=(3,))
+        hi = as_float_array(hi, "hi", shape=(3,))
+        if (lo > hi).any():
+            k = int(np.argmax(lo > hi))
+            raise ValueError(f"lo must be <= hi: lo[{k}] = {lo[k]!r} > hi[{k}] = {hi[k]!r}")
+        return cls((lo + hi) / 2.0, np.eye(3), (hi - lo) / 2.0)
+
+    def corners(self) -> np.ndarray:
+        """The 8 corners, shape (8, 3), in the order of the sign pattern (-,-,-), (+,-,-), (-,+,-), ..."""
+        signs = np.array([[(i >> 0) & 1, (i >> 1) & 1, (i >> 2) & 1] for i in range(8)], dtype=np.float64)
+        signs = 2.0 * signs - 1.0
+        return self.center + (signs * self.half_extents) @ self.axes
+
+    def contains(self, points) -> np.ndarray:
+        """Boolean (n,): which of ``points`` (n, 3) lie in the closed box."""
+        pts = as_float_array(points, "points", shape=(None, 3))
+        local = (pts - self.center) @ self.axes.T
+        return (np.abs(local) <= self.half_extents).all(axis=1)
+
+    def transformed(self, rotation, translation) -> OBB:
+        """The box moved by x -> rotation @ x + translation (rotation (3, 3) orthonormal, translation (3,))."""
+        rotation = as_float_array(rotation, "rotation", shape=(3, 3))
+        translation = as_float_array(translation, "translation", shape=(3,))
+        return OBB(rotation @ self.center + translation, self.axes @ rotation.T, self.half_extents)
+
+    def __repr__(self) -> str:
+        return (f"OBB(center={self.center.tolist()}, axes={self.axes.tolist()}, "
+                f"half_extents={self.half_extents.tolist()})")
