@@ -1,0 +1,71 @@
+"""Classical fourth-order Runge–Kutta on the state vector Y(t) = (position, velocity).
+
+Chapter: "Reprendre le code de la chute libre avec frottements (avec RK4)" and the cube "Application":
+"Utilisez la méthode d'intégration RK4 pour mettre à jour la position et la vitesse à chaque frame".
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from .._validate import as_float, as_float_array
+
+__all__ = ["rk4_step", "state_vector", "split_state"]
+
+
+def state_vector(position, velocity) -> np.ndarray:
+    """Y = (position, velocity) as one flat float64 vector of shape (2d,), for positions and velocities (d,)."""
+    p = as_float_array(np.atleast_1d(position), "position", ndim=1)
+    v = as_float_array(np.atleast_1d(velocity), "velocity", ndim=1)
+    if p.shape != v.shape:
+        raise ValueError(f"position and velocity must have the same shape, got {p.shape} and {v.shape}")
+    return np.concatenate([p, v])
+
+
+def split_state(y) -> tuple[np.ndarray, np.ndarray]:
+    """The inverse of ``state_vector``: (position (d,), velocity (d,)) views of Y (2d,)."""
+    y = np.asarray(y)
+    if y.ndim != 1 or y.shape[0] % 2:
+        raise ValueError(f"y must be a flat state vector of even length, got shape {y.shape}")
+    d = y.shape[0] // 2
+    return y[:d], y[d:]
+
+
+def rk4_step(f, t, y, dt):
+    """One classical RK4 step of dY/dt = f(t, Y): returns Y(t + dt), a new array shaped like ``y``.
+
+    ``f(t, y)`` must return an array of ``y``'s shape. ``y`` may have any shape (a scalar gives a float).
+    ``dt`` may be negative (integration backwards) or zero. The caller's ``y`` is never modified.
+
+        k1 = f(t, Y)
+        k2 = f(t + dt/2, Y + dt/2 k1)
+        k3 = f(t + dt/2, Y + dt/2 k2)
+        k4 = f(t + dt,   Y + dt k3)
+        Y(t + dt) = Y + dt/6 (k1 + 2 k2 + 2 k3 + k4)
+
+    Raises ValueError when ``t``, ``dt`` or ``y`` are not finite, when ``f`` returns the wrong shape, or when
+    the step produces a non-finite state (so no NaN escapes).
+    """
+    if not callable(f):
+        raise TypeError(f"f must be callable f(t, y), got {type(f).__name__}")
+    t = as_float(t, "t")
+    dt = as_float(dt, "dt")
+    scalar = np.ndim(y) == 0
+    y0 = as_float_array(np.atleast_1d(y), "y")
+
+    def slope(ti, yi, stage):
+        k = np.asarray(f(ti, yi[0] if scalar else yi), dtype=np.float64)
+        if scalar:
+            k = np.atleast_1d(k)
+        if k.shape != y0.shape:
+            raise ValueError(f"f returned shape {k.shape} at stage {stage}; expected the shape of y, {y0.shape}")
+        return k
+
+    half = 0.5 * dt
+    k1 = slope(t, y0, "k1")
+    k2 = slope(t + half, y0 + half * k1, "k2")
+    k3 = slope(t + half, y0 + half * k2, "k3")
+    k4 = slope(t + dt, y0 + dt * k3, "k4")
+    y1 = y0 + (dt / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
+    if not np.isfinite(y1).all():
+        raise ValueError("the RK4 step produced a non-finite state (f returned NaN/inf or the step overflowed)")
+    return float(y1[0]) if scalar else y1
