@@ -1,0 +1,532 @@
+"""Narrow-phase tests between primitive shapes: the chapter's bounding-volume slides, one test per shape pair.
+
+- sphere–sphere (slide "Bounding sphere": collision iff d < r_A + r_B; "11 opérations primitives": 3
+  subtractions, 3 products, 2 sums for |c_A − c_B|², 1 sum and 1 product for (r_A + r_B)², 1 comparison — no
+  square root). Touching counts as contact here (<=), like every closed test of the engine;
+- AABB–AABB (slide "AABB": overlap of the projections on every axis), Ericson 4.2.1;
+- sphere–AABB and sphere–OBB: the closest point of the box to the centre, Ericson 5.2.5 and 5.2.6;
+- circle–segment (slide "une balle qui touche une raquette": circle against any segment) and sphere–capsule:
+  the distance from the centre to the segment, Ericson 5.1.2;
+- flat ground at altitude a (slide "sol plat": if the bottom of the bounding box is above a, no collision);
+- curved ground y = f(x) (slide "Sol courbe": the bottom-middle point of the AABB against f, "il suffit de voir si
+  f(x) > y") and the exact test of a box or a circle against the region under the curve.
+
+"Up" is the y axis (column 1), as on the slides; 2-D shapes use (x, y) and 3-D shapes (x, y, z).
+
+Every test has a single-pair form returning a bool and a ``*_batch`` form over arrays of pairs in one compiled
+call. Batched forms share one convention (the one a dispatch table shape kind × shape kind calls): without index
+arrays, pair p is row p of the A arrays against row p of the B arrays; with ``index_a``, ``index_b`` (k,) int,
+pair p is row ``index_a[p]`` of A against row ``index_b[p]`` of B.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from .._config import njit
+from .._validate import as_float, as_float_array, as_nonnegative
+from ..bounding.obb import ORTHONORMAL_TOL, OBB
+from .sat import pair_indices
+
+__all__ = [
+    "overlap_sphere_sphere", "overlap_sphere_sphere_batch",
+    "overlap_aabb_aabb", "overlap_aabb_aabb_batch",
+    "overlap_sphere_aabb", "overlap_sphere_aabb_batch",
+    "overlap_sphere_obb", "overlap_sphere_obb_batch",
+    "distance_point_segment", "overlap_circle_segment", "overlap_circle_segment_batch",
+    "overlap_sphere_capsule", "overlap_sphere_capsule_batch",
+    "overlap_aabb_ground", "overlap_aabb_ground_batch", "overlap_sphere_ground_batch",
+    "overlap_aabb_curve_bottom_middle", "overlap_aabb_curve", "overlap_circle_curve", "max_on_intervals",
+    "min_distance_to_curve",
+]
+
+UP = 1  # the y axis, "up" on the chapter's slides
+
+
+# ---------------------------------------------------------------------------------------------------------------
+# kernels (one per test, a batch loop beside each)
+# ---------------------------------------------------------------------------------------------------------------
+
+@njit
+def _overlap_sphere_sphere(ca, ra, cb, rb):
+    """Slide "Bounding sphere": collision iff d <= rA + rB, squared — 11 primitive operations."""
+    dx = ca[0] - cb[0]
+    dy = ca[1] - cb[1]
+    dz = ca[2] - cb[2]
+    s = ra + rb
+    return dx * dx + dy * dy + dz * dz <= s * s
+
+
+@njit
+def _overlap_sphere_sphere_batch(ca, ra, cb, rb, ia, ib, out):
+    for p in range(out.shape[0]):
+        out[p] = _overlap_sphere_sphere(ca[ia[p]], ra[ia[p]], cb[ib[p]], rb[ib[p]])
+
+
+@njit
+def _overlap_aabb_aabb(lo_a, hi_a, lo_b, hi_b):
+    """Slide "AABB": the boxes overlap iff their projections overlap on every axis (Ericson 4.2.1)."""
+    for k in range(lo_a.shape[0]):
+        if hi_a[k] < lo_b[k] or hi_b[k] < lo_a[k]:
+            return False
+    return True
+
+
+@njit
+def _overlap_aabb_aabb_batch(lo_a, hi_a, lo_b, hi_b, ia, ib, out):
+    for p in range(out.shape[0]):
+        out[p] = _overlap_aabb_aabb(lo_a[ia[p]], hi_a[ia[p]], lo_b[ib[p]], hi_b[ib[p]])
+
+
+@njit
+def _sq_distance_point_aabb(c, lo, hi):
+    """Ericson 5.1.3.1 SqDistPointAABB: squared distance from point c to the box [lo, hi]."""
+    s = 0.0
+    for k in range(c.shape[0]):
+        v = c[k]
+        if v < lo[k]:
+            s += (lo[k] - v) * (lo[k] - v)
+        elif v > hi[k]:
+            s += (v - hi[k]) * (v - hi[k])
+    return s
+
+
+@njit
+def _overlap_sphere_aabb_batch(c, r, lo, hi, ia, ib, out):
+    # Ericson 5.2.5 TestSphereAABB
+    for p in range(out.shape[0]):
+        i = ia[p]
+        out[p] = _sq_distance_point_aabb(c[i], lo[ib[p]], hi[ib[p]]) <= r[i] * r[i]
+
+
+@njit
+def _sq_distance_point_obb(c, bc, axes, half):
+    """Ericson 5.1.4.2 SqDistPointOBB: project c − centre on each box axis, clamp, accumulate the excess."""
+    dx = c[0] - bc[0]
+    dy = c[1] - bc[1]
+    dz = c[2] - bc[2]
+    s = 0.0
+    for k in range(3):
+        d = dx * axes[k, 0] + dy * axes[k, 1] + dz * axes[k, 2]
+        excess = 0.0
+        if d < -half[k]:
+            excess = d + half[k]
+        elif d > half[k]:
+            excess = d - half[k]
+        s += excess * excess
+    return s
+
+
+@njit
+def _overlap_sphere_obb_batch(c, r, bc, axes, half, ia, ib, out):
+    # Ericson 5.2.6 TestSphereOBB
+    for p in range(out.shape[0]):
+        i = ia[p]
+        j = ib[p]
+        out[p] = _sq_distance_point_obb(c[i], bc[j], axes[j], half[j]) <= r[i] * r[i]
+
+
+@njit
+def _sq_distance_point_segment(c, p0, p1):
+    """Ericson 5.1.2.1 SqDistPointSegment, any dimension."""
+    ab2 = 0.0
+    acab = 0.0
+    for k in range(c.shape[0]):
+        ab = p1[k] - p0[k]
+        ab2 += ab * ab
+        acab += (c[k] - p0[k]) * ab
+    t = 0.0
+    if ab2 > 0.0:
+        t = min(max(acab / ab2, 0.0), 1.0)
+    s = 0.0
+    for k in range(c.shape[0]):
+        d = c[k] - (p0[k] + t * (p1[k] - p0[k]))
+        s += d * d
+    return s
+
+
+@njit
+def _overlap_sphere_segment_batch(c, r, p0, p1, rs, ia, ib, out):
+    """Circle/sphere of radius r against the segment [p0, p1] swept by a ball of radius rs (capsule)."""
+    for p in range(out.shape[0]):
+        i = ia[p]
+        j = ib[p]
+        s = r[i] + rs[j]
+        out[p] = _sq_distance_point_segment(c[i], p0[j], p1[j]) <= s * s
+
+
+@njit
+def _distance_point_segment_batch(c, p0, p1, out):
+    for p in range(out.shape[0]):
+        out[p] = np.sqrt(_sq_distance_point_segment(c[p], p0[p], p1[p]))
+
+
+@njit
+def _overlap_ground_batch(bottom, altitude, out):
+    """Slide "sol plat": no collision iff the bottom of the bounding box is above the altitude a."""
+    for p in range(out.shape[0]):
+        out[p] = not (bottom[p] > altitude[p])
+
+
+# ---------------------------------------------------------------------------------------------------------------
+# validation helpers
+# ---------------------------------------------------------------------------------------------------------------
+
+def _radii(value, name: str, n: int) -> np.ndarray:
+    arr = np.asarray(value)
+    if arr.ndim == 0:
+        arr = np.full(n, as_nonnegative(value, name))
+    else:
+        arr = as_float_array(arr, name, shape=(n,))
+    if (arr < 0).any():
+        i = int(np.argmax(arr < 0))
+        raise ValueError(f"{name} must be >= 0: {name}[{i}] = {arr[i]!r}")
+    return arr
+
+
+def _boxes(lo, hi, name_lo: str, name_hi: str, dims=(1, 2, 3)):
+    lo = as_float_array(lo, name_lo, ndim=2)
+    hi = as_float_array(hi, name_hi, shape=lo.shape)
+    if lo.shape[1] not in dims:
+        raise ValueError(f"{name_lo} must have {' or '.join(map(str, dims))} columns, got shape {lo.shape}")
+    if (lo > hi).any():
+        i, k = (int(x) for x in np.argwhere(lo > hi)[0])
+        raise ValueError(f"{name_lo} must be <= {name_hi}: {name_lo}[{i}, {k}] = {lo[i, k]!r} > "
+                         f"{name_hi}[{i}, {k}] = {hi[i, k]!r}")
+    return lo, hi
+
+
+def _one(value, name, d=None):
+    """A single point as a (1, d) array."""
+    arr = as_float_array(value, name, ndim=1)
+    if d is not None and arr.shape[0] not in ((d,) if isinstance(d, int) else d):
+        raise ValueError(f"{name} must have shape ({d},), got {arr.shape}")
+    return arr[None, :]
+
+
+def _obbs(centers, axes, half_extents):
+    c = as_float_array(centers, "box_centers", shape=(None, 3))
+    r = as_float_array(axes, "box_axes", shape=(c.shape[0], 3, 3))
+    e = as_float_array(half_extents, "box_half_extents", shape=(c.shape[0], 3))
+    if (e < 0).any():
+        i, k = (int(x) for x in np.argwhere(e < 0)[0])
+        raise ValueError(f"box_half_extents must be >= 0: box_half_extents[{i}, {k}] = {e[i, k]!r}")
+    if c.shape[0]:
+        err = np.abs(np.einsum("nij,nkj->nik", r, r) - np.eye(3)).max(axis=(1, 2))
+        if (err > ORTHONORMAL_TOL).any():
+            i = int(np.argmax(err > ORTHONORMAL_TOL))
+            raise ValueError(f"box_axes[{i}] must be orthonormal rows (max |A A^T - I| = {err[i]:.3g})")
+    return c, r, e
+
+
+# ---------------------------------------------------------------------------------------------------------------
+# sphere–sphere, AABB–AABB, sphere–AABB, sphere–OBB
+# ---------------------------------------------------------------------------------------------------------------
+
+def overlap_sphere_sphere_batch(centers_a, radii_a, centers_b, radii_b, index_a=None, index_b=None):
+    """Spheres (n, 3) with radii (n,) or a scalar against spheres (m, 3); bool (k,): |c_a − c_b| <= r_a + r_b."""
+    ca = as_float_array(centers_a, "centers_a", shape=(None, 3))
+    cb = as_float_array(centers_b, "centers_b", shape=(None, 3))
+    ra = _radii(radii_a, "radii_a", ca.shape[0])
+    rb = _radii(radii_b, "radii_b", cb.shape[0])
+    ia, ib = pair_indices(ca.shape[0], cb.shape[0], index_a, index_b)
+    out = np.empty(ia.shape[0], np.bool_)
+    _overlap_sphere_sphere_batch(ca, ra, cb, rb, ia, ib, out)
+    return out
+
+
+def overlap_sphere_sphere(center_a, radius_a, center_b, radius_b) -> bool:
+    """Two spheres (centres (3,), radii >= 0) touch or overlap: |c_a − c_b| <= r_a + r_b."""
+    return bool(overlap_sphere_sphere_batch(_one(center_a, "center_a", 3), [as_nonnegative(radius_a, "radius_a")],
+                                            _one(center_b, "center_b", 3),
+                                            [as_nonnegative(radius_b, "radius_b")])[0])
+
+
+def overlap_aabb_aabb_batch(lo_a, hi_a, lo_b, hi_b, index_a=None, index_b=None):
+    """Closed boxes [lo_a, hi_a] (n, d) against [lo_b, hi_b] (m, d), d = 1, 2 or 3; bool (k,)."""
+    la, ha = _boxes(lo_a, hi_a, "lo_a", "hi_a")
+    lb, hb = _boxes(lo_b, hi_b, "lo_b", "hi_b")
+    if la.shape[1] != lb.shape[1]:
+        raise ValueError(f"lo_a and lo_b must have the same dimension, got {la.shape[1]} and {lb.shape[1]}")
+    ia, ib = pair_indices(la.shape[0], lb.shape[0], index_a, index_b)
+    out = np.empty(ia.shape[0], np.bool_)
+    _overlap_aabb_aabb_batch(la, ha, lb, hb, ia, ib, out)
+    return out
+
+
+def overlap_aabb_aabb(lo_a, hi_a, lo_b, hi_b) -> bool:
+    """Two closed boxes, corners (d,) each: True when they overlap or touch."""
+    return bool(overlap_aabb_aabb_batch(_one(lo_a, "lo_a"), _one(hi_a, "hi_a"), _one(lo_b, "lo_b"),
+                                        _one(hi_b, "hi_b"))[0])
+
+
+def overlap_sphere_aabb_batch(centers, radii, lo, hi, index_a=None, index_b=None):
+    """Spheres (n, d) with radii (n,) or a scalar against closed boxes [lo, hi] (m, d); bool (k,)."""
+    c = as_float_array(centers, "centers", ndim=2)
+    r = _radii(radii, "radii", c.shape[0])
+    lo, hi = _boxes(lo, hi, "lo", "hi")
+    if c.shape[1] != lo.shape[1]:
+        raise ValueError(f"centers and lo must have the same dimension, got {c.shape[1]} and {lo.shape[1]}")
+    ia, ib = pair_indices(c.shape[0], lo.shape[0], index_a, index_b)
+    out = np.empty(ia.shape[0], np.bool_)
+    _overlap_sphere_aabb_batch(c, r, lo, hi, ia, ib, out)
+    return out
+
+
+def overlap_sphere_aabb(center, radius, lo, hi) -> bool:
+    """A sphere (centre (d,), radius) against the closed box [lo, hi] (d,)."""
+    return bool(overlap_sphere_aabb_batch(_one(center, "center"), [as_nonnegative(radius, "radius")],
+                                          _one(lo, "lo"), _one(hi, "hi"))[0])
+
+
+def overlap_sphere_obb_batch(centers, radii, box_centers, box_axes, box_half_extents, index_a=None, index_b=None):
+    """Spheres (n, 3), radii (n,) or scalar, against oriented boxes: centres (m, 3), axes (m, 3, 3) (rows are the
+    unit axes), half extents (m, 3). Returns bool (k,)."""
+    c = as_float_array(centers, "centers", shape=(None, 3))
+    r = _radii(radii, "radii", c.shape[0])
+    bc, ba, be = _obbs(box_centers, box_axes, box_half_extents)
+    ia, ib = pair_indices(c.shape[0], bc.shape[0], index_a, index_b)
+    out = np.empty(ia.shape[0], np.bool_)
+    _overlap_sphere_obb_batch(c, r, bc, ba, be, ia, ib, out)
+    return out
+
+
+def overlap_sphere_obb(center, radius, box: OBB) -> bool:
+    """A sphere (centre (3,), radius) against an ``OBB``."""
+    if not isinstance(box, OBB):
+        raise TypeError(f"box must be an engine.bounding.obb.OBB, got {type(box).__name__}")
+    return bool(overlap_sphere_obb_batch(_one(center, "center", 3), [as_nonnegative(radius, "radius")],
+                                         box.center[None], box.axes[None], box.half_extents[None])[0])
+
+
+# ---------------------------------------------------------------------------------------------------------------
+# ball and paddle: circle–segment, sphere–capsule
+# ---------------------------------------------------------------------------------------------------------------
+
+def distance_point_segment(points, p0, p1) -> np.ndarray:
+    """Distance from points (n, d) to segments [p0, p1] (n, d) row by row, d = 2 or 3; (n,)."""
+    c = as_float_array(points, "points", ndim=2)
+    a = as_float_array(p0, "p0", shape=c.shape)
+    b = as_float_array(p1, "p1", shape=c.shape)
+    out = np.empty(c.shape[0])
+    _distance_point_segment_batch(c, a, b, out)
+    return out
+
+
+def _segments(p0, p1, d):
+    a = as_float_array(p0, "p0", shape=(None, d))
+    b = as_float_array(p1, "p1", shape=a.shape)
+    return a, b
+
+
+def overlap_circle_segment_batch(centers, radii, p0, p1, index_a=None, index_b=None):
+    """Circles (n, 2), radii (n,) or scalar, against segments [p0, p1] (m, 2) — the ball and the paddle.
+    Returns bool (k,): the distance from the centre to the segment is <= the radius."""
+    c = as_float_array(centers, "centers", shape=(None, 2))
+    r = _radii(radii, "radii", c.shape[0])
+    a, b = _segments(p0, p1, 2)
+    ia, ib = pair_indices(c.shape[0], a.shape[0], index_a, index_b)
+    out = np.empty(ia.shape[0], np.bool_)
+    _overlap_sphere_segment_batch(c, r, a, b, np.zeros(a.shape[0]), ia, ib, out)
+    return out
+
+
+def overlap_circle_segment(center, radius, p0, p1) -> bool:
+    """A circle (centre (2,), radius) against the segment [p0, p1] ((2,) each), e.g. a ball and a paddle."""
+    return bool(overlap_circle_segment_batch(_one(center, "center", 2), [as_nonnegative(radius, "radius")],
+                                             _one(p0, "p0", 2), _one(p1, "p1", 2))[0])
+
+
+def overlap_sphere_capsule_batch(centers, radii, p0, p1, capsule_radii, index_a=None, index_b=None):
+    """Spheres (n, 3), radii (n,) or scalar, against capsules: segment [p0, p1] (m, 3) swept by a ball of radius
+    ``capsule_radii`` (m,) or scalar. Returns bool (k,)."""
+    c = as_float_array(centers, "centers", shape=(None, 3))
+    r = _radii(radii, "radii", c.shape[0])
+    a, b = _segments(p0, p1, 3)
+    rc = _radii(capsule_radii, "capsule_radii", a.shape[0])
+    ia, ib = pair_indices(c.shape[0], a.shape[0], index_a, index_b)
+    out = np.empty(ia.shape[0], np.bool_)
+    _overlap_sphere_segment_batch(c, r, a, b, rc, ia, ib, out)
+    return out
+
+
+def overlap_sphere_capsule(center, radius, p0, p1, capsule_radius) -> bool:
+    """A sphere (centre (3,), radius) against the capsule of axis [p0, p1] ((3,) each) and radius capsule_radius."""
+    return bool(overlap_sphere_capsule_batch(_one(center, "center", 3), [as_nonnegative(radius, "radius")],
+                                             _one(p0, "p0", 3), _one(p1, "p1", 3),
+                                             [as_nonnegative(capsule_radius, "capsule_radius")])[0])
+
+
+# ---------------------------------------------------------------------------------------------------------------
+# flat ground
+# ---------------------------------------------------------------------------------------------------------------
+
+def overlap_aabb_ground_batch(lo, hi, altitude):
+    """Boxes [lo, hi] (n, d), d = 2 or 3, against the flat ground y = altitude (scalar or (n,)); bool (n,).
+
+    Slide "sol plat": if the bottom of the bounding box (lo[:, 1]) is above ``altitude``, no collision.
+    """
+    lo, hi = _boxes(lo, hi, "lo", "hi", dims=(2, 3))
+    alt = np.asarray(altitude)
+    alt = np.full(lo.shape[0], as_float(altitude, "altitude")) if alt.ndim == 0 else \
+        as_float_array(alt, "altitude", shape=(lo.shape[0],))
+    out = np.empty(lo.shape[0], np.bool_)
+    _overlap_ground_batch(np.ascontiguousarray(lo[:, UP]), alt, out)
+    return out
+
+
+def overlap_aabb_ground(lo, hi, altitude) -> bool:
+    """One box [lo, hi] ((2,) or (3,)) against the ground y = altitude: True unless the box is above it."""
+    return bool(overlap_aabb_ground_batch(_one(lo, "lo", (2, 3)), _one(hi, "hi", (2, 3)), altitude)[0])
+
+
+def overlap_sphere_ground_batch(centers, radii, altitude):
+    """Spheres or circles (n, d), d = 2 or 3, radii (n,) or scalar, against the ground y = altitude; bool (n,):
+    the lowest point c_y − r is not above the ground."""
+    c = as_float_array(centers, "centers", ndim=2)
+    if c.shape[1] not in (2, 3):
+        raise ValueError(f"centers must have 2 or 3 columns, got shape {c.shape}")
+    r = _radii(radii, "radii", c.shape[0])
+    alt = np.asarray(altitude)
+    alt = np.full(c.shape[0], as_float(altitude, "altitude")) if alt.ndim == 0 else \
+        as_float_array(alt, "altitude", shape=(c.shape[0],))
+    out = np.empty(c.shape[0], np.bool_)
+    _overlap_ground_batch(c[:, UP] - r, alt, out)
+    return out
+
+
+# ---------------------------------------------------------------------------------------------------------------
+# curved ground y = f(x), f a vectorised callable: the region y <= f(x) is solid
+# ---------------------------------------------------------------------------------------------------------------
+
+_GOLDEN = (np.sqrt(5.0) - 1.0) / 2.0
+
+
+def _evaluate(f, x: np.ndarray) -> np.ndarray:
+    """f on an array of abscissae, checked: same shape, real, finite (no NaN escapes)."""
+    if not callable(f):
+        raise TypeError(f"f must be a vectorised callable, got {type(f).__name__}")
+    y = np.asarray(f(x))
+    if y.shape != x.shape:
+        y = np.broadcast_to(y, x.shape) if y.ndim == 0 else y
+    if y.shape != x.shape:
+        raise ValueError(f"f must be vectorised: f(x) for x of shape {x.shape} returned shape {y.shape}")
+    y = np.asarray(y, dtype=np.float64)
+    if not np.isfinite(y).all():
+        i = np.argwhere(~np.isfinite(y))[0]
+        raise ValueError(f"f returned a non-finite value {y[tuple(i)]!r} at x = {x[tuple(i)]!r}")
+    return y
+
+
+def _golden_search(g, a, b, iterations):
+    """Vectorised golden-section minimisation of g on the brackets [a, b] (n,); returns (x, g(x))."""
+    c = b - _GOLDEN * (b - a)
+    d = a + _GOLDEN * (b - a)
+    gc = g(c)
+    gd = g(d)
+    for _ in range(iterations):
+        left = gc <= gd
+        b = np.where(left, d, b)
+        a = np.where(left, a, c)
+        new_c = b - _GOLDEN * (b - a)
+        new_d = a + _GOLDEN * (b - a)
+        # one of the two interior points is reused, but evaluate both vectorised (simpler, same call count)
+        c, d = new_c, new_d
+        gc = g(c)
+        gd = g(d)
+    x = np.where(gc <= gd, c, d)
+    return x, np.minimum(gc, gd)
+
+
+def _minimize_on_intervals(g, lo, hi, samples: int, iterations: int = 60):
+    """min over x in [lo_i, hi_i] of g_i(x) for every i: dense sampling, then golden-section refinement around
+    the best sample. ``g(x, rows)`` evaluates the i-th objective at x for rows i (vectorised)."""
+    n = lo.shape[0]
+    t = np.linspace(0.0, 1.0, samples)
+    xs = lo[:, None] + (hi - lo)[:, None] * t[None, :]
+    rows = np.repeat(np.arange(n), samples)
+    vals = g(xs.ravel(), rows).reshape(n, samples)
+    k = np.argmin(vals, axis=1)
+    best_x = xs[np.arange(n), k]
+    best = vals[np.arange(n), k]
+    left = xs[np.arange(n), np.maximum(k - 1, 0)]
+    right = xs[np.arange(n), np.minimum(k + 1, samples - 1)]
+    idx = np.arange(n)
+    x, v = _golden_search(lambda x: g(x, idx), left, right, iterations)
+    better = v < best
+    return np.where(better, x, best_x), np.where(better, v, best)
+
+
+def _check_samples(samples) -> int:
+    if isinstance(samples, bool) or not isinstance(samples, int | np.integer):
+        raise TypeError(f"samples must be an int, got {type(samples).__name__}")
+    if samples < 2:
+        raise ValueError(f"samples must be >= 2, got {samples}")
+    return int(samples)
+
+
+def max_on_intervals(f, lo_x, hi_x, *, samples: int = 64):
+    """max of f over [lo_x[i], hi_x[i]] for every i ((n,) each): ``(x_at_max (n,), f_max (n,))``.
+
+    Robust for continuous f: ``samples`` evenly spaced evaluations per interval (one vectorised call), then a
+    golden-section refinement around the best sample. A peak narrower than the sample spacing may be missed;
+    raise ``samples`` for wiggly curves.
+    """
+    lo_x = as_float_array(lo_x, "lo_x", ndim=1)
+    hi_x = as_float_array(hi_x, "hi_x", shape=lo_x.shape)
+    samples = _check_samples(samples)
+    if (lo_x > hi_x).any():
+        i = int(np.argmax(lo_x > hi_x))
+        raise ValueError(f"lo_x must be <= hi_x: lo_x[{i}] = {lo_x[i]!r} > hi_x[{i}] = {hi_x[i]!r}")
+    if lo_x.shape[0] == 0:
+        return np.empty(0), np.empty(0)
+    x, v = _minimize_on_intervals(lambda x, rows: -_evaluate(f, x), lo_x, hi_x, samples)
+    return x, -v
+
+
+def overlap_aabb_curve_bottom_middle(lo, hi, f):
+    """The slide's test of boxes [lo, hi] (n, 2 or 3) against the ground y <= f(x): only the bottom-middle point
+    (x = (lo_x + hi_x)/2, y = lo_y) is tested — contact iff f(x) >= y. bool (n,). Fast, but misses a box whose
+    corner dips under a bump of the curve (see ``overlap_aabb_curve``)."""
+    lo, hi = _boxes(lo, hi, "lo", "hi", dims=(2, 3))
+    x = 0.5 * (lo[:, 0] + hi[:, 0])
+    return _evaluate(f, x) >= lo[:, UP]
+
+
+def overlap_aabb_curve(lo, hi, f, *, samples: int = 64):
+    """Exact test of boxes [lo, hi] (n, 2 or 3) against the solid region y <= f(x): a box meets it iff its bottom
+    lo_y is not above max f over [lo_x, hi_x] (found by ``max_on_intervals``). bool (n,)."""
+    lo, hi = _boxes(lo, hi, "lo", "hi", dims=(2, 3))
+    if lo.shape[0] == 0:
+        return np.empty(0, np.bool_)
+    _, fmax = max_on_intervals(f, lo[:, 0], hi[:, 0], samples=samples)
+    return fmax >= lo[:, UP]
+
+
+def min_distance_to_curve(points, f, half_width, *, samples: int = 64):
+    """Smallest Euclidean distance from points (n, 2) to the graph of f restricted to |x − p_x| <= half_width
+    ((n,) or scalar). Returns ``(distance (n,), x_closest (n,))``; sampling + golden-section refinement."""
+    p = as_float_array(points, "points", shape=(None, 2))
+    w = _radii(half_width, "half_width", p.shape[0])
+    samples = _check_samples(samples)
+    if p.shape[0] == 0:
+        return np.empty(0), np.empty(0)
+
+    def sq_dist(x, rows):
+        y = _evaluate(f, x)
+        return (x - p[rows, 0]) ** 2 + (y - p[rows, 1]) ** 2
+
+    x, d2 = _minimize_on_intervals(sq_dist, p[:, 0] - w, p[:, 0] + w, samples)
+    return np.sqrt(d2), x
+
+
+def overlap_circle_curve(centers, radii, f, *, samples: int = 64):
+    """Exact test of circles (n, 2), radii (n,) or scalar, against the solid region y <= f(x), f continuous:
+    contact iff the centre is under the curve, or the curve passes within the radius (its closest point then has
+    |x − c_x| <= r, so the minimum of the true distance over that window decides). bool (n,)."""
+    c = as_float_array(centers, "centers", shape=(None, 2))
+    r = _radii(radii, "radii", c.shape[0])
+    if c.shape[0] == 0:
+        return np.empty(0, np.bool_)
+    below = _evaluate(f, c[:, 0].copy()) >= c[:, UP]
+    dist, _ = min_distance_to_curve(c, f, r, samples=samples)
+    return below | (dist <= r)

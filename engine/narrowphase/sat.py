@@ -1,0 +1,265 @@
+"""Separating axis theorem (chapter slide "Oriented bounding box OBB": « Théorème de l'axe séparateur »).
+
+Two convex shapes are disjoint iff some axis L separates their projections. For two boxes the candidates are
+the 15 axes: the 3 face normals of A, the 3 of B, and the 9 cross products of an edge of A with an edge of B.
+Ericson, *Real-Time Collision Detection*, section 4.4.1 (TestOBBOBB): work in A's frame, R = rotation of B in A's
+frame, t = translation; on each axis compare |t·L| with the projected radii r_A + r_B. When an edge of A is
+parallel to an edge of B, their cross product is (near) zero and every term of that test is round-off; adding a
+small epsilon to |R| (``PARALLEL_EPS``) makes such degenerate axes report overlap, never a false separation.
+
+The tests are closed: touching boxes overlap. For convex polyhedra the candidate axes are the face normals of
+both hulls and the cross products of their edges (Ericson 5.2.1 and Gottschalk's OBBTree paper).
+
+Public functions:
+- ``obb_overlap(a, b) -> bool`` on two ``engine.bounding.obb.OBB``;
+- ``overlap_obb_obb_batch(centers_a, axes_a, half_extents_a, centers_b, axes_b, half_extents_b,
+  index_a=None, index_b=None) -> bool (k,)`` — one compiled call; with index arrays, pair p tests box
+  ``index_a[p]`` of the A arrays against box ``index_b[p]`` of the B arrays (the dispatch-table form);
+- ``overlap_convex_sat(points_a, points_b) -> bool`` on the convex hulls of two point sets.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from .._config import njit
+from .._validate import as_float_array
+from ..bounding.obb import ORTHONORMAL_TOL, OBB
+
+__all__ = ["PARALLEL_EPS", "obb_overlap", "overlap_obb_obb_batch", "overlap_convex_sat", "convex_axes"]
+
+#: added to |R| in the OBB test (Ericson 4.4.1) to absorb round-off on near-parallel edge pairs
+PARALLEL_EPS = 1e-9
+
+
+@njit
+def _overlap_obb_obb(ca, Aa, ea, cb, Ab, eb):
+    """Ericson 4.4.1 TestOBBOBB. Axes are ROWS of Aa, Ab; ea, eb half extents. True when the boxes overlap."""
+    R = np.empty((3, 3))
+    AbsR = np.empty((3, 3))
+    # rotation expressing B in A's frame: R[i][j] = A_i · B_j
+    for i in range(3):
+        for j in range(3):
+            R[i, j] = Aa[i, 0] * Ab[j, 0] + Aa[i, 1] * Ab[j, 1] + Aa[i, 2] * Ab[j, 2]
+            # common subexpressions, plus epsilon against a null cross product of parallel edges
+            AbsR[i, j] = abs(R[i, j]) + PARALLEL_EPS
+    # translation, in A's frame
+    dx = cb[0] - ca[0]
+    dy = cb[1] - ca[1]
+    dz = cb[2] - ca[2]
+    t0 = dx * Aa[0, 0] + dy * Aa[0, 1] + dz * Aa[0, 2]
+    t1 = dx * Aa[1, 0] + dy * Aa[1, 1] + dz * Aa[1, 2]
+    t2 = dx * Aa[2, 0] + dy * Aa[2, 1] + dz * Aa[2, 2]
+    t = (t0, t1, t2)
+    # axes L = A0, A1, A2
+    for i in range(3):
+        ra = ea[i]
+        rb = eb[0] * AbsR[i, 0] + eb[1] * AbsR[i, 1] + eb[2] * AbsR[i, 2]
+        if abs(t[i]) > ra + rb:
+            return False
+    # axes L = B0, B1, B2
+    for j in range(3):
+        ra = ea[0] * AbsR[0, j] + ea[1] * AbsR[1, j] + ea[2] * AbsR[2, j]
+        rb = eb[j]
+        if abs(t0 * R[0, j] + t1 * R[1, j] + t2 * R[2, j]) > ra + rb:
+            return False
+    # L = A0 x B0, A0 x B1, A0 x B2
+    if abs(t2 * R[1, 0] - t1 * R[2, 0]) > ea[1] * AbsR[2, 0] + ea[2] * AbsR[1, 0] \
+            + eb[1] * AbsR[0, 2] + eb[2] * AbsR[0, 1]:
+        return False
+    if abs(t2 * R[1, 1] - t1 * R[2, 1]) > ea[1] * AbsR[2, 1] + ea[2] * AbsR[1, 1] \
+            + eb[0] * AbsR[0, 2] + eb[2] * AbsR[0, 0]:
+        return False
+    if abs(t2 * R[1, 2] - t1 * R[2, 2]) > ea[1] * AbsR[2, 2] + ea[2] * AbsR[1, 2] \
+            + eb[0] * AbsR[0, 1] + eb[1] * AbsR[0, 0]:
+        return False
+    # L = A1 x B0, A1 x B1, A1 x B2
+    if abs(t0 * R[2, 0] - t2 * R[0, 0]) > ea[0] * AbsR[2, 0] + ea[2] * AbsR[0, 0] \
+            + eb[1] * AbsR[1, 2] + eb[2] * AbsR[1, 1]:
+        return False
+    if abs(t0 * R[2, 1] - t2 * R[0, 1]) > ea[0] * AbsR[2, 1] + ea[2] * AbsR[0, 1] \
+            + eb[0] * AbsR[1, 2] + eb[2] * AbsR[1, 0]:
+        return False
+    if abs(t0 * R[2, 2] - t2 * R[0, 2]) > ea[0] * AbsR[2, 2] + ea[2] * AbsR[0, 2] \
+            + eb[0] * AbsR[1, 1] + eb[1] * AbsR[1, 0]:
+        return False
+    # L = A2 x B0, A2 x B1, A2 x B2
+    if abs(t1 * R[0, 0] - t0 * R[1, 0]) > ea[0] * AbsR[1, 0] + ea[1] * AbsR[0, 0] \
+            + eb[1] * AbsR[2, 2] + eb[2] * AbsR[2, 1]:
+        return False
+    if abs(t1 * R[0, 1] - t0 * R[1, 1]) > ea[0] * AbsR[1, 1] + ea[1] * AbsR[0, 1] \
+            + eb[0] * AbsR[2, 2] + eb[2] * AbsR[2, 0]:
+        return False
+    if abs(t1 * R[0, 2] - t0 * R[1, 2]) > ea[0] * AbsR[1, 2] + ea[1] * AbsR[0, 2] \
+            + eb[0] * AbsR[2, 1] + eb[1] * AbsR[2, 0]:
+        return False
+    # no separating axis: the boxes overlap
+    return True
+
+
+@njit
+def _overlap_obb_obb_batch(ca, Aa, ea, cb, Ab, eb, index_a, index_b, out):
+    for p in range(out.shape[0]):
+        i = index_a[p]
+        j = index_b[p]
+        out[p] = _overlap_obb_obb(ca[i], Aa[i], ea[i], cb[j], Ab[j], eb[j])
+
+
+@njit
+def _overlap_along_axes(pa, pb, axes):
+    """SAT on given candidate axes (k, 3): False as soon as one axis separates the projections (closed test)."""
+    for k in range(axes.shape[0]):
+        lx = axes[k, 0]
+        ly = axes[k, 1]
+        lz = axes[k, 2]
+        min_a = np.inf
+        max_a = -np.inf
+        for i in range(pa.shape[0]):
+            d = pa[i, 0] * lx + pa[i, 1] * ly + pa[i, 2] * lz
+            min_a = min(min_a, d)
+            max_a = max(max_a, d)
+        min_b = np.inf
+        max_b = -np.inf
+        for i in range(pb.shape[0]):
+            d = pb[i, 0] * lx + pb[i, 1] * ly + pb[i, 2] * lz
+            min_b = min(min_b, d)
+            max_b = max(max_b, d)
+        if max_a < min_b or max_b < min_a:
+            return False
+    return True
+
+
+# ---------------------------------------------------------------------------------------------------------------
+
+def obb_overlap(a: OBB, b: OBB) -> bool:
+    """True when the two oriented boxes overlap or touch (SAT over the 15 axes, Ericson 4.4.1)."""
+    for name, box in (("a", a), ("b", b)):
+        if not isinstance(box, OBB):
+            raise TypeError(f"{name} must be an engine.bounding.obb.OBB, got {type(box).__name__}")
+    return bool(_overlap_obb_obb(a.center, a.axes, a.half_extents, b.center, b.axes, b.half_extents))
+
+
+def _check_boxes(centers, axes, half_extents, side: str):
+    c = as_float_array(centers, f"centers_{side}", shape=(None, 3))
+    r = as_float_array(axes, f"axes_{side}", shape=(c.shape[0], 3, 3))
+    e = as_float_array(half_extents, f"half_extents_{side}", shape=(c.shape[0], 3))
+    if (e < 0).any():
+        i, k = (int(x) for x in np.argwhere(e < 0)[0])
+        raise ValueError(f"half_extents_{side} must be >= 0: half_extents_{side}[{i}, {k}] = {e[i, k]!r}")
+    if c.shape[0]:
+        err = np.abs(np.einsum("nij,nkj->nik", r, r) - np.eye(3)).max(axis=(1, 2))
+        if (err > ORTHONORMAL_TOL).any():
+            i = int(np.argmax(err > ORTHONORMAL_TOL))
+            raise ValueError(f"axes_{side}[{i}] must be orthonormal rows (max |A A^T - I| = {err[i]:.3g})")
+    return c, r, e
+
+
+def check_index(index, n_items: int, k: int | None, name: str) -> np.ndarray:
+    """An (k,) int64 index array into [0, n_items); ValueError naming the first index out of range."""
+    arr = np.asarray(index)
+    if arr.dtype.kind not in "iu":
+        raise TypeError(f"{name} must be an integer array, got dtype {arr.dtype}")
+    if arr.ndim != 1 or (k is not None and arr.shape[0] != k):
+        raise ValueError(f"{name} must have shape ({'k' if k is None else k},), got {arr.shape}")
+    arr = np.ascontiguousarray(arr, dtype=np.int64)
+    bad = (arr < 0) | (arr >= n_items)
+    if bad.any():
+        p = int(np.argmax(bad))
+        raise ValueError(f"{name}[{p}] = {arr[p]} is outside [0, {n_items})")
+    return arr
+
+
+def pair_indices(n_a: int, n_b: int, index_a, index_b):
+    """Resolve the (index_a, index_b) convention shared by the batched narrow tests: both None means aligned
+    arrays (pair p = row p of A against row p of B, which must have the same length); both given selects rows."""
+    if index_a is None and index_b is None:
+        if n_a != n_b:
+            raise ValueError(f"without index arrays the A and B arrays must have the same length, got {n_a} and "
+                             f"{n_b}")
+        idx = np.arange(n_a, dtype=np.int64)
+        return idx, idx
+    if index_a is None or index_b is None:
+        raise ValueError("index_a and index_b must be given together")
+    ia = check_index(index_a, n_a, None, "index_a")
+    ib = check_index(index_b, n_b, ia.shape[0], "index_b")
+    return ia, ib
+
+
+def overlap_obb_obb_batch(centers_a, axes_a, half_extents_a, centers_b, axes_b, half_extents_b,
+                          index_a=None, index_b=None) -> np.ndarray:
+    """SAT on many box pairs in one compiled call.
+
+    Boxes: ``centers_*`` (n, 3), ``axes_*`` (n, 3, 3) with ROWS the unit axes, ``half_extents_*`` (n, 3).
+    Without index arrays, pair p is box p of A against box p of B; with ``index_a``, ``index_b`` (k,) int,
+    pair p is box ``index_a[p]`` of A against box ``index_b[p]`` of B. Returns bool (k,).
+    """
+    ca, ra, ea = _check_boxes(centers_a, axes_a, half_extents_a, "a")
+    cb, rb, eb = _check_boxes(centers_b, axes_b, half_extents_b, "b")
+    ia, ib = pair_indices(ca.shape[0], cb.shape[0], index_a, index_b)
+    out = np.empty(ia.shape[0], np.bool_)
+    if out.shape[0]:
+        _overlap_obb_obb_batch(ca, ra, ea, cb, rb, eb, ia, ib, out)
+    return out
+
+
+def convex_axes(points):
+    """Candidate separating axes of one hull: ``(face_normals (f, 3), edge_directions (e, 3))``, unit vectors.
+
+    Faces and edges come from ``scipy.spatial.ConvexHull`` (Qhull, triangulated; the extra diagonals of
+    non-triangular faces are harmless extra axes). Point sets that span less than 3-D use the directions of
+    the set itself. # swap in engine.bounding.hull.convex_hull once it lands
+    """
+    from scipy.spatial import ConvexHull, QhullError
+
+    pts = np.asarray(points, dtype=np.float64)
+    try:
+        hull = ConvexHull(pts)
+    except (QhullError, ValueError):
+        return _flat_axes(pts)
+    normals = hull.equations[:, :3]
+    simplices = hull.simplices
+    edges = np.concatenate([pts[simplices[:, 1]] - pts[simplices[:, 0]],
+                            pts[simplices[:, 2]] - pts[simplices[:, 1]],
+                            pts[simplices[:, 0]] - pts[simplices[:, 2]]])
+    lengths = np.linalg.norm(edges, axis=1)
+    edges = edges[lengths > 0] / lengths[lengths > 0, None]
+    return normals, _unique_directions(edges)
+
+
+def _unique_directions(dirs: np.ndarray) -> np.ndarray:
+    """Drop repeated directions (u and -u count once), rounding to 12 decimals."""
+    if dirs.shape[0] == 0:
+        return dirs
+    sign = np.where(dirs[np.arange(dirs.shape[0]), np.argmax(np.abs(dirs), axis=1)] < 0, -1.0, 1.0)
+    canon = dirs * sign[:, None]
+    _, keep = np.unique(np.round(canon, 12), axis=0, return_index=True)
+    return canon[np.sort(keep)]
+
+
+def _flat_axes(pts: np.ndarray):
+    """Axes of a point set of dimension < 3: its principal directions and the segment directions between points."""
+    centered = pts - pts.mean(axis=0)
+    _, _, vt = np.linalg.svd(centered, full_matrices=True)
+    diff = (pts[:, None, :] - pts[None, :, :]).reshape(-1, 3)
+    n = np.linalg.norm(diff, axis=1)
+    return vt, _unique_directions(diff[n > 0] / n[n > 0, None])
+
+
+def _cross_axes(axes_a, axes_b):
+    cross = np.cross(axes_a[:, None, :], axes_b[None, :, :]).reshape(-1, 3)
+    n = np.linalg.norm(cross, axis=1)
+    keep = n > 1e-9  # parallel edges give no new axis (their plane's normal is among the face normals)
+    return cross[keep] / n[keep, None]
+
+
+def overlap_convex_sat(points_a, points_b) -> bool:
+    """True when the convex hulls of ``points_a`` (n, 3) and ``points_b`` (m, 3) overlap or touch (SAT).
+
+    Candidate axes: the face normals of both hulls and the cross products of every edge pair (Ericson 5.2.1).
+    Flat or degenerate sets (segments, polygons) are accepted.
+    """
+    pa = as_float_array(points_a, "points_a", shape=(None, 3), min_rows=1)
+    pb = as_float_array(points_b, "points_b", shape=(None, 3), min_rows=1)
+    normals_a, edges_a = convex_axes(pa)
+    normals_b, edges_b = convex_axes(pb)
+    axes = np.concatenate([normals_a, normals_b, _cross_axes(edges_a, edges_b)])
+    return bool(_overlap_along_axes(pa, pb, np.ascontiguousarray(axes)))
