@@ -1,0 +1,149 @@
+"""Canonical pair arrays, the common output of every broad phase (DESIGN.md section 3).
+
+"pairs" is always an int64 array of shape (k, 2) with ``i < j`` in every row, rows in lexicographic order and
+no duplicate row.  Every broad phase gathers its candidate pairs in whatever order its traversal meets them and
+hands them to :func:`canonical_pairs` (or its kernel), which puts them in that one form in O(n + k): a counting
+sort on the smaller index, then a small sort of each bucket on the larger index, dropping repeats.
+
+This module also holds the checks shared by the broad phases: :func:`as_boxes` validates ``lo``/``hi`` box
+arrays at the public boundary, and :func:`as_boxes_3d` pads 1-D and 2-D boxes to 3-D with a zero-width extra
+axis (which every box then overlaps), so each kernel is written once, in 3-D.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from engine._config import njit
+from engine._validate import as_float_array
+
+__all__ = ["canonical_pairs", "empty_pairs", "as_boxes", "as_boxes_3d", "boxes_overlap"]
+
+
+def empty_pairs() -> np.ndarray:
+    """The empty pair array, shape (0, 2), int64."""
+    return np.zeros((0, 2), dtype=np.int64)
+
+
+@njit
+def _grow(buffer, needed):
+    """A copy of the int64 pair buffer (cap, 2) with room for at least ``needed`` rows (doubling)."""
+    capacity = max(2 * buffer.shape[0], needed, 16)
+    out = np.empty((capacity, 2), dtype=np.int64)
+    out[: buffer.shape[0]] = buffer
+    return out
+
+
+@njit
+def _canonical_pairs_kernel(candidates, count, n):
+    """Canonical form of the first ``count`` rows of ``candidates`` (objects numbered 0..n-1).
+
+    Counting sort on i = min(row) (one bucket per object), then each bucket sorted on j = max(row) and its
+    repeats dropped; rows with i == j (a self-test, which the chapter excludes) are dropped too.
+    """
+    start = np.zeros(n + 1, dtype=np.int64)
+    for t in range(count):
+        a = candidates[t, 0]
+        b = candidates[t, 1]
+        start[min(a, b) + 1] += 1
+    for i in range(n):
+        start[i + 1] += start[i]
+    fill = start[:n].copy()
+    second = np.empty(count, dtype=np.int64)
+    for t in range(count):
+        a = candidates[t, 0]
+        b = candidates[t, 1]
+        i = min(a, b)
+        second[fill[i]] = max(a, b)
+        fill[i] += 1
+    out = np.empty((count, 2), dtype=np.int64)
+    k = 0
+    for i in range(n):
+        s = start[i]
+        e = start[i + 1]
+        if e - s > 24:
+            second[s:e] = np.sort(second[s:e])
+        else:  # insertion sort: buckets are tiny in practice
+            for p in range(s + 1, e):
+                v = second[p]
+                q = p - 1
+                while q >= s and second[q] > v:
+                    second[q + 1] = second[q]
+                    q -= 1
+                second[q + 1] = v
+        previous = -1
+        for p in range(s, e):
+            j = second[p]
+            if j != previous and j != i:
+                out[k, 0] = i
+                out[k, 1] = j
+                k += 1
+            previous = j
+    return out[:k].copy()
+
+
+def canonical_pairs(pairs, n: int | None = None) -> np.ndarray:
+    """Put index pairs in canonical form: int64 (k, 2), i < j per row, rows sorted, no duplicates.
+
+    ``pairs`` is any integer array of shape (m, 2); rows (i, j) and (j, i) are the same pair and rows (i, i)
+    are dropped. ``n`` (optional) is the number of objects; indices must lie in [0, n).
+    """
+    arr = np.asarray(pairs)
+    if arr.dtype.kind not in "iu":
+        if arr.size == 0:
+            arr = arr.astype(np.int64)
+        else:
+            raise TypeError(f"pairs must be an integer array, got dtype {arr.dtype}")
+    if arr.ndim != 2 or arr.shape[1] != 2:
+        if arr.size == 0:
+            return empty_pairs()
+        raise ValueError(f"pairs must have shape (m, 2), got {arr.shape}")
+    if arr.shape[0] == 0:
+        return empty_pairs()
+    arr = np.ascontiguousarray(arr, dtype=np.int64)
+    negative = np.flatnonzero((arr < 0).any(axis=1))
+    if negative.size:
+        raise ValueError(f"pairs must hold non-negative indices: pairs[{negative[0]}] = {arr[negative[0]].tolist()}")
+    top = int(arr.max()) + 1
+    if n is None:
+        n = top
+    elif top > n:
+        bad = int(np.flatnonzero((arr >= n).any(axis=1))[0])
+        raise ValueError(f"pairs[{bad}] = {arr[bad].tolist()} indexes past n = {n}")
+    return _canonical_pairs_kernel(arr, arr.shape[0], int(n))
+
+
+def as_boxes(lo, hi) -> tuple[np.ndarray, np.ndarray]:
+    """Validate axis-aligned boxes [lo_i, hi_i]: float64 copies of shape (n, d), d in {1, 2, 3}, lo <= hi."""
+    lo_arr = as_float_array(lo, "lo", ndim=2)
+    hi_arr = as_float_array(hi, "hi", ndim=2)
+    if lo_arr.shape != hi_arr.shape:
+        raise ValueError(f"lo and hi must have the same shape, got {lo_arr.shape} and {hi_arr.shape}")
+    if lo_arr.shape[1] not in (1, 2, 3):
+        raise ValueError(f"lo and hi must have shape (n, d) with d = 1, 2 or 3, got d = {lo_arr.shape[1]}")
+    inverted = lo_arr > hi_arr
+    if inverted.any():
+        i, k = (int(v) for v in np.argwhere(inverted)[0])
+        raise ValueError(f"lo must not exceed hi: lo[{i}, {k}] = {lo_arr[i, k]!r} > hi[{i}, {k}] = {hi_arr[i, k]!r}")
+    return lo_arr, hi_arr
+
+
+def as_boxes_3d(lo, hi) -> tuple[np.ndarray, np.ndarray]:
+    """Validated boxes padded to 3-D: (n, 3) float64 lo and hi; padded axes are [0, 0], overlapped by all."""
+    lo_arr, hi_arr = as_boxes(lo, hi)
+    d = lo_arr.shape[1]
+    if d == 3:
+        return lo_arr, hi_arr
+    lo3 = np.zeros((lo_arr.shape[0], 3))
+    hi3 = np.zeros((lo_arr.shape[0], 3))
+    lo3[:, :d] = lo_arr
+    hi3[:, :d] = hi_arr
+    return lo3, hi3
+
+
+@njit
+def boxes_overlap(lo, hi, i, j):
+    """Closed-box overlap test of boxes i and j of (n, 3) arrays: touching counts (Ericson 4.2.1)."""
+    for k in range(3):
+        if lo[i, k] > hi[j, k] or lo[j, k] > hi[i, k]:
+            return False
+    return True

@@ -1,0 +1,478 @@
+"""Sweep-and-prune (SAP): the chapter's 1-D sweep on intervals, its 3-D box form, and an incremental variant.
+
+Chapter slides "Phase Large : Sweep and Prune (SAP)" ("Algorithmes de balayage et de tri"):
+
+- one list of all b_i and e_i sorted from the smallest value to the largest;
+- the list is swept in increasing order keeping a list of *active* intervals, initially empty;
+- meeting b_i, interval i enters the list; meeting e_i, it leaves;
+- two intervals that are in the active list together overlap.
+
+Closed intervals: touching counts, so at a tied value every b is met before any e.
+
+In 2-D and 3-D each box has one interval per axis. :func:`sap_pairs` sorts the boxes once on one axis (by
+default the axis along which the box centres spread most, Ericson *Real-Time Collision Detection* 7.5.2), sweeps
+that axis and tests the other axes of each candidate ("box pruning": the active list of the slide is the run of
+boxes whose b lies between b_i and e_i, read straight from the sorted arrays). :class:`IncrementalSAP` keeps the
+sorted order between frames and repairs it by insertion sort (temporal coherence: objects move little, so the
+list is nearly sorted and the repair is close to linear).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from engine._config import njit
+from engine._validate import as_choice, as_float_array
+from engine.broadphase.pairs import _canonical_pairs_kernel, _grow, as_boxes, as_boxes_3d, empty_pairs
+
+__all__ = ["sweep_intervals", "sap_pairs", "sap_example_trace", "IncrementalSAP", "SLIDE_EXAMPLE"]
+
+#: the slide's worked example: interval i (numbered from 1 on the slide) is [b_i, e_i]
+SLIDE_EXAMPLE = {
+    1: (3.0, 7.0),
+    2: (7.7, 18.0),
+    3: (1.0, 8.0),
+    4: (8.9, 11.2),
+    5: (7.5, 11.0),
+    6: (2.0, 6.0),
+}
+
+
+# ---------------------------------------------------------------------------------------------------------
+# 1-D: the slide's algorithm, literally
+# ---------------------------------------------------------------------------------------------------------
+@njit
+def _sorted_events(begin, end):
+    """The slide's list of all b_i and e_i, sorted; at equal values every b comes before every e.
+
+    Returns (interval, is_end) of the 2n events in sweep order.
+    """
+    n = begin.shape[0]
+    values = np.empty(2 * n)
+    values[:n] = begin
+    values[n:] = end
+    order = np.argsort(values, kind="mergesort")  # stable: the b's (first half) win ties
+    interval = np.empty(2 * n, dtype=np.int64)
+    is_end = np.empty(2 * n, dtype=np.bool_)
+    for t in range(2 * n):
+        e = order[t]
+        interval[t] = e if e < n else e - n
+        is_end[t] = e >= n
+    return interval, is_end
+
+
+@njit
+def _sweep_intervals_kernel(begin, end):
+    # Chapter, "Algorithmes de balayage et de tri": sweep the sorted list of b_i, e_i keeping the active list;
+    # at b_i, i overlaps every active interval, then enters; at e_i, i leaves (swap-remove, O(1)).
+    n = begin.shape[0]
+    interval, is_end = _sorted_events(begin, end)
+    active = np.empty(n, dtype=np.int64)
+    slot = np.empty(n, dtype=np.int64)
+    n_active = 0
+    out = np.empty((max(n, 16), 2), dtype=np.int64)
+    count = 0
+    for t in range(2 * n):
+        i = interval[t]
+        if not is_end[t]:
+            if count + n_active > out.shape[0]:
+                out = _grow(out, count + n_active)
+            for a in range(n_active):
+                out[count, 0] = active[a]
+                out[count, 1] = i
+                count += 1
+            active[n_active] = i
+            slot[i] = n_active
+            n_active += 1
+        else:
+            s = slot[i]
+            n_active -= 1
+            last = active[n_active]
+            active[s] = last
+            slot[last] = s
+    return _canonical_pairs_kernel(out, count, n)
+
+
+def _as_intervals(begin, end):
+    b = as_float_array(begin, "begin", ndim=1)
+    e = as_float_array(end, "end", ndim=1)
+    if b.shape != e.shape:
+        raise ValueError(f"begin and end must have the same shape, got {b.shape} and {e.shape}")
+    inverted = np.flatnonzero(b > e)
+    if inverted.size:
+        i = int(inverted[0])
+        raise ValueError(f"begin must not exceed end: begin[{i}] = {b[i]!r} > end[{i}] = {e[i]!r}")
+    return b, e
+
+
+def sweep_intervals(begin, end) -> np.ndarray:
+    """The chapter's 1-D sweep-and-prune: all pairs (i, j) whose closed intervals [b_i, e_i], [b_j, e_j] meet.
+
+    begin, end: (n,) with begin <= end. Returns canonical pairs, int64 (k, 2) (0-based indices).
+    """
+    b, e = _as_intervals(begin, end)
+    if b.shape[0] < 2:
+        return empty_pairs()
+    return _sweep_intervals_kernel(b, e)
+
+
+def sap_example_trace(begin=None, end=None, labels=None) -> str:
+    """The step-by-step sweep (event, active list, pairs reported) as text, by default on the slide's example.
+
+    begin, end: (n,) intervals (default: the slide's six intervals, labelled 1..6 as on the slide);
+    labels: n names used in the text (default 1..n). The events and pairs are those of :func:`sweep_intervals`.
+    """
+    if begin is None and end is None:
+        keys = sorted(SLIDE_EXAMPLE)
+        begin = [SLIDE_EXAMPLE[k][0] for k in keys]
+        end = [SLIDE_EXAMPLE[k][1] for k in keys]
+        labels = keys if labels is None else labels
+    b, e = _as_intervals(begin, end)
+    n = b.shape[0]
+    labels = list(range(1, n + 1)) if labels is None else list(labels)
+    if len(labels) != n:
+        raise ValueError(f"labels must have {n} entries, got {len(labels)}")
+    interval, is_end = _sorted_events(b, e)
+    lines = ["Sweep-and-prune (1-D): events sorted, b before e at equal values", ""]
+    header = f"{'event':<14}{'active list':<28}pairs reported"
+    lines += [header, "-" * len(header)]
+    active: list[int] = []
+    reported = []
+    for i, ending in zip(interval.tolist(), is_end.tolist()):
+        value = e[i] if ending else b[i]
+        event = f"{'e' if ending else 'b'}{labels[i]}={value:g}"
+        new = []
+        if ending:
+            active.remove(i)
+        else:
+            new = [(labels[a], labels[i]) for a in active]
+            active.append(i)
+        reported += new
+        act = "{" + ", ".join(str(labels[a]) for a in active) + "}"
+        lines.append(f"{event:<14}{act:<28}" + (", ".join(f"({p}, {q})" for p, q in new) or "-"))
+    lines += ["", f"{len(reported)} overlapping pairs: "
+              + ", ".join(f"({min(p, q)}, {max(p, q)})" for p, q in sorted((min(p, q), max(p, q)) for p, q in reported))]
+    return "\n".join(lines)
+
+
+# ---------------------------------------------------------------------------------------------------------
+# 3-D: sort on one axis, sweep it, prune on the others
+# ---------------------------------------------------------------------------------------------------------
+@njit
+def _cell_of(v, origin, inv_size, k):
+    """Grid column of coordinate v: floor((v - origin) / size) clamped to [0, k) — monotone in v."""
+    c = int((v - origin) * inv_size)
+    if c < 0:
+        return 0
+    if c >= k:
+        return k - 1
+    return c
+
+
+@njit
+def _sweep_sorted_kernel(order, lo, hi, axis, n_objects):
+    # Chapter SAP slide in 3-D, box-pruning form (Ericson 7.5.2): boxes sorted by b on `axis`; for box p the
+    # boxes q after it with b_q <= e_p are exactly those in the active list when p enters; test the two other
+    # axes. To keep that run short the sweep is done per column of a coarse grid over the two other axes
+    # (Terdiman's multi-box-pruning): a box enters every column its box covers, each column keeps the sorted
+    # order, and a pair is reported only in the column holding the corner (max b^1, max b^2) of the two boxes,
+    # so exactly once. Structure of arrays: each column's sorted b/e are contiguous.
+    m = order.shape[0]
+    a1 = (axis + 1) % 3
+    a2 = (axis + 2) % 3
+    # --- the grid over axes a1, a2: columns about twice the mean box size, at most ~m/8 columns
+    o1 = np.inf
+    t1 = -np.inf
+    o2 = np.inf
+    t2 = -np.inf
+    ext1 = 0.0
+    ext2 = 0.0
+    for p in range(m):
+        o = order[p]
+        o1 = min(o1, lo[o, a1])
+        t1 = max(t1, hi[o, a1])
+        o2 = min(o2, lo[o, a2])
+        t2 = max(t2, hi[o, a2])
+        ext1 += hi[o, a1] - lo[o, a1]
+        ext2 += hi[o, a2] - lo[o, a2]
+    span1 = t1 - o1
+    span2 = t2 - o2
+    kmax = max(1, int(np.sqrt(m / 8.0)))
+    k1 = 1
+    k2 = 1
+    if span1 > 0.0:
+        k1 = int(min(kmax, max(1.0, span1 / max(2.0 * ext1 / m, span1 * 1e-6))))
+    if span2 > 0.0:
+        k2 = int(min(kmax, max(1.0, span2 / max(2.0 * ext2 / m, span2 * 1e-6))))
+    first1 = np.empty(m, dtype=np.int64)
+    last1 = np.empty(m, dtype=np.int64)
+    first2 = np.empty(m, dtype=np.int64)
+    last2 = np.empty(m, dtype=np.int64)
+    while True:
+        inv1 = k1 / span1 if span1 > 0.0 else 0.0
+        inv2 = k2 / span2 if span2 > 0.0 else 0.0
+        entries = 0
+        for p in range(m):
+            o = order[p]
+            first1[p] = _cell_of(lo[o, a1], o1, inv1, k1)
+            last1[p] = _cell_of(hi[o, a1], o1, inv1, k1)
+            first2[p] = _cell_of(lo[o, a2], o2, inv2, k2)
+            last2[p] = _cell_of(hi[o, a2], o2, inv2, k2)
+            entries += (last1[p] - first1[p] + 1) * (last2[p] - first2[p] + 1)
+        if entries <= 4 * m or (k1 == 1 and k2 == 1):
+            break
+        k1 = max(1, k1 // 2)
+        k2 = max(1, k2 // 2)
+    # --- counting sort of the entries by column, keeping the sweep order inside each column
+    n_cells = k1 * k2
+    start = np.zeros(n_cells + 1, dtype=np.int64)
+    for p in range(m):
+        for c1 in range(first1[p], last1[p] + 1):
+            for c2 in range(first2[p], last2[p] + 1):
+                start[c1 * k2 + c2 + 1] += 1
+    for c in range(n_cells):
+        start[c + 1] += start[c]
+    fill = start[:n_cells].copy()
+    ident = np.empty(entries, dtype=np.int64)
+    b0 = np.empty(entries)
+    e0 = np.empty(entries)
+    b1 = np.empty(entries)
+    e1 = np.empty(entries)
+    b2 = np.empty(entries)
+    e2 = np.empty(entries)
+    for p in range(m):
+        o = order[p]
+        for c1 in range(first1[p], last1[p] + 1):
+            for c2 in range(first2[p], last2[p] + 1):
+                t = fill[c1 * k2 + c2]
+                fill[c1 * k2 + c2] = t + 1
+                ident[t] = o
+                b0[t] = lo[o, axis]
+                e0[t] = hi[o, axis]
+                b1[t] = lo[o, a1]
+                e1[t] = hi[o, a1]
+                b2[t] = lo[o, a2]
+                e2[t] = hi[o, a2]
+    # --- the sweep, column by column
+    out = np.empty((max(m, 16), 2), dtype=np.int64)
+    count = 0
+    for c1 in range(k1):
+        for c2 in range(k2):
+            cell = c1 * k2 + c2
+            end = start[cell + 1]
+            for p in range(start[cell], end):
+                end0 = e0[p]
+                lo1 = b1[p]
+                hi1 = e1[p]
+                lo2 = b2[p]
+                hi2 = e2[p]
+                q = p + 1
+                while q < end and b0[q] <= end0:
+                    if (b1[q] <= hi1) & (lo1 <= e1[q]) & (b2[q] <= hi2) & (lo2 <= e2[q]):
+                        # report in the column of the overlap's lower corner only
+                        if (_cell_of(max(lo1, b1[q]), o1, inv1, k1) == c1
+                                and _cell_of(max(lo2, b2[q]), o2, inv2, k2) == c2):
+                            if count == out.shape[0]:
+                                out = _grow(out, count + 1)
+                            out[count, 0] = ident[p]
+                            out[count, 1] = ident[q]
+                            count += 1
+                    q += 1
+    return _canonical_pairs_kernel(out, count, n_objects)
+
+
+def _widest_axis(lo, hi) -> int:
+    """The axis along which the box centres spread most (largest variance, Ericson 7.5.2)."""
+    if lo.shape[0] == 0:
+        return 0
+    return int(np.argmax(_centre_variance(lo, hi)))
+
+
+@njit
+def _centre_variance(lo, hi):
+    """Variance of the box centres along each axis, (3,)."""
+    n = lo.shape[0]
+    mean = np.zeros(3)
+    for i in range(n):
+        for k in range(3):
+            mean[k] += 0.5 * lo[i, k] + 0.5 * hi[i, k]
+    mean /= n
+    var = np.zeros(3)
+    for i in range(n):
+        for k in range(3):
+            dev = 0.5 * lo[i, k] + 0.5 * hi[i, k] - mean[k]
+            var[k] += dev * dev
+    return var
+
+
+def sap_pairs(lo, hi, axis: int | None = None) -> np.ndarray:
+    """All pairs of overlapping closed boxes by sweep-and-prune.
+
+    lo, hi: (n, d), d in {1, 2, 3}, lo <= hi. axis: the sweep axis (default: the axis of largest spread of the
+    box centres). Returns canonical pairs, int64 (k, 2).
+    """
+    lo3, hi3 = as_boxes_3d(lo, hi)
+    d = np.shape(lo)[1]
+    if axis is not None:
+        if isinstance(axis, bool) or not isinstance(axis, int | np.integer):
+            raise TypeError(f"axis must be an int, got {type(axis).__name__}")
+        if not 0 <= axis < d:
+            raise ValueError(f"axis must be in [0, {d}), got {axis}")
+    n = lo3.shape[0]
+    if n < 2:
+        return empty_pairs()
+    axis = _widest_axis(lo3, hi3) if axis is None else int(axis)
+    order = np.argsort(lo3[:, axis], kind="stable")
+    return _sweep_sorted_kernel(order, lo3, hi3, axis, n)
+
+
+# ---------------------------------------------------------------------------------------------------------
+# incremental SAP: keep the order between frames, repair it by insertion sort
+# ---------------------------------------------------------------------------------------------------------
+@njit
+def _insertion_sort_order(order, lo, axis):
+    """Insertion sort of ``order`` by lo[order, axis], in place; returns the number of swaps (0 if sorted).
+
+    Temporal coherence (Ericson 7.5.2, Baraff's incremental SAP): between frames the list is nearly sorted,
+    so this costs O(n + swaps).
+    """
+    swaps = 0
+    for p in range(1, order.shape[0]):
+        o = order[p]
+        v = lo[o, axis]
+        q = p - 1
+        while q >= 0 and lo[order[q], axis] > v:
+            order[q + 1] = order[q]
+            q -= 1
+            swaps += 1
+        order[q + 1] = o
+    return swaps
+
+
+class IncrementalSAP:
+    """Sweep-and-prune that keeps its sorted order between frames (temporal coherence).
+
+    Build it from arrays and update all boxes each frame::
+
+        sap = IncrementalSAP(lo, hi)          # (n, d) boxes get ids 0..n-1
+        pairs = sap.update(lo_next, hi_next)  # new boxes of every live object (ids ascending) -> pairs
+
+    or manage objects one by one: ``add(lo_i, hi_i) -> id``, ``move(id, lo_i, hi_i)``, ``remove(id)``,
+    ``pairs()``. Pairs are canonical pairs of ids, exactly the overlapping closed boxes. Freed ids are reused.
+    ``last_swaps`` is the number of insertion-sort swaps of the last repair.
+    """
+
+    def __init__(self, lo=None, hi=None, *, dim: int | None = None, axis: int | None = None):
+        if lo is None and hi is None:
+            if dim is None:
+                raise ValueError("give the initial boxes lo, hi, or the dimension dim of an empty SAP")
+            if isinstance(dim, bool) or not isinstance(dim, int | np.integer) or dim not in (1, 2, 3):
+                raise ValueError(f"dim must be 1, 2 or 3, got {dim!r}")
+            lo_d = np.zeros((0, int(dim)))
+            hi_d = lo_d
+        else:
+            lo_d, hi_d = as_boxes(lo, hi)
+            if dim is not None and dim != lo_d.shape[1]:
+                raise ValueError(f"dim = {dim} does not match lo of shape {lo_d.shape}")
+        self._d = lo_d.shape[1]
+        n = lo_d.shape[0]
+        capacity = max(16, n)
+        self._lo = np.zeros((capacity, 3))
+        self._hi = np.zeros((capacity, 3))
+        self._lo[:n, : self._d] = lo_d
+        self._hi[:n, : self._d] = hi_d
+        self._alive = np.zeros(capacity, dtype=bool)
+        self._alive[:n] = True
+        self._size = n  # ids in use are < _size
+        self._free: list[int] = []
+        if axis is None:
+            axis = _widest_axis(self._lo[:n], self._hi[:n]) if n else 0
+        else:
+            if isinstance(axis, bool) or not isinstance(axis, int | np.integer) or not 0 <= axis < self._d:
+                raise ValueError(f"axis must be an int in [0, {self._d}), got {axis!r}")
+        self.axis = int(axis)
+        self._order = np.argsort(self._lo[:n, self.axis], kind="stable").astype(np.int64)
+        self.last_swaps = 0
+
+    # -- bookkeeping ------------------------------------------------------------------------------------
+    @property
+    def dim(self) -> int:
+        return self._d
+
+    def __len__(self) -> int:
+        return int(self._order.shape[0])
+
+    def ids(self) -> np.ndarray:
+        """The live ids, ascending, int64 (m,)."""
+        return np.flatnonzero(self._alive[: self._size]).astype(np.int64)
+
+    def _check_id(self, obj_id) -> int:
+        if isinstance(obj_id, bool) or not isinstance(obj_id, int | np.integer):
+            raise TypeError(f"id must be an int, got {type(obj_id).__name__}")
+        if not (0 <= obj_id < self._size and self._alive[obj_id]):
+            raise ValueError(f"id {obj_id} is not a live object")
+        return int(obj_id)
+
+    def _one_box(self, lo_i, hi_i):
+        lo_i = as_float_array(lo_i, "lo", shape=(self._d,))
+        hi_i = as_float_array(hi_i, "hi", shape=(self._d,))
+        bad = np.flatnonzero(lo_i > hi_i)
+        if bad.size:
+            k = int(bad[0])
+            raise ValueError(f"lo must not exceed hi: lo[{k}] = {lo_i[k]!r} > hi[{k}] = {hi_i[k]!r}")
+        return lo_i, hi_i
+
+    # -- objects ----------------------------------------------------------------------------------------
+    def add(self, lo_i, hi_i) -> int:
+        """Insert the box [lo_i, hi_i] ((d,) each); returns its id."""
+        lo_i, hi_i = self._one_box(lo_i, hi_i)
+        if self._free:
+            obj_id = self._free.pop()
+        else:
+            obj_id = self._size
+            if obj_id == self._lo.shape[0]:
+                grow = 2 * obj_id
+                self._lo = np.concatenate([self._lo, np.zeros((grow - obj_id, 3))])
+                self._hi = np.concatenate([self._hi, np.zeros((grow - obj_id, 3))])
+                self._alive = np.concatenate([self._alive, np.zeros(grow - obj_id, dtype=bool)])
+            self._size += 1
+        self._lo[obj_id] = 0.0
+        self._hi[obj_id] = 0.0
+        self._lo[obj_id, : self._d] = lo_i
+        self._hi[obj_id, : self._d] = hi_i
+        self._alive[obj_id] = True
+        keys = self._lo[self._order, self.axis]
+        at = int(np.searchsorted(keys, lo_i[self.axis] if self.axis < self._d else 0.0, side="right"))
+        self._order = np.insert(self._order, at, obj_id)
+        return obj_id
+
+    def remove(self, obj_id) -> None:
+        """Delete object ``obj_id``; its id may be reused by a later ``add``."""
+        obj_id = self._check_id(obj_id)
+        self._alive[obj_id] = False
+        self._order = self._order[self._order != obj_id]
+        self._free.append(obj_id)
+
+    def move(self, obj_id, lo_i, hi_i) -> None:
+        """Give object ``obj_id`` the new box [lo_i, hi_i]; the order is repaired at the next query."""
+        obj_id = self._check_id(obj_id)
+        lo_i, hi_i = self._one_box(lo_i, hi_i)
+        self._lo[obj_id, : self._d] = lo_i
+        self._hi[obj_id, : self._d] = hi_i
+
+    def update(self, lo, hi) -> np.ndarray:
+        """New boxes for every live object (rows in ascending id order, (m, d) each); returns pairs()."""
+        lo_d, hi_d = as_boxes(lo, hi)
+        ids = self.ids()
+        if lo_d.shape != (ids.shape[0], self._d):
+            raise ValueError(f"lo and hi must have shape ({ids.shape[0]}, {self._d}) (one row per live object), "
+                             f"got {lo_d.shape}")
+        self._lo[ids, : self._d] = lo_d
+        self._hi[ids, : self._d] = hi_d
+        return self.pairs()
+
+    def pairs(self) -> np.ndarray:
+        """Repair the sorted order by insertion sort, sweep, and return the canonical pairs of ids."""
+        if self._order.shape[0] < 2:
+            return empty_pairs()
+        self.last_swaps = int(_insertion_sort_order(self._order, self._lo, self.axis))
+        return _sweep_sorted_kernel(self._order, self._lo, self._hi, self.axis, self._size)
