@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .._config import njit
 from .._validate import as_float_array
 
 #: how far ``axes @ axes.T`` may be from the identity before the axes are rejected as not orthonormal
@@ -68,3 +69,63 @@ class OBB:
     def __repr__(self) -> str:
         return (f"OBB(center={self.center.tolist()}, axes={self.axes.tolist()}, "
                 f"half_extents={self.half_extents.tolist()})")
+
+
+# ---------------------------------------------------------------------------------------------------------
+# fit, merge, update (Ericson 4.4.3: OBB from the covariance of the points, i.e. principal component analysis)
+# ---------------------------------------------------------------------------------------------------------
+@njit
+def _extents_kernel(points, axes, lo, hi):
+    # project every point on the three axes; the box spans [lo, hi] along each (Ericson 4.4.3, last step)
+    for k in range(3):
+        lo[k] = np.inf
+        hi[k] = -np.inf
+    for i in range(points.shape[0]):
+        for k in range(3):
+            t = axes[k, 0] * points[i, 0] + axes[k, 1] * points[i, 1] + axes[k, 2] * points[i, 2]
+            if t < lo[k]:
+                lo[k] = t
+            if t > hi[k]:
+                hi[k] = t
+
+
+def fit_obb(points) -> OBB:
+    """The PCA bounding box of ``points`` (n, 3): axes are the eigenvectors of the covariance matrix.
+
+    Ericson 4.4.3: the covariance C = (1/n) sum (p - mean)(p - mean)^T is symmetric, its eigenvectors
+    (``numpy.linalg.eigh``) are orthonormal; the box spans the points' projections on them. Not the minimal
+    box, but rotation-covariant: the fit of R p + t is the fit of p moved by (R, t) when the covariance has
+    distinct eigenvalues. Every point lies in the box (the extents are re-measured).
+    """
+    pts = as_float_array(points, "points", shape=(None, 3), min_rows=1)
+    mean = pts.mean(axis=0)
+    centred = pts - mean
+    cov = centred.T @ centred / pts.shape[0]
+    _, vectors = np.linalg.eigh(cov)
+    axes = np.ascontiguousarray(vectors.T[::-1])  # rows, largest spread first
+    if np.linalg.det(axes) < 0:
+        axes[2] = -axes[2]
+    lo = np.empty(3)
+    hi = np.empty(3)
+    _extents_kernel(centred, axes, lo, hi)
+    center = mean + ((lo + hi) / 2.0) @ axes
+    half = (hi - lo) / 2.0
+    # the centre moved by round-off: widen so that every point is inside the closed box
+    local = np.abs((pts - center) @ axes.T)
+    half = np.maximum(half, local.max(axis=0))
+    return OBB(center, axes, half)
+
+
+def merge_obb(a: OBB, b: OBB) -> OBB:
+    """An OBB holding both boxes: the PCA fit of their 16 corners (Ericson 4.4.3 applied to the corners)."""
+    for name, box in (("a", a), ("b", b)):
+        if not isinstance(box, OBB):
+            raise TypeError(f"{name} must be an OBB, got {type(box).__name__}")
+    return fit_obb(np.vstack([a.corners(), b.corners()]))
+
+
+def transform_obb(box: OBB, rotation, translation) -> OBB:
+    """The box moved by x -> rotation @ x + translation (the update is exact: the axes rotate with it)."""
+    if not isinstance(box, OBB):
+        raise TypeError(f"box must be an OBB, got {type(box).__name__}")
+    return box.transformed(rotation, translation)

@@ -1,0 +1,226 @@
+"""Axis-aligned bounding box (chapter slide "Volumes englobants": AABB — 6 values, min and max of each
+dimension; the test compares the projections; not invariant under rotation). Ericson, *Real-Time Collision
+Detection*, section 4.2.
+
+A box is a pair ``(lo, hi)`` of arrays of shape (d,), d = 2 or 3, with ``lo <= hi``; boxes are CLOSED, so two
+boxes that touch overlap. Batched forms take (n, d) arrays and answer for every row in one compiled call.
+
+This module also holds the argument checks shared by the other bounding-volume modules (point clouds and
+rotations in 2-D or 3-D).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from .._config import njit
+from .._validate import as_float_array
+
+__all__ = [
+    "fit_aabb",
+    "fit_aabbs",
+    "overlap_aabb_aabb",
+    "overlap_aabbs",
+    "merge_aabb",
+    "aabb_contains",
+    "transform_aabb",
+    "transform_aabbs",
+]
+
+#: how far ``R @ R.T`` may be from the identity before a rotation is rejected
+ROTATION_TOL = 1e-9
+
+
+# ---------------------------------------------------------------------------------------------------------
+# shared argument checks (private to engine.bounding)
+# ---------------------------------------------------------------------------------------------------------
+def as_points(points, name: str = "points", *, min_rows: int = 1, dims=(2, 3)) -> np.ndarray:
+    """A finite (n, d) float64 copy of a point cloud, d in ``dims``, n >= ``min_rows``."""
+    arr = as_float_array(points, name, ndim=2, min_rows=min_rows)
+    if arr.shape[1] not in dims:
+        raise ValueError(f"{name} must have shape (n, d) with d in {tuple(dims)}, got {arr.shape}")
+    return arr
+
+
+def as_box(lo, hi, *, names=("lo", "hi"), dims=(2, 3)) -> tuple[np.ndarray, np.ndarray]:
+    """Checked (lo, hi) boxes of shape (d,) or batched (n, d); ValueError naming the first row with lo > hi."""
+    lo_name, hi_name = names
+    lo = as_float_array(lo, lo_name)
+    hi = as_float_array(hi, hi_name)
+    if lo.ndim not in (1, 2) or lo.shape[-1] not in dims:
+        raise ValueError(f"{lo_name} must have shape (d,) or (n, d) with d in {tuple(dims)}, got {lo.shape}")
+    if hi.shape != lo.shape:
+        raise ValueError(f"{hi_name} must have the shape of {lo_name} {lo.shape}, got {hi.shape}")
+    bad = lo > hi
+    if bad.any():
+        index = tuple(int(i) for i in np.argwhere(bad)[0])
+        where = index[0] if len(index) == 1 else index
+        raise ValueError(f"{lo_name} must be <= {hi_name}: {lo_name}[{where}] = {lo[index]!r} > "
+                         f"{hi_name}[{where}] = {hi[index]!r}")
+    return lo, hi
+
+
+def as_rotation(rotation, translation, d: int) -> tuple[np.ndarray, np.ndarray]:
+    """A checked orthonormal (d, d) ``rotation`` and a (d,) ``translation`` (x -> rotation @ x + translation)."""
+    rotation = as_float_array(rotation, "rotation", shape=(d, d))
+    translation = as_float_array(translation, "translation", shape=(d,))
+    err = np.abs(rotation @ rotation.T - np.eye(d)).max()
+    if err > ROTATION_TOL:
+        raise ValueError(f"rotation must be orthonormal (max |R R^T - I| = {err:.3g} > {ROTATION_TOL})")
+    return rotation, translation
+
+
+# ---------------------------------------------------------------------------------------------------------
+# kernels
+# ---------------------------------------------------------------------------------------------------------
+@njit
+def _fit_aabb_kernel(points, lo, hi):
+    # Ericson 4.2.1: the box is the min and max of the points along each world axis
+    n, d = points.shape
+    for k in range(d):
+        lo[k] = points[0, k]
+        hi[k] = points[0, k]
+    for i in range(1, n):
+        for k in range(d):
+            x = points[i, k]
+            if x < lo[k]:
+                lo[k] = x
+            if x > hi[k]:
+                hi[k] = x
+
+
+@njit
+def _fit_aabbs_kernel(clouds, lo, hi):
+    # one box per cloud: clouds (m, n, d) -> lo, hi (m, d)
+    for c in range(clouds.shape[0]):
+        _fit_aabb_kernel(clouds[c], lo[c], hi[c])
+
+
+@njit
+def _overlap_aabbs_kernel(lo_a, hi_a, lo_b, hi_b, out):
+    # Ericson 4.2.1 (slide "tester le recouvrement des projections"): two boxes overlap iff their
+    # projections overlap on every axis; closed intervals, so touching counts
+    n, d = lo_a.shape
+    for i in range(n):
+        hit = True
+        for k in range(d):
+            if hi_a[i, k] < lo_b[i, k] or hi_b[i, k] < lo_a[i, k]:
+                hit = False
+                break
+        out[i] = hit
+
+
+@njit
+def _contains_kernel(lo, hi, points, out):
+    n, d = points.shape
+    for i in range(n):
+        inside = True
+        for k in range(d):
+            if points[i, k] < lo[k] or points[i, k] > hi[k]:
+                inside = False
+                break
+        out[i] = inside
+
+
+@njit
+def _transform_aabbs_kernel(lo, hi, rotation, translation, new_lo, new_hi):
+    # Ericson 4.2.6 "AABB recomputed from rotated AABB": with centre c and half-widths e, the rotated box
+    # R·box + t has centre R c + t and half-widths e'_i = sum_j |R_ij| e_j (the exact AABB of the rotated box)
+    n, d = lo.shape
+    for b in range(n):
+        for i in range(d):
+            c = translation[i]
+            e = 0.0
+            for j in range(d):
+                cj = 0.5 * (lo[b, j] + hi[b, j])
+                ej = 0.5 * (hi[b, j] - lo[b, j])
+                c += rotation[i, j] * cj
+                e += abs(rotation[i, j]) * ej
+            new_lo[b, i] = c - e
+            new_hi[b, i] = c + e
+
+
+# ---------------------------------------------------------------------------------------------------------
+# public functions
+# ---------------------------------------------------------------------------------------------------------
+def fit_aabb(points) -> tuple[np.ndarray, np.ndarray]:
+    """The tightest AABB of ``points`` (n, d), d = 2 or 3: ``(lo, hi)``, each (d,)."""
+    pts = as_points(points)
+    lo = np.empty(pts.shape[1])
+    hi = np.empty(pts.shape[1])
+    _fit_aabb_kernel(pts, lo, hi)
+    return lo, hi
+
+
+def fit_aabbs(clouds) -> tuple[np.ndarray, np.ndarray]:
+    """Batched fit: ``clouds`` (m, n, d) -> ``(lo, hi)``, each (m, d), in one compiled call."""
+    arr = as_float_array(clouds, "clouds", ndim=3)
+    if arr.shape[1] < 1 or arr.shape[2] not in (2, 3):
+        raise ValueError(f"clouds must have shape (m, n, d) with n >= 1 and d in (2, 3), got {arr.shape}")
+    lo = np.empty((arr.shape[0], arr.shape[2]))
+    hi = np.empty((arr.shape[0], arr.shape[2]))
+    _fit_aabbs_kernel(arr, lo, hi)
+    return lo, hi
+
+
+def overlap_aabbs(lo_a, hi_a, lo_b, hi_b) -> np.ndarray:
+    """Row-wise overlap of boxes: (n, d) arrays (or (d,)) -> bool (n,): box a_i meets box b_i (closed)."""
+    lo_a, hi_a = as_box(lo_a, hi_a, names=("lo_a", "hi_a"))
+    lo_b, hi_b = as_box(lo_b, hi_b, names=("lo_b", "hi_b"))
+    if lo_a.shape != lo_b.shape:
+        raise ValueError(f"lo_b must have the shape of lo_a {lo_a.shape}, got {lo_b.shape}")
+    out = np.empty(lo_a.reshape(-1, lo_a.shape[-1]).shape[0], dtype=np.bool_)
+    d = lo_a.shape[-1]
+    _overlap_aabbs_kernel(lo_a.reshape(-1, d), hi_a.reshape(-1, d), lo_b.reshape(-1, d), hi_b.reshape(-1, d), out)
+    return out
+
+
+def overlap_aabb_aabb(lo_a, hi_a, lo_b, hi_b) -> bool:
+    """Whether the closed boxes [lo_a, hi_a] and [lo_b, hi_b] (each (d,)) overlap (touching counts)."""
+    lo_a, hi_a = as_box(lo_a, hi_a, names=("lo_a", "hi_a"))
+    if lo_a.ndim != 1:
+        raise ValueError(f"lo_a must have shape (d,), got {lo_a.shape}; use overlap_aabbs for batches")
+    return bool(overlap_aabbs(lo_a, hi_a, lo_b, hi_b)[0])
+
+
+def merge_aabb(lo_a, hi_a, lo_b, hi_b) -> tuple[np.ndarray, np.ndarray]:
+    """The smallest AABB holding both boxes (shapes (d,) or (n, d), row-wise)."""
+    lo_a, hi_a = as_box(lo_a, hi_a, names=("lo_a", "hi_a"))
+    lo_b, hi_b = as_box(lo_b, hi_b, names=("lo_b", "hi_b"))
+    if lo_a.shape != lo_b.shape:
+        raise ValueError(f"lo_b must have the shape of lo_a {lo_a.shape}, got {lo_b.shape}")
+    return np.minimum(lo_a, lo_b), np.maximum(hi_a, hi_b)
+
+
+def aabb_contains(lo, hi, points) -> np.ndarray:
+    """Boolean (n,): which of ``points`` (n, d) lie in the closed box [lo, hi] (each (d,))."""
+    lo, hi = as_box(lo, hi)
+    if lo.ndim != 1:
+        raise ValueError(f"lo must have shape (d,), got {lo.shape}")
+    pts = as_points(points, min_rows=0, dims=(lo.shape[0],))
+    out = np.empty(pts.shape[0], dtype=np.bool_)
+    _contains_kernel(lo, hi, pts, out)
+    return out
+
+
+def transform_aabbs(lo, hi, rotation, translation) -> tuple[np.ndarray, np.ndarray]:
+    """Batched fast re-fit (Ericson 4.2.6): the AABBs of the boxes (n, d) moved by x -> R x + t.
+
+    ``rotation`` (d, d) orthonormal, ``translation`` (d,). The result is the exact AABB of each moved box
+    (it contains the moved object, and is at most sqrt(d) times wider than the object's own re-fit).
+    """
+    lo, hi = as_box(lo, hi)
+    d = lo.shape[-1]
+    rotation, translation = as_rotation(rotation, translation, d)
+    lo2, hi2 = lo.reshape(-1, d), hi.reshape(-1, d)
+    new_lo = np.empty_like(lo2)
+    new_hi = np.empty_like(hi2)
+    _transform_aabbs_kernel(lo2, hi2, rotation, translation, new_lo, new_hi)
+    return new_lo.reshape(lo.shape), new_hi.reshape(hi.shape)
+
+
+def transform_aabb(lo, hi, rotation, translation) -> tuple[np.ndarray, np.ndarray]:
+    """The AABB (each (d,)) of the box [lo, hi] after x -> rotation @ x + translation (Ericson 4.2.6)."""
+    lo, hi = as_box(lo, hi)
+    if lo.ndim != 1:
+        raise ValueError(f"lo must have shape (d,), got {lo.shape}; use transform_aabbs for batches")
+    return transform_aabbs(lo, hi, rotation, translation)

@@ -1,0 +1,576 @@
+"""Convex hull and convexity (chapter slides "Enveloppe convexe" — the smallest convex surface/volume holding
+the object — and "Objet convexe" — a line meets a convex shape in at most two points).
+
+- 3-D: quickhull (Barber, Dobkin & Huhdanpaa 1996; Ericson, *Real-Time Collision Detection*, 12.4.2): start from
+  a tetrahedron of extreme points, give every outside point to one face (its conflict list), then repeatedly
+  take the farthest point of a face, find the faces it sees (depth-first over face neighbours), replace them
+  by a cone of new faces on the horizon, and hand the visible faces' points to the new faces.
+- 2-D: Andrew's monotone chain (Andrew 1979): sort by x then y, build the lower and upper chains, popping
+  every point that does not make a strict left turn.
+
+``convex_hull(points)`` never returns a wrong hull: duplicates are fine; input of lower dimension than its
+ambient space (all points equal, collinear, or coplanar in 3-D, fewer than d + 1 points) raises ValueError
+saying which; and the 3-D result is certified before it is returned (every point on the inner side of every
+face plane, Euler's formula F = 2V - 4 for a closed triangulated surface).
+
+``is_convex`` is the slide's criterion in its practical form: every vertex lies on the inner side of every
+face (edge) plane.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .._config import njit
+from .._validate import as_nonnegative
+from .aabb import as_points
+
+__all__ = ["ConvexHull", "convex_hull", "is_convex"]
+
+#: distances below HULL_EPS times the coordinate scale count as "on the plane" (quickhull's thick planes)
+HULL_EPS = 1e-12
+#: certification tolerance, in units of the coordinate scale
+CERTIFY_EPS = 1e-9
+#: up to this many point-face pairs, every input point is checked against every hull face
+FULL_CERTIFY_WORK = 50_000_000
+
+_DEGENERATE_3D = {
+    1: "all points coincide (a 0-dimensional set)",
+    2: "all points are collinear (a 1-dimensional set)",
+    3: "all points are coplanar (a 2-dimensional set); project them to 2-D and use a 2-D hull",
+    4: "the input is numerically degenerate (nearly coplanar faces); quickhull could not build a valid horizon",
+}
+
+
+class ConvexHull:
+    """The convex hull of ``points`` (n, d), d = 2 or 3.
+
+    - ``vertices``: int64 indices into ``points`` of the hull's vertices; counter-clockwise in 2-D, ascending in
+      3-D (one index per distinct vertex position);
+    - ``faces``: int64 (m, d): outward-oriented triangles (counter-clockwise seen from outside) in 3-D, the
+      counter-clockwise edges in 2-D;
+    - ``normals`` (m, d) unit outward normals and ``offsets`` (m,): a point x is inside iff
+      ``normals @ x <= offsets`` for every face;
+    - ``volume``: the enclosed volume (the area in 2-D); ``area``: the surface area (the perimeter in 2-D);
+    - ``dim`` and ``points`` (a read-only copy of the input).
+    """
+
+    __slots__ = ("points", "dim", "vertices", "faces", "normals", "offsets", "volume", "area")
+
+    def __init__(self, points, vertices, faces, normals, offsets, volume, area):
+        self.points = points
+        self.dim = points.shape[1]
+        self.vertices = vertices
+        self.faces = faces
+        self.normals = normals
+        self.offsets = offsets
+        self.volume = float(volume)
+        self.area = float(area)
+        for arr in (points, vertices, faces, normals, offsets):
+            arr.setflags(write=False)
+
+    def __repr__(self) -> str:
+        return (f"ConvexHull(dim={self.dim}, vertices={len(self.vertices)}, faces={len(self.faces)}, "
+                f"volume={self.volume!r})")
+
+
+# ---------------------------------------------------------------------------------------------------------
+# 2-D: Andrew's monotone chain
+# ---------------------------------------------------------------------------------------------------------
+@njit
+def _cross2(o, a, b):
+    return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
+
+
+@njit
+def _monotone_chain_kernel(points, order):
+    """Indices of the hull vertices, counter-clockwise, from points visited in lexicographic ``order``.
+
+    Andrew's algorithm: lower chain left to right, upper chain right to left; a point is popped while the last
+    two chain points and the new point do not turn strictly left (cross <= 0), so collinear points are dropped.
+    """
+    n = order.shape[0]
+    hull = np.empty(2 * n + 1, dtype=np.int64)
+    k = 0
+    for t in range(n):  # lower chain
+        i = order[t]
+        while k >= 2 and _cross2(points[hull[k - 2]], points[hull[k - 1]], points[i]) <= 0.0:
+            k -= 1
+        hull[k] = i
+        k += 1
+    lower = k + 1
+    for t in range(n - 2, -1, -1):  # upper chain
+        i = order[t]
+        while k >= lower and _cross2(points[hull[k - 2]], points[hull[k - 1]], points[i]) <= 0.0:
+            k -= 1
+        hull[k] = i
+        k += 1
+    return hull[: max(k - 1, 1)]  # the last point repeats the first
+
+
+def _hull_2d(pts: np.ndarray) -> ConvexHull:
+    n = pts.shape[0]
+    if n < 3:
+        raise ValueError(f"points: a 2-D hull needs at least 3 points, got {n}")
+    order = np.lexsort((pts[:, 1], pts[:, 0])).astype(np.int64)
+    verts = _monotone_chain_kernel(pts, order)
+    if verts.shape[0] < 3:
+        what = "coincide" if np.ptp(pts, axis=0).max() == 0 else "are collinear"
+        raise ValueError(f"points: all points {what}; a 2-D hull needs 3 non-collinear points")
+    v = pts[verts]
+    nxt = np.roll(v, -1, axis=0)
+    area2 = float(np.sum(v[:, 0] * nxt[:, 1] - nxt[:, 0] * v[:, 1]))
+    scale = float(np.abs(pts).max() + np.ptp(pts, axis=0).max())
+    if area2 <= HULL_EPS * scale * scale:
+        raise ValueError("points: all points are (numerically) collinear; a 2-D hull needs 3 non-collinear points")
+    edges = nxt - v
+    lengths = np.hypot(edges[:, 0], edges[:, 1])
+    normals = np.column_stack([edges[:, 1], -edges[:, 0]]) / lengths[:, None]  # right of a ccw edge = outside
+    offsets = np.einsum("ij,ij->i", normals, v)
+    faces = np.column_stack([verts, np.roll(verts, -1)]).astype(np.int64)
+    return ConvexHull(pts, verts.astype(np.int64), faces, normals, offsets, area2 / 2.0, lengths.sum())
+
+
+# ---------------------------------------------------------------------------------------------------------
+# 3-D: quickhull
+# ---------------------------------------------------------------------------------------------------------
+@njit
+def _plane(points, a, b, c, normal):
+    """Unit normal of the triangle (a, b, c) (right-hand rule) written in ``normal``; returns its offset."""
+    ux = points[b, 0] - points[a, 0]
+    uy = points[b, 1] - points[a, 1]
+    uz = points[b, 2] - points[a, 2]
+    vx = points[c, 0] - points[a, 0]
+    vy = points[c, 1] - points[a, 1]
+    vz = points[c, 2] - points[a, 2]
+    nx = uy * vz - uz * vy
+    ny = uz * vx - ux * vz
+    nz = ux * vy - uy * vx
+    length = math.sqrt(nx * nx + ny * ny + nz * nz)
+    if length == 0.0:
+        length = 1.0
+    normal[0] = nx / length
+    normal[1] = ny / length
+    normal[2] = nz / length
+    # offset through the centroid (less round-off than through one vertex)
+    offset = 0.0
+    for m in range(3):
+        offset += normal[m] * (points[a, m] + points[b, m] + points[c, m]) / 3.0
+    return offset
+
+
+@njit
+def _distance(points, i, normal, offset):
+    return normal[0] * points[i, 0] + normal[1] * points[i, 1] + normal[2] * points[i, 2] - offset
+
+
+@njit
+def _initial_simplex(points, eps):
+    """Four affinely independent extreme points, or a status 1/2/3 when the input is 0/1/2-dimensional."""
+    n = points.shape[0]
+    simplex = np.zeros(4, dtype=np.int64)
+    # farthest pair among the 6 axis extremes
+    extremes = np.zeros(6, dtype=np.int64)
+    for k in range(3):
+        for i in range(n):
+            if points[i, k] < points[extremes[2 * k], k]:
+                extremes[2 * k] = i
+            if points[i, k] > points[extremes[2 * k + 1], k]:
+                extremes[2 * k + 1] = i
+    best = -1.0
+    for s in range(6):
+        for t in range(s + 1, 6):
+            d2 = 0.0
+            for m in range(3):
+                d2 += (points[extremes[s], m] - points[extremes[t], m]) ** 2
+            if d2 > best:
+                best = d2
+                simplex[0] = extremes[s]
+                simplex[1] = extremes[t]
+    if math.sqrt(best) <= eps:
+        return simplex, 1
+    # farthest from the line (p0, p1)
+    a = points[simplex[0]]
+    u = points[simplex[1]] - a
+    u = u / math.sqrt(u[0] ** 2 + u[1] ** 2 + u[2] ** 2)
+    best = -1.0
+    for i in range(n):
+        w = points[i] - a
+        t = w[0] * u[0] + w[1] * u[1] + w[2] * u[2]
+        d2 = (w[0] - t * u[0]) ** 2 + (w[1] - t * u[1]) ** 2 + (w[2] - t * u[2]) ** 2
+        if d2 > best:
+            best = d2
+            simplex[2] = i
+    if math.sqrt(best) <= eps:
+        return simplex, 2
+    # farthest from the plane (p0, p1, p2)
+    normal = np.empty(3)
+    offset = _plane(points, simplex[0], simplex[1], simplex[2], normal)
+    best = -1.0
+    for i in range(n):
+        d = abs(_distance(points, i, normal, offset))
+        if d > best:
+            best = d
+            simplex[3] = i
+    if best <= eps:
+        return simplex, 3
+    return simplex, 0
+
+
+@njit
+def _quickhull_kernel(points, eps, capacity):
+    """Quickhull in 3-D. Returns (faces (m, 3), status): status 0 ok, 1/2/3 degenerate input of that
+    dimension + 1, 4 numerically invalid horizon, 5 face capacity exceeded (the caller retries larger)."""
+    n = points.shape[0]
+    empty = np.zeros((0, 3), dtype=np.int64)
+    simplex, status = _initial_simplex(points, eps)
+    if status != 0:
+        return empty, status
+
+    fv = np.zeros((capacity, 3), dtype=np.int64)        # face vertices, counter-clockwise from outside
+    fadj = np.full((capacity, 3), -1, dtype=np.int64)   # face across edge e = (fv[e], fv[(e + 1) % 3])
+    fn = np.zeros((capacity, 3))                         # unit outward normals
+    fd = np.zeros(capacity)                              # plane offsets
+    alive = np.zeros(capacity, dtype=np.bool_)
+    head = np.full(capacity, -1, dtype=np.int64)         # conflict list: first outside point of each face
+    far = np.full(capacity, -1, dtype=np.int64)          # farthest outside point of each face
+    far_d = np.zeros(capacity)
+    stamp = np.full(capacity, -1, dtype=np.int64)        # visited mark of the visibility search
+    nxt = np.full(n, -1, dtype=np.int64)                 # next point in the same conflict list
+    start_face = np.full(n, -1, dtype=np.int64)          # new face whose horizon edge starts at a vertex
+    end_face = np.full(n, -1, dtype=np.int64)            # new face whose horizon edge ends at a vertex
+
+    # the tetrahedron, each face oriented away from the opposite vertex
+    tri = np.array([[0, 1, 2], [0, 3, 1], [1, 3, 2], [2, 3, 0]], dtype=np.int64)
+    opposite = np.array([3, 2, 0, 1], dtype=np.int64)
+    for f in range(4):
+        a = simplex[tri[f, 0]]
+        b = simplex[tri[f, 1]]
+        c = simplex[tri[f, 2]]
+        fd[f] = _plane(points, a, b, c, fn[f])
+        if _distance(points, simplex[opposite[f]], fn[f], fd[f]) > 0.0:
+            b, c = c, b
+            fd[f] = _plane(points, a, b, c, fn[f])
+        fv[f, 0] = a
+        fv[f, 1] = b
+        fv[f, 2] = c
+        alive[f] = True
+    for f in range(4):  # neighbours: the face holding the reversed edge
+        for e in range(3):
+            a = fv[f, e]
+            b = fv[f, (e + 1) % 3]
+            for g in range(4):
+                for e2 in range(3):
+                    if fv[g, e2] == b and fv[g, (e2 + 1) % 3] == a:
+                        fadj[f, e] = g
+    nfaces = 4
+
+    # every other point goes to the conflict list of the face it lies farthest outside of
+    for i in range(n):
+        if i == simplex[0] or i == simplex[1] or i == simplex[2] or i == simplex[3]:
+            continue
+        best = eps
+        bf = -1
+        for f in range(4):
+            d = _distance(points, i, fn[f], fd[f])
+            if d > best:
+                best = d
+                bf = f
+        if bf >= 0:
+            nxt[i] = head[bf]
+            head[bf] = i
+            if best > far_d[bf]:
+                far_d[bf] = best
+                far[bf] = i
+
+    visible = np.empty(capacity, dtype=np.int64)
+    stack = np.empty(capacity, dtype=np.int64)
+    horizon = np.empty((capacity, 3), dtype=np.int64)    # (a, b, face beyond the edge)
+    new_faces = np.empty(capacity, dtype=np.int64)
+    f = 0
+    iteration = 0
+    while f < nfaces:
+        if not alive[f] or head[f] == -1:
+            f += 1
+            continue
+        iteration += 1
+        p = far[f]
+        # 1. visible faces: depth-first search from f over neighbours; the horizon is the set of edges
+        #    between a visible face and a face that p does not see
+        nvis = 0
+        nhor = 0
+        top = 0
+        stack[top] = f
+        top += 1
+        stamp[f] = iteration
+        while top > 0:
+            top -= 1
+            g = stack[top]
+            visible[nvis] = g
+            nvis += 1
+            for e in range(3):
+                h = fadj[g, e]
+                if stamp[h] == iteration:
+                    continue
+                if _distance(points, p, fn[h], fd[h]) > eps:
+                    stamp[h] = iteration
+                    stack[top] = h
+                    top += 1
+                else:
+                    horizon[nhor, 0] = fv[g, e]
+                    horizon[nhor, 1] = fv[g, (e + 1) % 3]
+                    horizon[nhor, 2] = h
+                    nhor += 1
+        # a horizon edge whose outer face turned visible later in the search is not a horizon edge
+        k = 0
+        for t in range(nhor):
+            if stamp[horizon[t, 2]] != iteration:
+                horizon[k] = horizon[t]
+                k += 1
+        nhor = k
+        if nfaces + nhor > capacity:
+            return empty, 5
+        # 2. the cone of new faces (a, b, p) on the horizon edges, linked to the faces beyond and to each other
+        for t in range(nhor):
+            a = horizon[t, 0]
+            b = horizon[t, 1]
+            h = horizon[t, 2]
+            nf = nfaces
+            nfaces += 1
+            fv[nf, 0] = a
+            fv[nf, 1] = b
+            fv[nf, 2] = p
+            fd[nf] = _plane(points, a, b, p, fn[nf])
+            alive[nf] = True
+            head[nf] = -1
+            far[nf] = -1
+            far_d[nf] = 0.0
+            fadj[nf, 0] = h
+            for e in range(3):
+                if fv[h, e] == b and fv[h, (e + 1) % 3] == a:
+                    fadj[h, e] = nf
+            if start_face[a] != -1 or end_face[b] != -1:
+                return empty, 4  # the horizon is not a simple loop
+            start_face[a] = nf
+            end_face[b] = nf
+            new_faces[t] = nf
+        for t in range(nhor):
+            nf = new_faces[t]
+            fadj[nf, 1] = start_face[fv[nf, 1]]   # edge (b, p) borders the face starting at b
+            fadj[nf, 2] = end_face[fv[nf, 0]]     # edge (p, a) borders the face ending at a
+            if fadj[nf, 1] == -1 or fadj[nf, 2] == -1:
+                return empty, 4
+        for t in range(nhor):
+            start_face[horizon[t, 0]] = -1
+            end_face[horizon[t, 1]] = -1
+        # 3. the visible faces die; their outside points move to the new face they lie farthest outside of
+        for v in range(nvis):
+            g = visible[v]
+            alive[g] = False
+            i = head[g]
+            while i != -1:
+                following = nxt[i]
+                if i != p:
+                    best = eps
+                    bf = -1
+                    for t in range(nhor):
+                        nf = new_faces[t]
+                        d = _distance(points, i, fn[nf], fd[nf])
+                        if d > best:
+                            best = d
+                            bf = nf
+                    if bf >= 0:
+                        nxt[i] = head[bf]
+                        head[bf] = i
+                        if best > far_d[bf]:
+                            far_d[bf] = best
+                            far[bf] = i
+                i = following
+            head[g] = -1
+        f += 1
+
+    m = 0
+    for g in range(nfaces):
+        if alive[g]:
+            m += 1
+    faces = np.empty((m, 3), dtype=np.int64)
+    m = 0
+    for g in range(nfaces):
+        if alive[g]:
+            faces[m] = fv[g]
+            m += 1
+    return faces, 0
+
+
+@njit
+def _max_outside_kernel(points, normals, offsets):
+    """The largest signed distance of any point outside any face plane (<= 0 for a valid hull)."""
+    worst = -np.inf
+    for i in range(points.shape[0]):
+        for f in range(normals.shape[0]):
+            d = normals[f, 0] * points[i, 0] + normals[f, 1] * points[i, 1] + normals[f, 2] * points[i, 2]
+            d -= offsets[f]
+            if d > worst:
+                worst = d
+    return worst
+
+
+def _convex_at_every_edge(points, faces, normals, offsets, tol) -> bool:
+    """Every edge is shared by exactly two faces that traverse it in opposite directions (a closed, consistently
+    oriented surface), and the far vertex of each face lies on the inner side of its neighbour's plane."""
+    m = faces.shape[0]
+    start = faces.ravel()
+    end = np.roll(faces, -1, axis=1).ravel()
+    far = np.roll(faces, -2, axis=1).ravel()
+    face = np.repeat(np.arange(m), 3)
+    key = np.minimum(start, end) * points.shape[0] + np.maximum(start, end)
+    order = np.argsort(key, kind="stable")
+    first, second = order[0::2], order[1::2]
+    if (key[first] != key[second]).any() or (np.diff(key[first]) <= 0).any():
+        return False
+    if (start[first] != end[second]).any():
+        return False
+    d1 = np.einsum("ij,ij->i", normals[face[first]], points[far[second]]) - offsets[face[first]]
+    d2 = np.einsum("ij,ij->i", normals[face[second]], points[far[first]]) - offsets[face[second]]
+    return bool(max(d1.max(), d2.max()) <= tol)
+
+
+def _hull_3d(pts: np.ndarray) -> ConvexHull:
+    n = pts.shape[0]
+    if n < 4:
+        raise ValueError(f"points: a 3-D hull needs at least 4 points that are not coplanar, got {n} point(s)")
+    centre = (pts.max(axis=0) + pts.min(axis=0)) / 2.0
+    local = pts - centre  # work about the box centre: round-off then scales with the extent
+    scale = float(np.abs(local).sum(axis=1).max() + np.abs(centre).max() * 1e-4)
+    eps = HULL_EPS * max(scale, np.finfo(float).tiny)
+    capacity = 8 * n + 64
+    while True:
+        faces, status = _quickhull_kernel(local, eps, capacity)
+        if status != 5:
+            break
+        capacity *= 4
+    if status != 0:
+        raise ValueError(f"points: {_DEGENERATE_3D[status]}")
+    a, b, c = local[faces[:, 0]], local[faces[:, 1]], local[faces[:, 2]]
+    cross = np.cross(b - a, c - a)
+    twice_area = np.linalg.norm(cross, axis=1)
+    normals = cross / np.where(twice_area > 0, twice_area, 1.0)[:, None]
+    offsets_local = np.einsum("ij,ij->i", normals, (a + b + c) / 3.0)
+    vertices = np.unique(faces)
+    # certify: a closed triangulated sphere (F = 2V - 4) that is convex at every edge (no vertex of the hull
+    # outside any face plane) is a convex polyhedron; quickhull only drops points inside the new hull, and for
+    # inputs small enough we also check every input point against every face plane
+    tol = CERTIFY_EPS * scale
+    if faces.shape[0] != 2 * vertices.shape[0] - 4 or not _convex_at_every_edge(local, faces, normals,
+                                                                                 offsets_local, tol):
+        raise ValueError(f"points: {_DEGENERATE_3D[4]}")
+    if n * faces.shape[0] <= FULL_CERTIFY_WORK and _max_outside_kernel(local, normals, offsets_local) > tol:
+        raise ValueError(f"points: {_DEGENERATE_3D[4]}")
+    ref = local[vertices].mean(axis=0)
+    volume = float(np.einsum("ij,ij->i", a - ref, np.cross(b - ref, c - ref)).sum() / 6.0)
+    offsets = offsets_local + normals @ centre
+    return ConvexHull(pts, vertices.astype(np.int64), faces, normals, offsets, volume, twice_area.sum() / 2.0)
+
+
+def convex_hull(points) -> ConvexHull:
+    """The convex hull of ``points`` (n, d), d = 2 (monotone chain) or 3 (quickhull); see ``ConvexHull``.
+
+    Raises ValueError for fewer than d + 1 points, NaN/inf, or input of lower dimension (all points equal,
+    collinear, or coplanar in 3-D): such input has no d-dimensional hull.
+    """
+    pts = as_points(points)
+    return _hull_2d(pts) if pts.shape[1] == 2 else _hull_3d(pts)
+
+
+# ---------------------------------------------------------------------------------------------------------
+# convexity
+# ---------------------------------------------------------------------------------------------------------
+@njit
+def _polygon_convex_kernel(poly, tol):
+    """Slide "Objet convexe", practical form: every vertex on the inner side of every edge line, and the
+    boundary turns once around (total turning 2 pi), which rules out a convex polygon traversed twice."""
+    n = poly.shape[0]
+    area2 = 0.0
+    for i in range(n):
+        j = (i + 1) % n
+        area2 += poly[i, 0] * poly[j, 1] - poly[j, 0] * poly[i, 1]
+    if area2 == 0.0:
+        return False
+    sign = 1.0 if area2 > 0.0 else -1.0
+    turning = 0.0
+    for i in range(n):
+        j = (i + 1) % n
+        ex = poly[j, 0] - poly[i, 0]
+        ey = poly[j, 1] - poly[i, 1]
+        length = math.sqrt(ex * ex + ey * ey)
+        for k in range(n):
+            side = sign * (ex * (poly[k, 1] - poly[i, 1]) - ey * (poly[k, 0] - poly[i, 0]))
+            if side < -tol * length:
+                return False
+        nx = poly[(j + 1) % n, 0] - poly[j, 0]
+        ny = poly[(j + 1) % n, 1] - poly[j, 1]
+        if length > 0.0 and (nx != 0.0 or ny != 0.0):
+            turning += math.atan2(ex * ny - ey * nx, ex * nx + ey * ny)
+    return abs(abs(turning) - 2.0 * math.pi) < 1e-6
+
+
+@njit
+def _mesh_convex_kernel(vertices, faces, tol):
+    """Every vertex on the inner side of every face plane (outward faces; all-inward faces are flipped)."""
+    m = faces.shape[0]
+    volume6 = 0.0
+    for f in range(m):
+        a = vertices[faces[f, 0]]
+        b = vertices[faces[f, 1]]
+        c = vertices[faces[f, 2]]
+        volume6 += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
+                    + a[2] * (b[0] * c[1] - b[1] * c[0]))
+    if volume6 == 0.0:
+        return False
+    sign = 1.0 if volume6 > 0.0 else -1.0
+    for f in range(m):
+        a = vertices[faces[f, 0]]
+        u = vertices[faces[f, 1]] - a
+        v = vertices[faces[f, 2]] - a
+        nx = u[1] * v[2] - u[2] * v[1]
+        ny = u[2] * v[0] - u[0] * v[2]
+        nz = u[0] * v[1] - u[1] * v[0]
+        length = math.sqrt(nx * nx + ny * ny + nz * nz)
+        if length == 0.0:
+            continue  # a degenerate (zero-area) triangle has no plane
+        for k in range(vertices.shape[0]):
+            w = vertices[k] - a
+            if sign * (nx * w[0] + ny * w[1] + nz * w[2]) > tol * length:
+                return False
+    return True
+
+
+def is_convex(vertices, faces=None, *, tol: float = 1e-9) -> bool:
+    """Whether a polygon or a closed polyhedral surface is convex (slide "Objet convexe").
+
+    - 2-D: ``vertices`` (n, 2), n >= 3, the polygon's vertices in boundary order (either orientation);
+      ``faces`` must be None.
+    - 3-D: ``vertices`` (n, 3) and ``faces`` (m, 3) int triangles, consistently oriented (all outward or all
+      inward), e.g. a ``ConvexHull``'s ``points`` and ``faces``.
+    The test: every vertex lies on the inner side of every face plane (edge line), to ``tol`` times the
+    coordinate scale. Degenerate shapes (zero area / volume) are not convex.
+    """
+    tol = as_nonnegative(tol, "tol")
+    pts = as_points(vertices, "vertices", min_rows=3)
+    scale = float(np.abs(pts - pts.mean(axis=0)).max()) or 1.0
+    if pts.shape[1] == 2:
+        if faces is not None:
+            raise ValueError("faces must be None for a 2-D polygon (its vertices are given in boundary order)")
+        return bool(_polygon_convex_kernel(pts - pts.mean(axis=0), tol * scale))
+    if faces is None:
+        raise ValueError("faces is required for a 3-D polyhedron: an (m, 3) array of vertex indices")
+    tri = np.asarray(faces)
+    if tri.dtype.kind not in "iu" or tri.ndim != 2 or tri.shape[1] != 3 or tri.shape[0] < 4:
+        raise ValueError(f"faces must be an (m, 3) integer array with m >= 4, got {tri.dtype} {tri.shape}")
+    bad = (tri < 0) | (tri >= pts.shape[0])
+    if bad.any():
+        f, e = (int(i) for i in np.argwhere(bad)[0])
+        raise ValueError(f"faces[{f}, {e}] = {tri[f, e]} is not a vertex index in [0, {pts.shape[0]})")
+    return bool(_mesh_convex_kernel(pts - pts.mean(axis=0), tri.astype(np.int64), tol * scale))
+

@@ -1,0 +1,378 @@
+"""Bounding sphere (chapter slides "Sphère englobante" and "Volumes englobants: bounding sphere": the minimal
+sphere holding the object; 4 scalars; collision iff d < r_A + r_B, about 11 primitive operations; trivial to
+update under rotation). Ericson, *Real-Time Collision Detection*, sections 4.3 (fits) and 6.5.2 (merge).
+
+Two fits:
+- ``ritter_sphere`` — Ritter's fast approximate fit (Ericson 4.3.2), O(n), within ~5-20 % of minimal;
+- ``min_bounding_sphere`` — Welzl's exact minimal sphere (Ericson 4.3.5), written as the iterative
+  move-to-front form on a seeded random order (expected O(n)), with exact circumsphere formulas for 1 to 4
+  support points and a fall-back for collinear / coplanar supports, so duplicates never produce NaN.
+
+Points are (n, d) with d = 2 (circles) or 3. Both fits finish by setting the radius to the largest distance
+from the centre to a point, so every point lies in the returned sphere.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .._config import njit
+from .._validate import as_float_array, as_nonnegative
+from .aabb import as_points, as_rotation
+
+__all__ = [
+    "ritter_sphere",
+    "ritter_spheres",
+    "min_bounding_sphere",
+    "overlap_sphere_sphere",
+    "overlap_spheres",
+    "merge_spheres",
+    "sphere_contains",
+    "transform_sphere",
+]
+
+#: a point is "outside" the current Welzl ball when |p - c|^2 > r^2 (1 + OUTSIDE_REL) + (OUTSIDE_ABS scale)^2
+OUTSIDE_REL = 1e-12
+OUTSIDE_ABS = 1e-15
+
+
+# ---------------------------------------------------------------------------------------------------------
+# Ritter (Ericson 4.3.2)
+# ---------------------------------------------------------------------------------------------------------
+@njit
+def _ritter_kernel(points, center):
+    """Ritter's sphere of points (n, d); writes the centre, returns the radius."""
+    n, d = points.shape
+    # 1. the most separated pair among the 2d extreme points along the axes
+    best = -1.0
+    ia = 0
+    ib = 0
+    for k in range(d):
+        imin = 0
+        imax = 0
+        for i in range(1, n):
+            if points[i, k] < points[imin, k]:
+                imin = i
+            if points[i, k] > points[imax, k]:
+                imax = i
+        dist2 = 0.0
+        for m in range(d):
+            dist2 += (points[imax, m] - points[imin, m]) ** 2
+        if dist2 > best:
+            best = dist2
+            ia = imin
+            ib = imax
+    # 2. the sphere on that pair as diameter
+    for m in range(d):
+        center[m] = 0.5 * (points[ia, m] + points[ib, m])
+    r = 0.5 * math.sqrt(best)
+    # 3. one pass: grow the sphere just enough to hold each outside point
+    for i in range(n):
+        dist2 = 0.0
+        for m in range(d):
+            dist2 += (points[i, m] - center[m]) ** 2
+        if dist2 > r * r:
+            dist = math.sqrt(dist2)
+            new_r = 0.5 * (r + dist)
+            step = (new_r - r) / dist
+            for m in range(d):
+                center[m] += step * (points[i, m] - center[m])
+            r = new_r
+    # 4. the exact radius about that centre (never larger; holds every point despite round-off)
+    r2 = 0.0
+    for i in range(n):
+        dist2 = 0.0
+        for m in range(d):
+            dist2 += (points[i, m] - center[m]) ** 2
+        r2 = max(r2, dist2)
+    return math.sqrt(r2)
+
+
+@njit
+def _ritter_batch_kernel(clouds, centers, radii):
+    for c in range(clouds.shape[0]):
+        radii[c] = _ritter_kernel(clouds[c], centers[c])
+
+
+# ---------------------------------------------------------------------------------------------------------
+# Welzl (Ericson 4.3.5), iterative move-to-front form, in 3-D (2-D input is embedded at z = 0)
+# ---------------------------------------------------------------------------------------------------------
+@njit
+def _dist2(p, c):
+    return (p[0] - c[0]) ** 2 + (p[1] - c[1]) ** 2 + (p[2] - c[2]) ** 2
+
+
+@njit
+def _ball2(a, b, c):
+    """Smallest ball with a and b on its boundary (the diametral ball); writes c, returns r^2."""
+    for m in range(3):
+        c[m] = 0.5 * (a[m] + b[m])
+    return max(_dist2(a, c), _dist2(b, c))
+
+
+@njit
+def _cross(u, v):
+    return np.array([u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]])
+
+
+@njit
+def _ball3(a, b, p, c):
+    """Smallest ball with a, b, p on its boundary: the triangle's circumsphere, centre in its plane.
+
+    c = p + ((|u|^2 v - |v|^2 u) x (u x v)) / (2 |u x v|^2) with u = a - p, v = b - p. For a (near-)collinear
+    triple the circumcircle does not exist: return the diametral ball of the farthest pair, which is then
+    the smallest ball holding all three (no NaN).
+    """
+    u = a - p
+    v = b - p
+    w = _cross(u, v)
+    w2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2]
+    uu = u[0] * u[0] + u[1] * u[1] + u[2] * u[2]
+    vv = v[0] * v[0] + v[1] * v[1] + v[2] * v[2]
+    if w2 <= 1e-20 * uu * vv:
+        tmp = np.empty(3)
+        best = -1.0
+        pairs = ((a, b), (a, p), (b, p))
+        for q in pairs:
+            r2 = _ball2(q[0], q[1], tmp)
+            if r2 > best:
+                best = r2
+                c[:] = tmp
+        return best
+    num = _cross(uu * v - vv * u, w)
+    for m in range(3):
+        c[m] = p[m] + num[m] / (2.0 * w2)
+    return max(_dist2(a, c), _dist2(b, c), _dist2(p, c))
+
+
+@njit
+def _holds(q, c, r2):
+    return _dist2(q, c) <= r2 * (1.0 + 1e-10)
+
+
+@njit
+def _ball4(a, b, p, q, c):
+    """Smallest ball with a, b, p, q on its boundary: the tetrahedron's circumsphere.
+
+    Relative to a, with u = b - a, v = p - a, w = q - a:
+    x = (|u|^2 (v x w) + |v|^2 (w x u) + |w|^2 (u x v)) / (2 u.(v x w)). For a (near-)coplanar quadruple
+    the circumsphere does not exist: return the smallest of the 2- and 3-point balls that holds all four.
+    """
+    u = b - a
+    v = p - a
+    w = q - a
+    vw = _cross(v, w)
+    det = u[0] * vw[0] + u[1] * vw[1] + u[2] * vw[2]
+    lu = math.sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2])
+    lv = math.sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2])
+    lw = math.sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2])
+    if abs(det) > 1e-10 * lu * lv * lw:
+        wu = _cross(w, u)
+        uv = _cross(u, v)
+        for m in range(3):
+            c[m] = a[m] + (lu * lu * vw[m] + lv * lv * wu[m] + lw * lw * uv[m]) / (2.0 * det)
+        return max(_dist2(a, c), _dist2(b, c), _dist2(p, c), _dist2(q, c))
+    # degenerate: try every ball on 2 or 3 of the points, keep the smallest holding all four
+    pts = np.empty((4, 3))
+    pts[0] = a
+    pts[1] = b
+    pts[2] = p
+    pts[3] = q
+    tmp = np.empty(3)
+    best = np.inf
+    for i in range(4):
+        for j in range(i + 1, 4):
+            for k in range(j, 4):
+                if k == j:
+                    r2 = _ball2(pts[i], pts[j], tmp)
+                else:
+                    r2 = _ball3(pts[i], pts[j], pts[k], tmp)
+                if r2 < best and _holds(a, tmp, r2) and _holds(b, tmp, r2) and _holds(p, tmp, r2) \
+                        and _holds(q, tmp, r2):
+                    best = r2
+                    c[:] = tmp
+    if best == np.inf:  # cannot happen for 4 coplanar points (their minimal disc has 2 or 3 support points)
+        best = _ball3(a, b, p, c)
+        best = max(best, _dist2(q, c))
+    return best
+
+
+@njit
+def _move_to_front(order, k):
+    """Move order[k] to position 0, shifting order[0:k] one step right (Gärtner's move-to-front)."""
+    x = order[k]
+    for m in range(k, 0, -1):
+        order[m] = order[m - 1]
+    order[0] = x
+
+
+@njit
+def _welzl_kernel(points, tol_abs2):
+    """Exact minimal ball of points (n, 3), visited in the given (already shuffled) order.
+
+    Welzl's recursion unrolled into four nested loops, as in de Berg et al.'s MiniDisc extended to 3-D:
+        for i: if p_i outside B:  B = ball({p_i});           for j < i: if p_j outside B:
+               B = ball(p_i, p_j);  for k < j: if p_k outside B:  B = ball(p_i, p_j, p_k);
+               for l < k: if p_l outside B: B = ball(p_i, p_j, p_k, p_l)
+    Each level moves the point that forced a new ball to the front of the list (move-to-front).
+    Returns (centre (3,), radius^2 before the final exact re-measure).
+    """
+    n = points.shape[0]
+    order = np.arange(n)
+    c = points[0].copy()
+    r2 = 0.0
+    for i in range(1, n):
+        pi = points[order[i]]
+        if _dist2(pi, c) <= r2 * (1.0 + 1e-12) + tol_abs2:
+            continue
+        c[:] = pi
+        r2 = 0.0
+        for j in range(i):
+            pj = points[order[j]]
+            if _dist2(pj, c) <= r2 * (1.0 + 1e-12) + tol_abs2:
+                continue
+            r2 = _ball2(pi, pj, c)
+            for k in range(j):
+                pk = points[order[k]]
+                if _dist2(pk, c) <= r2 * (1.0 + 1e-12) + tol_abs2:
+                    continue
+                r2 = _ball3(pi, pj, pk, c)
+                for m in range(k):
+                    pm = points[order[m]]
+                    if _dist2(pm, c) <= r2 * (1.0 + 1e-12) + tol_abs2:
+                        continue
+                    r2 = _ball4(pi, pj, pk, pm, c)
+                    _move_to_front(order, m)
+                _move_to_front(order, k)
+            _move_to_front(order, j)
+        _move_to_front(order, i)
+    return c, r2
+
+
+@njit
+def _max_dist(points, c):
+    r2 = 0.0
+    for i in range(points.shape[0]):
+        r2 = max(r2, _dist2(points[i], c))
+    return math.sqrt(r2)
+
+
+# ---------------------------------------------------------------------------------------------------------
+# overlap, containment
+# ---------------------------------------------------------------------------------------------------------
+@njit
+def _overlap_spheres_kernel(ca, ra, cb, rb, out):
+    # slide "Bounding sphere — tester: collision ssi d < r_A + r_B" (closed here: touching counts), with the
+    # square root avoided: |c_a - c_b|^2 <= (r_a + r_b)^2 — 3 subtractions, 3 products, 3 additions (dist^2),
+    # 1 addition and 1 product (radius sum squared), 1 comparison: the slide's ~11 operations
+    n, d = ca.shape
+    for i in range(n):
+        dist2 = 0.0
+        for m in range(d):
+            dist2 += (ca[i, m] - cb[i, m]) ** 2
+        s = ra[i] + rb[i]
+        out[i] = dist2 <= s * s
+
+
+# ---------------------------------------------------------------------------------------------------------
+# public functions
+# ---------------------------------------------------------------------------------------------------------
+def ritter_sphere(points) -> tuple[np.ndarray, float]:
+    """Ritter's fast bounding sphere of ``points`` (n, d), d = 2 or 3 -> ``(center (d,), radius)``."""
+    pts = as_points(points)
+    center = np.empty(pts.shape[1])
+    r = _ritter_kernel(pts, center)
+    return center, float(r)
+
+
+def ritter_spheres(clouds) -> tuple[np.ndarray, np.ndarray]:
+    """Batched Ritter fit: ``clouds`` (m, n, d) -> ``(centers (m, d), radii (m,))`` in one compiled call."""
+    arr = as_float_array(clouds, "clouds", ndim=3)
+    if arr.shape[1] < 1 or arr.shape[2] not in (2, 3):
+        raise ValueError(f"clouds must have shape (m, n, d) with n >= 1 and d in (2, 3), got {arr.shape}")
+    centers = np.empty((arr.shape[0], arr.shape[2]))
+    radii = np.empty(arr.shape[0])
+    _ritter_batch_kernel(arr, centers, radii)
+    return centers, radii
+
+
+def min_bounding_sphere(points, *, seed: int = 0) -> tuple[np.ndarray, float]:
+    """The exact smallest sphere (circle in 2-D) holding ``points`` (n, d), d = 2 or 3 (Welzl).
+
+    Returns ``(center (d,), radius)``. The points are visited in a random order drawn from ``seed`` (fixed by
+    default, so results are deterministic). Duplicates, collinear and coplanar points are fine.
+    """
+    pts = as_points(points)
+    if not isinstance(seed, int | np.integer) or isinstance(seed, bool):
+        raise TypeError(f"seed must be an integer, got {type(seed).__name__}")
+    n, d = pts.shape
+    # work relative to the centroid (better conditioned circumsphere formulas; exact translation invariance
+    # is not claimed, only to round-off)
+    origin = pts.mean(axis=0)
+    local = np.zeros((n, 3))
+    local[:, :d] = pts - origin
+    local = local[np.random.default_rng(seed).permutation(n)]
+    scale = float(np.abs(local).max()) if n else 0.0
+    c, _ = _welzl_kernel(local, (OUTSIDE_ABS * scale) ** 2)
+    # exact radius about the centre found: every point is inside by construction
+    r = _max_dist(local, c)
+    return c[:d] + origin, float(r)
+
+
+def overlap_spheres(centers_a, radii_a, centers_b, radii_b) -> np.ndarray:
+    """Row-wise sphere overlap: centres (n, d), radii (n,) -> bool (n,): |c_a - c_b| <= r_a + r_b."""
+    ca = as_float_array(centers_a, "centers_a", ndim=2)
+    cb = as_float_array(centers_b, "centers_b", shape=ca.shape)
+    ra = as_float_array(radii_a, "radii_a", shape=(ca.shape[0],))
+    rb = as_float_array(radii_b, "radii_b", shape=(ca.shape[0],))
+    for name, r in (("radii_a", ra), ("radii_b", rb)):
+        if (r < 0).any():
+            k = int(np.argmax(r < 0))
+            raise ValueError(f"{name} must be >= 0: {name}[{k}] = {r[k]!r}")
+    out = np.empty(ca.shape[0], dtype=np.bool_)
+    _overlap_spheres_kernel(ca, ra, cb, rb, out)
+    return out
+
+
+def overlap_sphere_sphere(center_a, radius_a, center_b, radius_b) -> bool:
+    """Whether two closed spheres (centres (d,), radii >= 0) overlap (touching counts)."""
+    ca = as_float_array(center_a, "center_a", ndim=1)
+    ra = as_nonnegative(radius_a, "radius_a")
+    rb = as_nonnegative(radius_b, "radius_b")
+    return bool(overlap_spheres(ca[None], [ra], np.asarray(center_b, dtype=float)[None], [rb])[0])
+
+
+def merge_spheres(center_a, radius_a, center_b, radius_b) -> tuple[np.ndarray, float]:
+    """The smallest sphere holding both spheres (Ericson 6.5.2) -> ``(center (d,), radius)``."""
+    ca = as_float_array(center_a, "center_a", ndim=1)
+    cb = as_float_array(center_b, "center_b", shape=ca.shape)
+    ra = as_nonnegative(radius_a, "radius_a")
+    rb = as_nonnegative(radius_b, "radius_b")
+    delta = cb - ca
+    dist = float(np.sqrt(delta @ delta))
+    if dist + rb <= ra:  # b inside a
+        return ca, ra
+    if dist + ra <= rb:  # a inside b
+        return cb, rb
+    r = 0.5 * (dist + ra + rb)
+    c = ca + ((r - ra) / dist) * delta
+    # guard against round-off: the result must hold both spheres
+    r = max(r, float(np.linalg.norm(c - ca)) + ra, float(np.linalg.norm(c - cb)) + rb)
+    return c, r
+
+
+def sphere_contains(center, radius, points) -> np.ndarray:
+    """Boolean (n,): which of ``points`` (n, d) lie in the closed sphere (``center`` (d,), ``radius``)."""
+    c = as_float_array(center, "center", ndim=1)
+    r = as_nonnegative(radius, "radius")
+    pts = as_points(points, min_rows=0, dims=(c.shape[0],))
+    return ((pts - c) ** 2).sum(axis=1) <= r * r
+
+
+def transform_sphere(center, radius, rotation, translation) -> tuple[np.ndarray, float]:
+    """The sphere after x -> rotation @ x + translation: only the centre moves (slide: "trivial to update")."""
+    c = as_float_array(center, "center", ndim=1)
+    r = as_nonnegative(radius, "radius")
+    rotation, translation = as_rotation(rotation, translation, c.shape[0])
+    return rotation @ c + translation, r
