@@ -1,0 +1,171 @@
+"""``collide contact A.json B.json``: whether, where (point, normal, feature) and when two shapes collide.
+
+JSON format of one shape file (one object; lengths in any unit, times in the unit of the velocities)::
+
+    {
+      "shape": "box" | "sphere" | "capsule" | "convex",
+      "center": [x, y, z],              # box, sphere, capsule: required; convex: optional (rotation centre,
+                                        #   default the mean of the points)
+      "half_extents": [hx, hy, hz],     # box: required, >= 0
+      "radius": r,                      # sphere, capsule: required, >= 0; box, convex: optional rounding (0)
+      "half_height": h,                 # capsule: half length of its axis segment, along its local y axis
+      "points": [[x, y, z], ...],       # convex: vertices in the shape's local frame (rotated about "center"
+                                        #   and translated to it when "center" is given, else world coordinates)
+      "rotation": [[...], [...], [...]] # optional 3x3 matrix (columns = the shape's local axes in the world,
+                | [w, x, y, z],         #   world = center + rotation @ local) or a unit quaternion (w first)
+      "velocity": [vx, vy, vz],         # optional, default 0: constant linear velocity
+      "angular_velocity": [wx, wy, wz]  # optional, default 0: constant angular velocity about "center"
+    }
+
+Example: ``{"shape": "box", "center": [0, 0, 5], "half_extents": [1, 1, 1], "velocity": [0, 0, -2]}``.
+
+``describe_contact(path_a, path_b, t_max=10.0)`` reads the two files and answers in plain text: at t = 0 whether
+the shapes overlap (depth and normal) or how far apart they are; the first time of impact within [0, t_max]
+(conservative advancement), and at that instant the contact feature (vertex-face, edge-edge, face-face ...), the
+normal and the contact point(s). ``load_shape(path_or_dict)`` returns the parsed ``ShapeSpec``.
+"""
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from .._validate import as_float_array, as_nonnegative, as_positive
+from .contact import _pose, contact_feature, time_of_impact
+
+__all__ = ["ShapeSpec", "load_shape", "describe_contact", "SHAPE_KINDS"]
+
+SHAPE_KINDS = ("box", "sphere", "capsule", "convex")
+
+
+@dataclass(frozen=True)
+class ShapeSpec:
+    """A parsed shape: ``core`` (n, 3) world vertices at t = 0 swept by a ball of ``radius``; motion."""
+
+    kind: str
+    core: np.ndarray
+    radius: float
+    center: np.ndarray
+    velocity: np.ndarray
+    angular_velocity: np.ndarray
+
+    def at(self, t: float) -> np.ndarray:
+        """The core vertices at time t, (n, 3)."""
+        out = np.empty_like(self.core)
+        _pose(self.core, self.center, self.velocity, self.angular_velocity, float(t), out)
+        return out
+
+
+def _rotation(value, where: str) -> np.ndarray:
+    if value is None:
+        return np.eye(3)
+    arr = np.asarray(value, dtype=np.float64) if not isinstance(value, str) else None
+    if arr is None or arr.shape not in ((3, 3), (4,)):
+        raise ValueError(f"{where}: rotation must be a 3x3 matrix or a quaternion [w, x, y, z]")
+    if arr.shape == (4,):
+        q = as_float_array(arr, f"{where}: rotation", shape=(4,))
+        norm = np.linalg.norm(q)
+        if abs(norm - 1.0) > 1e-6:
+            raise ValueError(f"{where}: the rotation quaternion must have unit norm, got {norm!r}")
+        w, x, y, z = q / norm
+        return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+                         [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+                         [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
+    m = as_float_array(arr, f"{where}: rotation", shape=(3, 3))
+    if np.abs(m.T @ m - np.eye(3)).max() > 1e-6 or np.linalg.det(m) < 0:
+        raise ValueError(f"{where}: rotation must be a proper rotation matrix (orthonormal, det +1)")
+    return m
+
+
+def load_shape(source, where: str = "shape") -> ShapeSpec:
+    """Parse one shape from a JSON file path or an already-loaded dict (format in the module docstring)."""
+    if isinstance(source, dict):
+        spec = source
+    else:
+        path = Path(source)
+        where = str(path)
+        try:
+            spec = json.loads(path.read_text())
+        except json.JSONDecodeError as exc:
+            raise ValueError(f"{where}: not valid JSON ({exc})") from exc
+    if not isinstance(spec, dict):
+        raise ValueError(f"{where}: a shape file holds one JSON object")
+    kind = spec.get("shape")
+    if kind not in SHAPE_KINDS:
+        raise ValueError(f"{where}: 'shape' must be one of {list(SHAPE_KINDS)}, got {kind!r}")
+    known = {"shape", "center", "half_extents", "radius", "half_height", "points", "rotation", "velocity",
+             "angular_velocity"}
+    unknown = sorted(set(spec) - known)
+    if unknown:
+        raise ValueError(f"{where}: unknown key(s) {unknown}")
+
+    def need(key):
+        if key not in spec:
+            raise ValueError(f"{where}: a {kind} needs '{key}'")
+        return spec[key]
+
+    rot = _rotation(spec.get("rotation"), where)
+    radius = as_nonnegative(spec.get("radius", 0.0), f"{where}: radius")
+    if kind == "box":
+        center = as_float_array(need("center"), f"{where}: center", shape=(3,))
+        half = as_float_array(need("half_extents"), f"{where}: half_extents", shape=(3,))
+        if (half < 0).any():
+            raise ValueError(f"{where}: half_extents must be >= 0, got {half.tolist()}")
+        signs = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)], dtype=np.float64)
+        core = center + (signs * half) @ rot.T
+    elif kind == "sphere":
+        center = as_float_array(need("center"), f"{where}: center", shape=(3,))
+        radius = as_nonnegative(need("radius"), f"{where}: radius")
+        core = center[None, :].copy()
+    elif kind == "capsule":
+        center = as_float_array(need("center"), f"{where}: center", shape=(3,))
+        radius = as_nonnegative(need("radius"), f"{where}: radius")
+        h = as_nonnegative(need("half_height"), f"{where}: half_height")
+        core = center + np.array([[0.0, -h, 0.0], [0.0, h, 0.0]]) @ rot.T
+    else:
+        local = as_float_array(need("points"), f"{where}: points", shape=(None, 3), min_rows=1)
+        if "center" in spec:
+            center = as_float_array(spec["center"], f"{where}: center", shape=(3,))
+            core = center + local @ rot.T
+        else:
+            core = local @ rot.T
+            center = core.mean(axis=0)
+    velocity = as_float_array(spec.get("velocity", [0.0, 0.0, 0.0]), f"{where}: velocity", shape=(3,))
+    spin = as_float_array(spec.get("angular_velocity", [0.0, 0.0, 0.0]), f"{where}: angular_velocity",
+                          shape=(3,))
+    return ShapeSpec(kind=kind, core=np.ascontiguousarray(core), radius=radius, center=center,
+                     velocity=velocity, angular_velocity=spin)
+
+
+def _fmt(v) -> str:
+    return "(" + ", ".join(f"{x:.6g}" for x in np.asarray(v).ravel()) + ")"
+
+
+def describe_contact(path_a, path_b, t_max: float = 10.0) -> str:
+    """Whether, where and when the shapes of two JSON files (paths or dicts) collide, as readable text."""
+    t_max = as_positive(t_max, "t_max")
+    a = load_shape(path_a, "A")
+    b = load_shape(path_b, "B")
+    lines = [f"A: {a.kind}, B: {b.kind}"]
+    now = contact_feature(a.core, b.core, radius_a=a.radius, radius_b=b.radius)
+    if now.separation < 0.0:
+        lines.append(f"at t = 0: overlapping, penetration depth {-now.separation:.6g} along normal "
+                     f"{_fmt(now.normal)} (A towards B)")
+        lines.append(f"contact: {now.kind}, point(s): " + ", ".join(_fmt(p) for p in now.points))
+        lines.append("time of impact: t = 0 (already in contact)")
+        return "\n".join(lines)
+    lines.append(f"at t = 0: {'touching' if now.separation == 0.0 else 'separated'}, distance "
+                 f"{now.separation:.6g}")
+    t = time_of_impact(a.core, a.velocity, b.core, b.velocity, t_max=t_max, angular_velocity_a=a.angular_velocity,
+                       angular_velocity_b=b.angular_velocity, center_a=a.center, center_b=b.center,
+                       radius_a=a.radius, radius_b=b.radius)
+    if t is None:
+        lines.append(f"no collision for t in [0, {t_max:.6g}]")
+        return "\n".join(lines)
+    hit = contact_feature(a.at(t), b.at(t), radius_a=a.radius, radius_b=b.radius)
+    lines.append(f"time of impact: t = {t:.9g}")
+    lines.append(f"contact at t: {hit.kind}, normal {_fmt(hit.normal)} (A towards B), point(s): "
+                 + ", ".join(_fmt(p) for p in hit.points))
+    return "\n".join(lines)
