@@ -1,0 +1,568 @@
+"""Dynamic AABB tree: the hierarchy ("un arbre") used by Box2D, Bullet (btDbvt) and FCL, stored as index arrays.
+
+Chapter slides "Phase Large : Subdivision spatiale" (non uniforme: "une hiérarchie ! un « arbre »"); Ericson,
+*Real-Time Collision Detection* 6.1–6.2 (bounding volume hierarchies, top-down build), 6.5 (tree traversal);
+Box2D's ``b2DynamicTree`` for the incremental operations:
+
+- ``insert``: a leaf holding a *fattened* box (the object's box grown by a margin) goes down the tree along the
+  cheapest branch (the increase of the summed box sides, a perimeter cost as in Box2D) and becomes the sibling
+  of the node where the descent stops; the boxes of its ancestors are refitted on the way back up;
+- ``remove``: the leaf's sibling takes its parent's place;
+- ``move``: while the object's box stays inside its fat box nothing changes; otherwise remove + insert;
+- ``pairs``: every object descends the nodes whose (fat) boxes overlap its own box; at a leaf the two *exact*
+  boxes are compared, so the pairs are exactly the overlapping boxes whatever the margins;
+- ``rebuild``: a batch top-down build (median-of-extent split on the widest axis of the centres, 6.2.1).
+
+There are no tree rotations: a long sequence of moves can unbalance the tree; ``rebuild()`` restores it.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from engine._config import njit
+from engine._validate import as_float_array, as_nonnegative
+from engine.broadphase.pairs import _canonical_pairs_kernel, _grow, as_boxes, as_boxes_3d, empty_pairs
+
+__all__ = ["DynamicAABBTree", "tree_pairs"]
+
+
+@njit
+def _refit_upwards(index, node_lo, node_hi, parent, child1, child2, height):
+    """Walk from ``index`` to the root, refitting each node's box and height to its two children."""
+    while index != -1:
+        a = child1[index]
+        b = child2[index]
+        for k in range(3):
+            node_lo[index, k] = min(node_lo[a, k], node_lo[b, k])
+            node_hi[index, k] = max(node_hi[a, k], node_hi[b, k])
+        height[index] = 1 + max(height[a], height[b])
+        index = parent[index]
+
+
+@njit
+def _sides(lo0, lo1, lo2, hi0, hi1, hi2):
+    return (hi0 - lo0) + (hi1 - lo1) + (hi2 - lo2)
+
+
+@njit
+def _union_cost(node_lo, node_hi, a, b):
+    """Sum of the sides of the union of node boxes a and b (the perimeter cost of Box2D, in 1-3 D)."""
+    return _sides(min(node_lo[a, 0], node_lo[b, 0]), min(node_lo[a, 1], node_lo[b, 1]),
+                  min(node_lo[a, 2], node_lo[b, 2]), max(node_hi[a, 0], node_hi[b, 0]),
+                  max(node_hi[a, 1], node_hi[b, 1]), max(node_hi[a, 2], node_hi[b, 2]))
+
+
+@njit
+def _own_cost(node_lo, node_hi, a):
+    return _sides(node_lo[a, 0], node_lo[a, 1], node_lo[a, 2], node_hi[a, 0], node_hi[a, 1], node_hi[a, 2])
+
+
+@njit
+def _insert_leaf_kernel(leaf, new_parent, root, node_lo, node_hi, parent, child1, child2, height):
+    # Box2D b2DynamicTree::InsertLeaf: descend along the cheapest branch, then pair the leaf with the sibling.
+    if root == -1:
+        parent[leaf] = -1
+        return leaf
+    index = root
+    while child1[index] != -1:
+        a = child1[index]
+        b = child2[index]
+        area = _own_cost(node_lo, node_hi, index)
+        combined = _union_cost(node_lo, node_hi, index, leaf)
+        cost = 2.0 * combined
+        inheritance = 2.0 * (combined - area)
+        cost_a = _union_cost(node_lo, node_hi, a, leaf) + inheritance
+        if child1[a] != -1:
+            cost_a -= _own_cost(node_lo, node_hi, a)
+        cost_b = _union_cost(node_lo, node_hi, b, leaf) + inheritance
+        if child1[b] != -1:
+            cost_b -= _own_cost(node_lo, node_hi, b)
+        if cost < cost_a and cost < cost_b:
+            break
+        index = a if cost_a <= cost_b else b
+    sibling = index
+    old_parent = parent[sibling]
+    parent[new_parent] = old_parent
+    child1[new_parent] = sibling
+    child2[new_parent] = leaf
+    parent[sibling] = new_parent
+    parent[leaf] = new_parent
+    if old_parent != -1:
+        if child1[old_parent] == sibling:
+            child1[old_parent] = new_parent
+        else:
+            child2[old_parent] = new_parent
+    else:
+        root = new_parent
+    _refit_upwards(new_parent, node_lo, node_hi, parent, child1, child2, height)
+    return root
+
+
+@njit
+def _remove_leaf_kernel(leaf, root, node_lo, node_hi, parent, child1, child2, height):
+    """Box2D b2DynamicTree::RemoveLeaf; returns (new root, freed inner node or −1)."""
+    if leaf == root:
+        return -1, -1
+    p = parent[leaf]
+    grand = parent[p]
+    sibling = child2[p] if child1[p] == leaf else child1[p]
+    if grand != -1:
+        if child1[grand] == p:
+            child1[grand] = sibling
+        else:
+            child2[grand] = sibling
+        parent[sibling] = grand
+        _refit_upwards(grand, node_lo, node_hi, parent, child1, child2, height)
+        return root, p
+    parent[sibling] = -1
+    return sibling, p
+
+
+@njit
+def _build_kernel(box_lo, box_hi, node_lo, node_hi, parent, child1, child2, height, leaf_of, obj_of):
+    # Ericson 6.2.1, top-down: split the objects at the midpoint of their centres along the widest axis
+    # (at half the count if every centre coincides). Nodes 0..2m-2, root 0; leaf_of[t] is object t's leaf.
+    m = box_lo.shape[0]
+    items = np.arange(m)
+    centre = 0.5 * box_lo + 0.5 * box_hi
+    n_nodes = 1
+    stack_node = np.empty(2 * m, dtype=np.int64)
+    stack_s = np.empty(2 * m, dtype=np.int64)
+    stack_e = np.empty(2 * m, dtype=np.int64)
+    stack_node[0] = 0
+    stack_s[0] = 0
+    stack_e[0] = m
+    parent[0] = -1
+    top = 1
+    while top > 0:
+        top -= 1
+        node = stack_node[top]
+        s = stack_s[top]
+        e = stack_e[top]
+        for k in range(3):
+            node_lo[node, k] = np.inf
+            node_hi[node, k] = -np.inf
+        for p in range(s, e):
+            t = items[p]
+            for k in range(3):
+                node_lo[node, k] = min(node_lo[node, k], box_lo[t, k])
+                node_hi[node, k] = max(node_hi[node, k], box_hi[t, k])
+        if e - s == 1:
+            child1[node] = -1
+            child2[node] = -1
+            height[node] = 0
+            leaf_of[items[s]] = node
+            obj_of[node] = items[s]
+            continue
+        cmin = np.full(3, np.inf)
+        cmax = np.full(3, -np.inf)
+        for p in range(s, e):
+            t = items[p]
+            for k in range(3):
+                cmin[k] = min(cmin[k], centre[t, k])
+                cmax[k] = max(cmax[k], centre[t, k])
+        axis = 0
+        for k in range(1, 3):
+            if cmax[k] - cmin[k] > cmax[axis] - cmin[axis]:
+                axis = k
+        mid = 0.5 * cmin[axis] + 0.5 * cmax[axis]
+        split = s
+        if cmin[axis] < mid and mid <= cmax[axis]:
+            for p in range(s, e):  # partition: centres < mid first
+                t = items[p]
+                if centre[t, axis] < mid:
+                    items[p] = items[split]
+                    items[split] = t
+                    split += 1
+        else:
+            split = (s + e) // 2
+        a = n_nodes
+        b = n_nodes + 1
+        n_nodes += 2
+        child1[node] = a
+        child2[node] = b
+        parent[a] = node
+        parent[b] = node
+        obj_of[node] = -1
+        stack_node[top] = a
+        stack_s[top] = s
+        stack_e[top] = split
+        stack_node[top + 1] = b
+        stack_s[top + 1] = split
+        stack_e[top + 1] = e
+        top += 2
+    # heights, bottom-up (children always have larger indices than their parent)
+    for node in range(n_nodes - 1, -1, -1):
+        if child1[node] != -1:
+            height[node] = 1 + max(height[child1[node]], height[child2[node]])
+    return n_nodes
+
+
+@njit
+def _tree_pairs_kernel(root, node_lo, node_hi, child1, child2, obj_of, obj_lo, obj_hi, obj_node, n_objects):
+    # Ericson 6.5 / Box2D b2DynamicTree::Query: each object descends the nodes whose fat box overlaps its exact
+    # box; at a leaf holding object j > i the exact boxes are compared.
+    out = np.empty((max(n_objects, 16), 2), dtype=np.int64)
+    count = 0
+    if root == -1:
+        return out[:0].copy()
+    stack = np.empty(node_lo.shape[0] + 1, dtype=np.int64)
+    for i in range(n_objects):
+        if obj_node[i] < 0:
+            continue
+        top = 1
+        stack[0] = root
+        while top > 0:
+            top -= 1
+            node = stack[top]
+            if (obj_lo[i, 0] > node_hi[node, 0] or node_lo[node, 0] > obj_hi[i, 0]
+                    or obj_lo[i, 1] > node_hi[node, 1] or node_lo[node, 1] > obj_hi[i, 1]
+                    or obj_lo[i, 2] > node_hi[node, 2] or node_lo[node, 2] > obj_hi[i, 2]):
+                continue
+            if child1[node] == -1:
+                j = obj_of[node]
+                if j > i:
+                    hit = True
+                    for k in range(3):
+                        if obj_lo[i, k] > obj_hi[j, k] or obj_lo[j, k] > obj_hi[i, k]:
+                            hit = False
+                    if hit:
+                        if count == out.shape[0]:
+                            out = _grow(out, count + 1)
+                        out[count, 0] = i
+                        out[count, 1] = j
+                        count += 1
+            else:
+                stack[top] = child1[node]
+                stack[top + 1] = child2[node]
+                top += 2
+    return _canonical_pairs_kernel(out, count, n_objects)
+
+
+@njit
+def _query_box_kernel(root, node_lo, node_hi, child1, child2, obj_of, obj_lo, obj_hi, q_lo, q_hi):
+    """Ids of the objects whose exact box overlaps the query box [q_lo, q_hi] ((3,) each), ascending."""
+    found = np.empty(16, dtype=np.int64)
+    count = 0
+    if root == -1:
+        return found[:0].copy()
+    stack = np.empty(node_lo.shape[0] + 1, dtype=np.int64)
+    top = 1
+    stack[0] = root
+    while top > 0:
+        top -= 1
+        node = stack[top]
+        hit = True
+        for k in range(3):
+            if q_lo[k] > node_hi[node, k] or node_lo[node, k] > q_hi[k]:
+                hit = False
+        if not hit:
+            continue
+        if child1[node] == -1:
+            j = obj_of[node]
+            for k in range(3):
+                if q_lo[k] > obj_hi[j, k] or obj_lo[j, k] > q_hi[k]:
+                    hit = False
+            if hit:
+                if count == found.shape[0]:
+                    bigger = np.empty(2 * count, dtype=np.int64)
+                    bigger[:count] = found
+                    found = bigger
+                found[count] = j
+                count += 1
+        else:
+            stack[top] = child1[node]
+            stack[top + 1] = child2[node]
+            top += 2
+    return np.sort(found[:count])
+
+
+class DynamicAABBTree:
+    """A dynamic AABB tree over objects with ids, as Box2D/Bullet/FCL use (see the module docstring).
+
+    ``DynamicAABBTree(dim=3, margin=None)``; ``insert(lo_i, hi_i) -> id``; ``remove(id)``;
+    ``move(id, lo_i, hi_i) -> bool`` (True when the leaf had to be re-inserted); ``update(lo, hi) -> pairs``
+    moves every live object (rows in ascending id order); ``pairs()``; ``query(lo_q, hi_q) -> ids``;
+    ``rebuild()``; ``DynamicAABBTree.from_boxes(lo, hi)`` builds in batch. Boxes are (d,) per object.
+    ``margin``: how much leaf boxes are fattened on each side — an absolute length, or None for 10 % of the
+    box's largest side. Pairs are canonical pairs of ids of exactly overlapping (closed) boxes.
+    """
+
+    def __init__(self, dim: int = 3, margin: float | None = None):
+        if isinstance(dim, bool) or not isinstance(dim, int | np.integer) or dim not in (1, 2, 3):
+            raise ValueError(f"dim must be 1, 2 or 3, got {dim!r}")
+        self._d = int(dim)
+        self.margin = None if margin is None else as_nonnegative(margin, "margin")
+        self._alloc_nodes(16)
+        self._obj_lo = np.zeros((16, 3))
+        self._obj_hi = np.zeros((16, 3))
+        self._obj_node = np.full(16, -1, dtype=np.int64)
+        self._n_ids = 0
+        self._free_ids: list[int] = []
+        self._root = -1
+
+    # -- storage --------------------------------------------------------------------------------------
+    def _alloc_nodes(self, capacity):
+        self._node_lo = np.zeros((capacity, 3))
+        self._node_hi = np.zeros((capacity, 3))
+        self._parent = np.full(capacity, -1, dtype=np.int64)
+        self._child1 = np.full(capacity, -1, dtype=np.int64)
+        self._child2 = np.full(capacity, -1, dtype=np.int64)
+        self._height = np.zeros(capacity, dtype=np.int64)
+        self._obj_of = np.full(capacity, -1, dtype=np.int64)
+        self._free_nodes = list(range(capacity - 1, -1, -1))
+
+    def _new_node(self) -> int:
+        if not self._free_nodes:
+            old = self._node_lo.shape[0]
+            new = 2 * old
+            for name in ("_node_lo", "_node_hi"):
+                grown = np.zeros((new, 3))
+                grown[:old] = getattr(self, name)
+                setattr(self, name, grown)
+            for name, fill in (("_parent", -1), ("_child1", -1), ("_child2", -1), ("_height", 0), ("_obj_of", -1)):
+                grown = np.full(new, fill, dtype=np.int64)
+                grown[:old] = getattr(self, name)
+                setattr(self, name, grown)
+            self._free_nodes = list(range(new - 1, old - 1, -1))
+        return self._free_nodes.pop()
+
+    def _free_node(self, node: int) -> None:
+        self._child1[node] = -1
+        self._child2[node] = -1
+        self._parent[node] = -1
+        self._obj_of[node] = -1
+        self._height[node] = 0
+        self._free_nodes.append(node)
+
+    def _one_box(self, lo_i, hi_i):
+        lo_i = as_float_array(lo_i, "lo", shape=(self._d,))
+        hi_i = as_float_array(hi_i, "hi", shape=(self._d,))
+        bad = np.flatnonzero(lo_i > hi_i)
+        if bad.size:
+            k = int(bad[0])
+            raise ValueError(f"lo must not exceed hi: lo[{k}] = {lo_i[k]!r} > hi[{k}] = {hi_i[k]!r}")
+        lo3 = np.zeros(3)
+        hi3 = np.zeros(3)
+        lo3[: self._d] = lo_i
+        hi3[: self._d] = hi_i
+        return lo3, hi3
+
+    def _check_id(self, obj_id) -> int:
+        if isinstance(obj_id, bool) or not isinstance(obj_id, int | np.integer):
+            raise TypeError(f"id must be an int, got {type(obj_id).__name__}")
+        if not (0 <= obj_id < self._n_ids and self._obj_node[obj_id] >= 0):
+            raise ValueError(f"id {obj_id} is not a live object")
+        return int(obj_id)
+
+    def _fat(self, lo3, hi3):
+        grow = 0.1 * float((hi3 - lo3).max()) if self.margin is None else self.margin
+        fat_lo = lo3 - grow
+        fat_hi = hi3 + grow
+        return np.minimum(fat_lo, lo3), np.maximum(fat_hi, hi3)  # round-off never shrinks the fat box
+
+    def _insert_node(self, obj_id: int) -> None:
+        leaf = self._new_node()
+        fat_lo, fat_hi = self._fat(self._obj_lo[obj_id], self._obj_hi[obj_id])
+        self._node_lo[leaf] = fat_lo
+        self._node_hi[leaf] = fat_hi
+        self._child1[leaf] = -1
+        self._child2[leaf] = -1
+        self._height[leaf] = 0
+        self._obj_of[leaf] = obj_id
+        self._obj_node[obj_id] = leaf
+        new_parent = self._new_node() if self._root != -1 else -1
+        self._root = int(_insert_leaf_kernel(leaf, new_parent, self._root, self._node_lo, self._node_hi,
+                                             self._parent, self._child1, self._child2, self._height))
+
+    def _remove_node(self, obj_id: int) -> None:
+        leaf = int(self._obj_node[obj_id])
+        root, freed = _remove_leaf_kernel(leaf, self._root, self._node_lo, self._node_hi, self._parent,
+                                          self._child1, self._child2, self._height)
+        self._root = int(root)
+        if freed >= 0:
+            self._free_node(int(freed))
+        self._free_node(leaf)
+        self._obj_node[obj_id] = -1
+
+    # -- public operations ----------------------------------------------------------------------------
+    @property
+    def dim(self) -> int:
+        return self._d
+
+    def __len__(self) -> int:
+        return int(np.count_nonzero(self._obj_node[: self._n_ids] >= 0))
+
+    @property
+    def height(self) -> int:
+        """Height of the tree (a single leaf has height 0; an empty tree −1)."""
+        return -1 if self._root == -1 else int(self._height[self._root])
+
+    def ids(self) -> np.ndarray:
+        """The live ids, ascending, int64 (m,)."""
+        return np.flatnonzero(self._obj_node[: self._n_ids] >= 0).astype(np.int64)
+
+    def insert(self, lo_i, hi_i) -> int:
+        """Insert the box [lo_i, hi_i] ((d,) each); returns the object's id (freed ids are reused)."""
+        lo3, hi3 = self._one_box(lo_i, hi_i)
+        if self._free_ids:
+            obj_id = self._free_ids.pop()
+        else:
+            obj_id = self._n_ids
+            if obj_id == self._obj_lo.shape[0]:
+                grow = obj_id
+                self._obj_lo = np.concatenate([self._obj_lo, np.zeros((grow, 3))])
+                self._obj_hi = np.concatenate([self._obj_hi, np.zeros((grow, 3))])
+                self._obj_node = np.concatenate([self._obj_node, np.full(grow, -1, dtype=np.int64)])
+            self._n_ids += 1
+        self._obj_lo[obj_id] = lo3
+        self._obj_hi[obj_id] = hi3
+        self._insert_node(obj_id)
+        return obj_id
+
+    def remove(self, obj_id) -> None:
+        """Delete object ``obj_id``."""
+        obj_id = self._check_id(obj_id)
+        self._remove_node(obj_id)
+        self._free_ids.append(obj_id)
+
+    def move(self, obj_id, lo_i, hi_i) -> bool:
+        """Give object ``obj_id`` the box [lo_i, hi_i]; re-insert its leaf only if it left its fat box."""
+        obj_id = self._check_id(obj_id)
+        lo3, hi3 = self._one_box(lo_i, hi_i)
+        self._obj_lo[obj_id] = lo3
+        self._obj_hi[obj_id] = hi3
+        leaf = self._obj_node[obj_id]
+        if np.all(self._node_lo[leaf] <= lo3) and np.all(hi3 <= self._node_hi[leaf]):
+            return False
+        self._remove_node(obj_id)
+        self._insert_node(obj_id)
+        return True
+
+    def update(self, lo, hi) -> np.ndarray:
+        """Move every live object (rows of lo, hi ((m, d)) in ascending id order) and return ``pairs()``."""
+        lo_d, hi_d = as_boxes(lo, hi)
+        ids = self.ids()
+        if lo_d.shape != (ids.shape[0], self._d):
+            raise ValueError(f"lo and hi must have shape ({ids.shape[0]}, {self._d}), got {lo_d.shape}")
+        for row, obj_id in enumerate(ids.tolist()):
+            self._obj_lo[obj_id, : self._d] = lo_d[row]
+            self._obj_hi[obj_id, : self._d] = hi_d[row]
+            leaf = self._obj_node[obj_id]
+            if not (np.all(self._node_lo[leaf] <= self._obj_lo[obj_id])
+                    and np.all(self._obj_hi[obj_id] <= self._node_hi[leaf])):
+                self._remove_node(obj_id)
+                self._insert_node(obj_id)
+        return self.pairs()
+
+    def pairs(self) -> np.ndarray:
+        """Canonical pairs of ids whose (exact, closed) boxes overlap."""
+        if self._root == -1:
+            return empty_pairs()
+        return _tree_pairs_kernel(self._root, self._node_lo, self._node_hi, self._child1, self._child2,
+                                  self._obj_of, self._obj_lo, self._obj_hi, self._obj_node, self._n_ids)
+
+    def query(self, lo_q, hi_q) -> np.ndarray:
+        """Ids (ascending, int64) of the objects whose exact box overlaps the box [lo_q, hi_q] ((d,) each)."""
+        q_lo, q_hi = self._one_box(lo_q, hi_q)
+        return _query_box_kernel(self._root, self._node_lo, self._node_hi, self._child1, self._child2,
+                                 self._obj_of, self._obj_lo, self._obj_hi, q_lo, q_hi)
+
+    def rebuild(self) -> None:
+        """Batch top-down rebuild of the whole tree from the live objects' fat boxes (restores balance)."""
+        ids = self.ids()
+        m = ids.shape[0]
+        if m == 0:
+            return
+        fat_lo = np.empty((m, 3))
+        fat_hi = np.empty((m, 3))
+        for row, obj_id in enumerate(ids.tolist()):
+            fat_lo[row] = self._node_lo[self._obj_node[obj_id]]
+            fat_hi[row] = self._node_hi[self._obj_node[obj_id]]
+        self._build_from(ids, fat_lo, fat_hi)
+
+    def _build_from(self, ids, fat_lo, fat_hi) -> None:
+        m = ids.shape[0]
+        self._alloc_nodes(max(16, 2 * m))
+        leaf_of = np.empty(m, dtype=np.int64)
+        obj_of = np.full(self._node_lo.shape[0], -1, dtype=np.int64)
+        n_nodes = _build_kernel(fat_lo, fat_hi, self._node_lo, self._node_hi, self._parent, self._child1,
+                                self._child2, self._height, leaf_of, obj_of)
+        self._obj_of = ids[np.maximum(obj_of, 0)]
+        self._obj_of[obj_of < 0] = -1
+        self._obj_node[:] = -1
+        self._obj_node[ids] = leaf_of
+        self._root = 0
+        self._free_nodes = list(range(self._node_lo.shape[0] - 1, int(n_nodes) - 1, -1))
+
+    @classmethod
+    def from_boxes(cls, lo, hi, margin: float | None = None) -> "DynamicAABBTree":
+        """A tree holding boxes lo, hi ((n, d)) with ids 0..n−1, built in batch (top-down)."""
+        lo_d, _ = as_boxes(lo, hi)
+        tree = cls(dim=lo_d.shape[1], margin=margin)
+        lo3, hi3 = as_boxes_3d(lo, hi)
+        n = lo3.shape[0]
+        if n == 0:
+            return tree
+        tree._obj_lo = lo3
+        tree._obj_hi = hi3
+        tree._obj_node = np.full(n, -1, dtype=np.int64)
+        tree._n_ids = n
+        if margin == 0.0:
+            fat_lo, fat_hi = lo3, hi3
+        else:
+            grow = (0.1 * (hi3 - lo3).max(axis=1) if margin is None else np.full(n, tree.margin))[:, None]
+            fat_lo = np.minimum(lo3 - grow, lo3)
+            fat_hi = np.maximum(hi3 + grow, hi3)
+        tree._build_from(np.arange(n, dtype=np.int64), fat_lo, fat_hi)
+        return tree
+
+    def check_structure(self) -> None:
+        """Raise AssertionError unless parent/child links, heights and enclosing boxes are consistent."""
+        live = self.ids()
+        if self._root == -1:
+            assert live.size == 0
+            return
+        assert self._parent[self._root] == -1
+        seen = []
+        stack = [self._root]
+        while stack:
+            node = stack.pop()
+            a, b = int(self._child1[node]), int(self._child2[node])
+            if a == -1:
+                assert b == -1 and self._height[node] == 0
+                obj = int(self._obj_of[node])
+                assert self._obj_node[obj] == node
+                assert np.all(self._node_lo[node] <= self._obj_lo[obj])
+                assert np.all(self._obj_hi[obj] <= self._node_hi[node])
+                seen.append(obj)
+                continue
+            for child in (a, b):
+                assert self._parent[child] == node
+                assert np.all(self._node_lo[node] <= self._node_lo[child])
+                assert np.all(self._node_hi[child] <= self._node_hi[node])
+                stack.append(child)
+            assert self._height[node] == 1 + max(self._height[a], self._height[b])
+        assert sorted(seen) == live.tolist()
+
+
+def tree_pairs(lo, hi) -> np.ndarray:
+    """All pairs of overlapping closed boxes with an AABB tree built in batch (top-down, exact leaf boxes).
+
+    lo, hi: (n, d), d in {1, 2, 3}, lo <= hi. Returns canonical pairs, int64 (k, 2).
+    """
+    lo3, hi3 = as_boxes_3d(lo, hi)
+    n = lo3.shape[0]
+    if n < 2:
+        return empty_pairs()
+    capacity = 2 * n
+    node_lo = np.empty((capacity, 3))
+    node_hi = np.empty((capacity, 3))
+    parent = np.empty(capacity, dtype=np.int64)
+    child1 = np.empty(capacity, dtype=np.int64)
+    child2 = np.empty(capacity, dtype=np.int64)
+    height = np.empty(capacity, dtype=np.int64)
+    leaf_of = np.empty(n, dtype=np.int64)
+    obj_of = np.empty(capacity, dtype=np.int64)
+    _build_kernel(lo3, hi3, node_lo, node_hi, parent, child1, child2, height, leaf_of, obj_of)
+    return _tree_pairs_kernel(0, node_lo, node_hi, child1, child2, obj_of, lo3, hi3, leaf_of, n)

@@ -1,0 +1,168 @@
+"""Octree: the chapter's *non-uniform* spatial subdivision — "une hiérarchie ! un « arbre »".
+
+Chapter slides "Phase Large : Subdivision (découpage) spatiale" (absolue / non uniforme); Ericson, *Real-Time
+Collision Detection* 7.3 (octrees), 7.3.6 (loose octrees).
+
+Construction (top-down, stored as index arrays): a node holding more than ``leaf_size`` objects is cut in eight
+octants at the midpoint of its objects' centres, and each object goes to the octant holding its *centre*
+(an axis whose centres all coincide is not cut, so every cut separates objects and the tree has < 2n nodes).
+
+Objects that straddle the cutting planes are handled the *loose octree* way: every object lives in exactly one
+leaf (the one of its centre), and each node's bounds are loosened to the union of the full boxes of the objects
+below it — so a straddler is neither split nor copied, and no straddler list is needed. All pairs: each object
+descends from the root into the nodes whose loose bounds overlap its box and is tested against the objects of
+the leaves it reaches that have a larger index, so every pair is found once.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from engine._config import njit
+from engine.broadphase.pairs import _canonical_pairs_kernel, _grow, as_boxes_3d, boxes_overlap, empty_pairs
+
+__all__ = ["octree_pairs", "build_octree"]
+
+
+@njit
+def _build_octree_kernel(lo, hi, leaf_size):
+    # Ericson 7.3.1 (top-down octree build), with loose bounds (7.3.6): nodes as index arrays.
+    n = lo.shape[0]
+    perm = np.arange(n)
+    scratch = np.empty(n, dtype=np.int64)
+    capacity = 2 * n + 1
+    node_lo = np.empty((capacity, 3))
+    node_hi = np.empty((capacity, 3))
+    first = np.empty(capacity, dtype=np.int64)   # range [first, last) of perm for a leaf
+    last = np.empty(capacity, dtype=np.int64)
+    child0 = np.full(capacity, -1, dtype=np.int64)  # children are the nodes child0..child0 + n_children - 1
+    n_children = np.zeros(capacity, dtype=np.int64)
+    n_nodes = 1
+    first[0] = 0
+    last[0] = n
+    stack = np.empty(capacity, dtype=np.int64)
+    top = 0
+    stack[0] = 0
+    top = 1
+    while top > 0:
+        top -= 1
+        node = stack[top]
+        s = first[node]
+        e = last[node]
+        # loose bounds: the union of the boxes of the objects below the node
+        cmin = np.full(3, np.inf)
+        cmax = np.full(3, -np.inf)
+        for k in range(3):
+            node_lo[node, k] = np.inf
+            node_hi[node, k] = -np.inf
+        for p in range(s, e):
+            o = perm[p]
+            for k in range(3):
+                node_lo[node, k] = min(node_lo[node, k], lo[o, k])
+                node_hi[node, k] = max(node_hi[node, k], hi[o, k])
+                centre = 0.5 * lo[o, k] + 0.5 * hi[o, k]
+                cmin[k] = min(cmin[k], centre)
+                cmax[k] = max(cmax[k], centre)
+        if e - s <= leaf_size:
+            continue
+        # cut at the midpoint of the centres; an axis is cut only if the midpoint separates its centres
+        mid = np.empty(3)
+        cut = np.zeros(3, dtype=np.bool_)
+        for k in range(3):
+            mid[k] = 0.5 * cmin[k] + 0.5 * cmax[k]
+            cut[k] = cmin[k] < mid[k] and mid[k] <= cmax[k]
+        if not (cut[0] or cut[1] or cut[2]):
+            continue  # all centres coincide: a leaf, whatever its size
+        # counting sort of the node's objects by octant
+        counts = np.zeros(9, dtype=np.int64)
+        for p in range(s, e):
+            o = perm[p]
+            octant = 0
+            for k in range(3):
+                if cut[k] and 0.5 * lo[o, k] + 0.5 * hi[o, k] >= mid[k]:
+                    octant |= 1 << k
+            scratch[p] = octant
+            counts[octant + 1] += 1
+        for t in range(8):
+            counts[t + 1] += counts[t]
+        bucket = counts[:8].copy()
+        moved = np.empty(e - s, dtype=np.int64)
+        for p in range(s, e):
+            moved[bucket[scratch[p]]] = perm[p]
+            bucket[scratch[p]] += 1
+        perm[s:e] = moved
+        child0[node] = n_nodes
+        for t in range(8):
+            if counts[t + 1] > counts[t]:
+                child = n_nodes
+                n_nodes += 1
+                first[child] = s + counts[t]
+                last[child] = s + counts[t + 1]
+                n_children[node] += 1
+                stack[top] = child
+                top += 1
+    return (perm, node_lo[:n_nodes].copy(), node_hi[:n_nodes].copy(), first[:n_nodes].copy(),
+            last[:n_nodes].copy(), child0[:n_nodes].copy(), n_children[:n_nodes].copy())
+
+
+@njit
+def _octree_pairs_kernel(lo, hi, perm, node_lo, node_hi, first, last, child0, n_children):
+    # Ericson 7.3.3 / 6.5: each object descends the nodes whose (loose) bounds overlap its box; at a leaf it is
+    # tested against the objects with a larger index (each pair is found once).
+    n = lo.shape[0]
+    out = np.empty((max(n, 16), 2), dtype=np.int64)
+    count = 0
+    stack = np.empty(node_lo.shape[0] + 1, dtype=np.int64)
+    for i in range(n):
+        top = 1
+        stack[0] = 0
+        while top > 0:
+            top -= 1
+            node = stack[top]
+            if (lo[i, 0] > node_hi[node, 0] or node_lo[node, 0] > hi[i, 0]
+                    or lo[i, 1] > node_hi[node, 1] or node_lo[node, 1] > hi[i, 1]
+                    or lo[i, 2] > node_hi[node, 2] or node_lo[node, 2] > hi[i, 2]):
+                continue
+            if n_children[node] == 0:
+                for p in range(first[node], last[node]):
+                    j = perm[p]
+                    if j > i and boxes_overlap(lo, hi, i, j):
+                        if count == out.shape[0]:
+                            out = _grow(out, count + 1)
+                        out[count, 0] = i
+                        out[count, 1] = j
+                        count += 1
+            else:
+                for t in range(n_children[node]):
+                    stack[top] = child0[node] + t
+                    top += 1
+    return _canonical_pairs_kernel(out, count, n)
+
+
+def build_octree(lo, hi, leaf_size: int = 8):
+    """The loose octree of boxes lo, hi ((n, d)) as index arrays.
+
+    Returns (perm, node_lo, node_hi, first, last, child0, n_children): node k's loose bounds are node_lo[k],
+    node_hi[k] ((3,)); a leaf (n_children[k] == 0) holds objects perm[first[k]:last[k]]; an inner node's
+    children are nodes child0[k] .. child0[k] + n_children[k] − 1; node 0 is the root.
+    """
+    if isinstance(leaf_size, bool) or not isinstance(leaf_size, int | np.integer) or leaf_size < 1:
+        raise ValueError(f"leaf_size must be an int >= 1, got {leaf_size!r}")
+    lo3, hi3 = as_boxes_3d(lo, hi)
+    if lo3.shape[0] == 0:
+        raise ValueError("lo must hold at least one box to build an octree")
+    return _build_octree_kernel(lo3, hi3, int(leaf_size))
+
+
+def octree_pairs(lo, hi, leaf_size: int = 8) -> np.ndarray:
+    """All pairs of overlapping closed boxes with a loose octree (see the module docstring).
+
+    lo, hi: (n, d), d in {1, 2, 3}, lo <= hi; leaf_size: objects per leaf before a cut. Returns canonical
+    pairs, int64 (k, 2).
+    """
+    if isinstance(leaf_size, bool) or not isinstance(leaf_size, int | np.integer) or leaf_size < 1:
+        raise ValueError(f"leaf_size must be an int >= 1, got {leaf_size!r}")
+    lo3, hi3 = as_boxes_3d(lo, hi)
+    if lo3.shape[0] < 2:
+        return empty_pairs()
+    tree = _build_octree_kernel(lo3, hi3, int(leaf_size))
+    return _octree_pairs_kernel(lo3, hi3, *tree)

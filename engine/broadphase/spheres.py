@@ -1,0 +1,240 @@
+"""Sphere pairs: broad phase + exact sphere test, the fast path of the confined-gas simulation.
+
+``sphere_pairs(centers, radii)`` returns exactly the pairs with |c_i − c_j| <= r_i + r_j, computed as
+``dx² + dy² + dz² <= (r_i + r_j)²`` in IEEE double precision (touching counts).
+
+The default method, "grid", is a uniform grid specialised to spheres (Ericson, *Real-Time Collision Detection*
+7.1.2–7.1.6, and the chapter's "absolue" spatial subdivision): each sphere is stored once, in the cell of its
+centre; cells are at least one largest diameter wide (plus a round-off margin), so two touching spheres are in
+the same or in adjacent cells, and each cell is compared with itself and with 13 of its 26 neighbours (the half
+that comes after it), so every pair is met once. The cells are numbered linearly and filled by a counting sort
+(count, prefix sum, fill) into contiguous sorted arrays — no lists grow inside the kernel. Cells are also at
+least the mean spacing (V/n)^(1/3) wide, so a sparse scene does not pay for empty cells. Spheres much larger
+than the typical one (radius > 4 × median) are kept out of the grid and tested against every sphere.
+
+Any other method of ``BROAD_PHASES`` runs that broad phase on the spheres' bounding boxes (widened by a
+round-off margin so no touching pair is lost) and then applies the same exact test.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from engine._config import njit
+from engine._validate import as_choice, as_float_array, as_nonnegative
+from engine.broadphase.pairs import _canonical_pairs_kernel, _grow, empty_pairs
+
+__all__ = ["sphere_pairs", "spheres_overlap_pairs", "SPHERE_METHODS"]
+
+_EPS = np.finfo(np.float64).eps
+
+
+@njit
+def _spheres_touch(c, r, i, j):
+    """|c_i − c_j|² <= (r_i + r_j)² in double precision (closed: touching counts)."""
+    dx = c[i, 0] - c[j, 0]
+    dy = c[i, 1] - c[j, 1]
+    dz = c[i, 2] - c[j, 2]
+    s = r[i] + r[j]
+    return dx * dx + dy * dy + dz * dz <= s * s
+
+
+@njit
+def _sphere_grid_kernel(c, r, large, cell_size):
+    # Ericson 7.1: one cell per sphere (its centre); cell side >= largest diameter, so a touching pair lies in
+    # the same or an adjacent cell. Counting sort by cell, then each cell against itself and 13 neighbours.
+    n = c.shape[0]
+    origin = np.empty(3)
+    top = np.empty(3)
+    for k in range(3):
+        origin[k] = np.inf
+        top[k] = -np.inf
+    for i in range(n):
+        for k in range(3):
+            origin[k] = min(origin[k], c[i, k])
+            top[k] = max(top[k], c[i, k])
+    size = cell_size
+    while True:  # at most ~4n cells
+        total = 1.0
+        for k in range(3):
+            total *= np.floor((top[k] - origin[k]) / size) + 1.0
+        if total <= max(4.0 * n, 64.0):
+            break
+        size *= 2.0
+    nx = int(np.floor((top[0] - origin[0]) / size)) + 1
+    ny = int(np.floor((top[1] - origin[1]) / size)) + 1
+    nz = int(np.floor((top[2] - origin[2]) / size)) + 1
+    inv = 1.0 / size
+    cell = np.empty(n, dtype=np.int64)
+    start = np.zeros(nx * ny * nz + 1, dtype=np.int64)
+    n_small = 0
+    for i in range(n):
+        if large[i]:
+            cell[i] = -1
+            continue
+        ix = min(int((c[i, 0] - origin[0]) * inv), nx - 1)
+        iy = min(int((c[i, 1] - origin[1]) * inv), ny - 1)
+        iz = min(int((c[i, 2] - origin[2]) * inv), nz - 1)
+        cell[i] = (ix * ny + iy) * nz + iz
+        start[cell[i] + 1] += 1
+        n_small += 1
+    for t in range(nx * ny * nz):
+        start[t + 1] += start[t]
+    # sorted structure of arrays: x, y, z, r, original index
+    fill = start[:-1].copy()
+    sx = np.empty(n_small)
+    sy = np.empty(n_small)
+    sz = np.empty(n_small)
+    sr = np.empty(n_small)
+    sid = np.empty(n_small, dtype=np.int64)
+    for i in range(n):
+        if cell[i] < 0:
+            continue
+        p = fill[cell[i]]
+        fill[cell[i]] = p + 1
+        sx[p] = c[i, 0]
+        sy[p] = c[i, 1]
+        sz[p] = c[i, 2]
+        sr[p] = r[i]
+        sid[p] = i
+    out = np.empty((max(n, 16), 2), dtype=np.int64)
+    count = 0
+    for ix in range(nx):
+        for iy in range(ny):
+            for iz in range(nz):
+                home = (ix * ny + iy) * nz + iz
+                h0 = start[home]
+                h1 = start[home + 1]
+                if h0 == h1:
+                    continue
+                # the home cell and the 13 neighbours after it: (dx, dy, dz) > (0, 0, 0) lexicographically
+                for dx in range(0, 2):
+                    jx = ix + dx
+                    if jx >= nx:
+                        continue
+                    for dy in range(-1 if dx == 1 else 0, 2):
+                        jy = iy + dy
+                        if jy < 0 or jy >= ny:
+                            continue
+                        for dz in range(-1 if (dx == 1 or dy == 1) else 0, 2):
+                            jz = iz + dz
+                            if jz < 0 or jz >= nz:
+                                continue
+                            other = (jx * ny + jy) * nz + jz
+                            o0 = start[other]
+                            o1 = start[other + 1]
+                            if o0 == o1:
+                                continue
+                            same = other == home
+                            for p in range(h0, h1):
+                                px = sx[p]
+                                py = sy[p]
+                                pz = sz[p]
+                                pr = sr[p]
+                                for q in range(p + 1 if same else o0, o1):
+                                    ddx = px - sx[q]
+                                    ddy = py - sy[q]
+                                    ddz = pz - sz[q]
+                                    s = pr + sr[q]
+                                    if ddx * ddx + ddy * ddy + ddz * ddz <= s * s:
+                                        if count == out.shape[0]:
+                                            out = _grow(out, count + 1)
+                                        out[count, 0] = sid[p]
+                                        out[count, 1] = sid[q]
+                                        count += 1
+    # spheres too large for the grid: against every sphere (once per pair of large spheres)
+    for i in range(n):
+        if not large[i]:
+            continue
+        for j in range(n):
+            if j == i or (large[j] and j < i):
+                continue
+            if _spheres_touch(c, r, i, j):
+                if count == out.shape[0]:
+                    out = _grow(out, count + 1)
+                out[count, 0] = i
+                out[count, 1] = j
+                count += 1
+    return _canonical_pairs_kernel(out, count, n)
+
+
+@njit
+def _exact_filter_kernel(candidates, c, r):
+    """The candidate pairs (canonical, (m, 2)) whose spheres touch, in the same order."""
+    keep = np.empty(candidates.shape[0], dtype=np.bool_)
+    for t in range(candidates.shape[0]):
+        keep[t] = _spheres_touch(c, r, candidates[t, 0], candidates[t, 1])
+    return candidates[keep]
+
+
+def _as_spheres(centers, radii):
+    c = as_float_array(centers, "centers", ndim=2)
+    if c.shape[1] not in (1, 2, 3):
+        raise ValueError(f"centers must have shape (n, d) with d = 1, 2 or 3, got {c.shape}")
+    n = c.shape[0]
+    if np.ndim(radii) == 0:
+        r = np.full(n, as_nonnegative(radii, "radii"))
+        equal = True
+    else:
+        r = as_float_array(radii, "radii", shape=(n,))
+        negative = np.flatnonzero(r < 0.0)
+        if negative.size:
+            raise ValueError(f"radii must be >= 0: radii[{negative[0]}] = {r[negative[0]]!r}")
+        equal = False
+    if c.shape[1] < 3:
+        c3 = np.zeros((n, 3))
+        c3[:, : c.shape[1]] = c
+        c = c3
+    return c, r, equal
+
+
+def _round_off_margin(c, r) -> float:
+    """An absolute margin that covers the rounding of differences and sums of these coordinates."""
+    scale = float(np.abs(c).max()) + float(r.max()) if c.size else 0.0
+    return 16.0 * _EPS * scale
+
+
+def sphere_pairs(centers, radii, method: str = "grid") -> np.ndarray:
+    """All pairs of spheres with |c_i − c_j| <= r_i + r_j (touching counts), broad phase + exact test.
+
+    centers: (n, d), d in {1, 2, 3}; radii: a scalar or (n,), >= 0. method: "grid" (default, the fastest) or
+    any name of ``BROAD_PHASES`` (run on the spheres' bounding boxes). Returns canonical pairs, int64 (k, 2).
+    """
+    from engine.broadphase import BROAD_PHASES, find_pairs
+
+    method = as_choice(method, "method", BROAD_PHASES)
+    c, r, equal = _as_spheres(centers, radii)
+    n = c.shape[0]
+    if n < 2:
+        return empty_pairs()
+    margin = _round_off_margin(c, r)
+    if method == "grid":
+        if equal:
+            large = np.zeros(n, dtype=bool)
+        else:
+            large = r > 4.0 * max(float(np.median(r)), 0.0)
+            if large.all():
+                large[:] = False
+        r_cell = float(r[~large].max())
+        extent = c.max(axis=0) - c.min(axis=0)
+        used = extent[extent > 0.0]
+        spacing = float(np.prod(used) ** (1.0 / used.size) / n ** (1.0 / used.size)) if used.size else 0.0
+        cell = max(2.0 * r_cell * (1.0 + 1e-9) + margin, spacing)
+        if cell <= 0.0:
+            cell = 1.0
+        return _sphere_grid_kernel(c, r, large, cell)
+    widen = r + margin
+    candidates = find_pairs(c - widen[:, None], c + widen[:, None], method=method)
+    return _exact_filter_kernel(candidates, c, r)
+
+
+#: the methods sphere_pairs accepts (those of BROAD_PHASES)
+SPHERE_METHODS = ("grid", "sap", "tree", "octree", "brute")
+
+
+def spheres_overlap_pairs(centers, radii, pairs) -> np.ndarray:
+    """Keep the rows of canonical ``pairs`` ((m, 2) int64) whose spheres touch (the exact narrow test)."""
+    c, r, _ = _as_spheres(centers, radii)
+    from engine.broadphase.pairs import canonical_pairs
+
+    candidates = canonical_pairs(pairs, n=c.shape[0])
+    return _exact_filter_kernel(candidates, c, r)

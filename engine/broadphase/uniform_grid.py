@@ -1,0 +1,177 @@
+"""Uniform grid: the chapter's *absolute* (uniform) spatial subdivision.
+
+Chapter slides "Phase Large : Subdivision (découpage) spatiale" — space is cut into cells and only objects that
+share a cell are compared ("deux objets éloignés l'un de l'autre ne peuvent vraisemblablement pas être en
+collision"); the uniform cut is the "absolue" one. Ericson, *Real-Time Collision Detection* 7.1.
+
+- Cell size: by default twice the mean largest side of the boxes, enlarged if needed so the grid has at most
+  about 8·n cells (an empty or point-like scene gets one cell per object on average).
+- A box is entered in every cell its box covers. A pair is reported only in the cell holding the lower corner
+  (max lo_i, max lo_j) of the two boxes, which both cover — so exactly once, no duplicate.
+- Boxes covering more than 64 cells (one huge box among tiny ones) are kept out of the grid and tested against
+  every box, so the grid stays linear in size.
+- Cells are numbered from the scene's lowest corner, so negative coordinates need nothing special; the cells are
+  stored densely and filled by a counting sort on the cell number (two passes: count, then fill).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from engine._config import njit
+from engine._validate import as_positive
+from engine.broadphase.pairs import _canonical_pairs_kernel, _grow, as_boxes_3d, boxes_overlap, empty_pairs
+
+__all__ = ["grid_pairs", "default_cell_size"]
+
+_MAX_CELLS_PER_BOX = 64
+
+
+@njit
+def _cell(v, origin, inv_size, k):
+    """Cell column of coordinate v along one axis: floor((v − origin)/size), clamped to [0, k) (monotone)."""
+    c = int((v - origin) * inv_size)
+    return 0 if c < 0 else (k - 1 if c >= k else c)
+
+
+@njit
+def _grid_pairs_kernel(lo, hi, cell_size):
+    # Ericson 7.1.3-7.1.6: each box goes into every cell it overlaps; boxes sharing a cell are tested.
+    n = lo.shape[0]
+    origin = np.empty(3)
+    top = np.empty(3)
+    for k in range(3):
+        origin[k] = lo[:, k].min()
+        top[k] = hi[:, k].max()
+    # cells per axis, the whole grid kept below ~8n cells
+    size = cell_size
+    dims = np.ones(3, dtype=np.int64)
+    while True:
+        total = 1.0
+        for k in range(3):
+            total *= np.floor((top[k] - origin[k]) / size) + 1.0
+        if total <= max(8.0 * n, 64.0):
+            break
+        size *= 2.0
+    for k in range(3):
+        dims[k] = int(np.floor((top[k] - origin[k]) / size)) + 1
+    inv = 1.0 / size
+    first = np.empty((n, 3), dtype=np.int64)
+    last = np.empty((n, 3), dtype=np.int64)
+    large = np.zeros(n, dtype=np.bool_)
+    n_large = 0
+    entries = 0
+    for i in range(n):
+        cells = 1
+        for k in range(3):
+            first[i, k] = _cell(lo[i, k], origin[k], inv, dims[k])
+            last[i, k] = _cell(hi[i, k], origin[k], inv, dims[k])
+            cells *= last[i, k] - first[i, k] + 1
+        if cells > _MAX_CELLS_PER_BOX:
+            large[i] = True
+            n_large += 1
+        else:
+            entries += cells
+    # counting sort of (cell, box) entries by cell number
+    n_cells = dims[0] * dims[1] * dims[2]
+    start = np.zeros(n_cells + 1, dtype=np.int64)
+    for i in range(n):
+        if large[i]:
+            continue
+        for cx in range(first[i, 0], last[i, 0] + 1):
+            for cy in range(first[i, 1], last[i, 1] + 1):
+                for cz in range(first[i, 2], last[i, 2] + 1):
+                    start[(cx * dims[1] + cy) * dims[2] + cz + 1] += 1
+    for c in range(n_cells):
+        start[c + 1] += start[c]
+    fill = start[:n_cells].copy()
+    member = np.empty(entries, dtype=np.int64)
+    for i in range(n):
+        if large[i]:
+            continue
+        for cx in range(first[i, 0], last[i, 0] + 1):
+            for cy in range(first[i, 1], last[i, 1] + 1):
+                for cz in range(first[i, 2], last[i, 2] + 1):
+                    c = (cx * dims[1] + cy) * dims[2] + cz
+                    member[fill[c]] = i
+                    fill[c] += 1
+    out = np.empty((max(n, 16), 2), dtype=np.int64)
+    count = 0
+    # boxes sharing a cell; report in the cell of the lower corner of the overlap only
+    for cx in range(dims[0]):
+        for cy in range(dims[1]):
+            for cz in range(dims[2]):
+                c = (cx * dims[1] + cy) * dims[2] + cz
+                for p in range(start[c], start[c + 1]):
+                    i = member[p]
+                    for q in range(p + 1, start[c + 1]):
+                        j = member[q]
+                        if boxes_overlap(lo, hi, i, j):
+                            if (_cell(max(lo[i, 0], lo[j, 0]), origin[0], inv, dims[0]) == cx
+                                    and _cell(max(lo[i, 1], lo[j, 1]), origin[1], inv, dims[1]) == cy
+                                    and _cell(max(lo[i, 2], lo[j, 2]), origin[2], inv, dims[2]) == cz):
+                                if count == out.shape[0]:
+                                    out = _grow(out, count + 1)
+                                out[count, 0] = i
+                                out[count, 1] = j
+                                count += 1
+    # boxes too large for the grid: against every box (once per pair of large boxes)
+    if n_large > 0:
+        for i in range(n):
+            if not large[i]:
+                continue
+            for j in range(n):
+                if j == i or (large[j] and j < i):
+                    continue
+                if boxes_overlap(lo, hi, i, j):
+                    if count == out.shape[0]:
+                        out = _grow(out, count + 1)
+                    out[count, 0] = i
+                    out[count, 1] = j
+                    count += 1
+    return _canonical_pairs_kernel(out, count, n)
+
+
+@njit
+def _default_cell_size(lo, hi):
+    n = lo.shape[0]
+    mean_side = 0.0
+    for i in range(n):
+        side = 0.0
+        for k in range(3):
+            side = max(side, hi[i, k] - lo[i, k])
+        mean_side += side
+    mean_side /= n
+    # a fallback for point-like scenes: the side of a cell holding one object on average
+    volume = 1.0
+    dims = 0
+    for k in range(3):
+        extent = hi[:, k].max() - lo[:, k].min()
+        if extent > 0.0:
+            volume *= extent
+            dims += 1
+    spacing = volume ** (1.0 / dims) / n ** (1.0 / dims) if dims > 0 else 0.0
+    size = max(2.0 * mean_side, spacing)
+    return size if size > 0.0 else 1.0
+
+
+def default_cell_size(lo, hi) -> float:
+    """The grid's default cell side for boxes lo, hi ((n, d)): twice their mean largest side (> 0)."""
+    lo3, hi3 = as_boxes_3d(lo, hi)
+    if lo3.shape[0] == 0:
+        return 1.0
+    return float(_default_cell_size(lo3, hi3))
+
+
+def grid_pairs(lo, hi, cell_size: float | None = None) -> np.ndarray:
+    """All pairs of overlapping closed boxes with a uniform grid.
+
+    lo, hi: (n, d), d in {1, 2, 3}, lo <= hi. cell_size: the cell side (> 0; default from the box sizes, see the
+    module docstring). Returns canonical pairs, int64 (k, 2).
+    """
+    lo3, hi3 = as_boxes_3d(lo, hi)
+    size = None if cell_size is None else as_positive(cell_size, "cell_size")
+    if lo3.shape[0] < 2:
+        return empty_pairs()
+    if size is None:
+        size = float(_default_cell_size(lo3, hi3))
+    return _grid_pairs_kernel(lo3, hi3, size)
