@@ -65,7 +65,15 @@ def _face_plane(V, F, N, D, f, ox, oy, oz):
     ny = e1z * e2x - e1x * e2z
     nz = e1x * e2y - e1y * e2x
     length = math.sqrt(nx * nx + ny * ny + nz * nz)
-    if length == 0.0:
+    e1 = math.sqrt(e1x * e1x + e1y * e1y + e1z * e1z)
+    e2 = math.sqrt(e2x * e2x + e2y * e2y + e2z * e2z)
+    if not length > 1e-12 * e1 * e2:
+        # a zero-area sliver (w collinear with a horizon edge): kept in the mesh so that it stays closed, never
+        # chosen as the closest face, and removed as soon as the flood fill reaches it
+        N[f, 0] = 0.0
+        N[f, 1] = 0.0
+        N[f, 2] = 0.0
+        D[f] = np.inf
         return False
     nx /= length
     ny /= length
@@ -204,8 +212,7 @@ def _epa(pa, pb, W, IA, IB, n_simplex, max_iter, out):
         cz += V[k, 2] / nv
     n_faces = 4 if nv == 4 else 6
     for f in range(n_faces):
-        if not _face_plane(V, F, N, D, f, cx, cy, cz):
-            return _EPA_NOT_CONVERGED
+        _face_plane(V, F, N, D, f, cx, cy, cz)
         alive[f] = True
     for k in range(nv):
         size2 = max(size2, V[k, 0] ** 2 + V[k, 1] ** 2 + V[k, 2] ** 2)
@@ -264,7 +271,7 @@ def _epa(pa, pb, W, IA, IB, n_simplex, max_iter, out):
                     continue
                 seen = (wx - V[F[g, 0], 0]) * N[g, 0] + (wy - V[F[g, 0], 1]) * N[g, 1] \
                     + (wz - V[F[g, 0], 2]) * N[g, 2]
-                if seen > 0.0:
+                if seen > 0.0 or D[g] == np.inf:
                     alive[g] = False
                     stack[top] = g
                     top += 1
@@ -280,10 +287,8 @@ def _epa(pa, pb, W, IA, IB, n_simplex, max_iter, out):
             F[n_faces, 0] = horizon[e, 0]
             F[n_faces, 1] = horizon[e, 1]
             F[n_faces, 2] = new_v
-            if not _face_plane(V, F, N, D, n_faces, cx, cy, cz):
-                alive[n_faces] = False
-            else:
-                alive[n_faces] = True
+            _face_plane(V, F, N, D, n_faces, cx, cy, cz)
+            alive[n_faces] = True
             n_faces += 1
     if status != _EPA_OK:
         return _EPA_NOT_CONVERGED

@@ -1,0 +1,246 @@
+"""GJK distance and EPA penetration: against coal, python-fcl, exact answers and Qhull on the Minkowski difference."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import assume, given, settings
+from hypothesis import strategies as st
+
+from engine.narrowphase.epa import epa_penetration, epa_penetration_pairs
+from engine.narrowphase.gjk import (
+    GJKNotConverged,
+    gjk_distance,
+    gjk_distance_batch,
+    gjk_distance_pairs,
+    pack_point_sets,
+)
+from properties.strategies.narrow import (
+    aabb_depth,
+    aabb_distance,
+    aabbs,
+    box_corners,
+    exact_penetration_depth,
+    hull_signed_distance,
+    point_clouds,
+    vectors,
+)
+
+REL = 1e-6
+
+
+def _scale(a, b):
+    return max(np.ptp(np.concatenate([a, b]), axis=0).max(), 1.0)
+
+
+def _coal_distance(a, b):
+    import coal
+
+    def convex(p):
+        v = coal.StdVec_Vec3s()
+        for q in p:
+            v.append(q)
+        return coal.Convex.convexHull(v, False, "")
+
+    req = coal.DistanceRequest()
+    req.gjk_tolerance = 1e-12
+    res = coal.DistanceResult()  # fresh result per call
+    return coal.distance(convex(a), coal.Transform3s(), convex(b), coal.Transform3s(), req, res)
+
+
+def _fcl_distance(a, b):
+    import fcl
+    from scipy.spatial import ConvexHull
+
+    def convex(p):
+        h = ConvexHull(p)
+        faces = np.hstack([np.full((len(h.simplices), 1), 3), h.simplices]).ravel()
+        return fcl.CollisionObject(fcl.Convex(p, len(h.simplices), faces), fcl.Transform())
+
+    return fcl.distance(convex(a), convex(b), fcl.DistanceRequest(), fcl.DistanceResult())
+
+
+@settings(max_examples=60)
+@given(point_clouds(), point_clouds(spread=8.0))
+def test_distance_agrees_with_coal_and_fcl_on_separated_hulls(a, b):
+    d, _, _ = gjk_distance(a, b)
+    dc = _coal_distance(a, b)
+    assume(dc > 1e-6 * _scale(a, b))
+    assert abs(d - dc) <= REL * dc
+    df = _fcl_distance(a, b)
+    assert abs(d - df) <= REL * df
+
+
+@settings(max_examples=60)
+@given(point_clouds(), point_clouds(spread=2.0))
+def test_overlap_iff_coal_collides(a, b):
+    import coal
+
+    d, _, _ = gjk_distance(a, b)
+    dc = _coal_distance(a, b)
+    assume(abs(dc) > 1e-6 * _scale(a, b))
+    assert (d == 0.0) == (dc < 0.0)
+
+
+@given(point_clouds(), point_clouds(spread=6.0))
+def test_closest_points_on_shapes_and_consistent(a, b):
+    d, ca, cb = gjk_distance(a, b)
+    scale = _scale(a, b)
+    assert d >= 0.0 and np.isfinite(d)
+    assert abs(np.linalg.norm(ca - cb) - d) <= 1e-9 * scale
+    assert hull_signed_distance(a, ca) <= 1e-9 * scale
+    assert hull_signed_distance(b, cb) <= 1e-9 * scale
+    # no pair of points of the hulls is closer: the vertices project beyond the separating planes
+    if d > 0:
+        n = (cb - ca) / d
+        assert (a @ n).max() <= ca @ n + 1e-9 * scale
+        assert (b @ n).min() >= cb @ n - 1e-9 * scale
+
+
+@given(point_clouds(), point_clouds(spread=6.0))
+def test_symmetric(a, b):
+    d1, ca1, cb1 = gjk_distance(a, b)
+    d2, ca2, cb2 = gjk_distance(b, a)
+    assert abs(d1 - d2) <= 1e-9 * _scale(a, b)
+
+
+@given(point_clouds(), point_clouds(spread=6.0), vectors)
+def test_translation_invariant(a, b, shift):
+    d1, _, _ = gjk_distance(a, b)
+    d2, _, _ = gjk_distance(a + shift, b + shift)
+    assert abs(d1 - d2) <= 1e-8 * (_scale(a, b) + np.abs(shift).max())
+
+
+@given(aabbs(), aabbs(spread=6.0))
+def test_axis_aligned_boxes_exact(box_a, box_b):
+    # python-fcl's box-box distance is wrong along y and z (FCL issue 508): the oracle is the interval gap
+    exact = aabb_distance(*box_a, *box_b)
+    d, _, _ = gjk_distance(box_corners(*box_a), box_corners(*box_b))
+    scale = _scale(box_corners(*box_a), box_corners(*box_b))
+    if exact > 1e-9 * scale:
+        assert abs(d - exact) <= 1e-9 * scale
+    elif exact == 0.0:
+        assert d <= 1e-9 * scale
+
+
+@given(vectors, vectors, vectors)
+def test_point_and_segment_exact(p, s0, s1):
+    d, _, _ = gjk_distance(p[None], p[None] + 0.0)
+    assert d == 0.0
+    d, ca, cb = gjk_distance(p[None], np.array([s0, s1]))
+    seg = s1 - s0
+    t = 0.0 if seg @ seg == 0 else np.clip((p - s0) @ seg / (seg @ seg), 0.0, 1.0)
+    exact = np.linalg.norm(p - (s0 + t * seg))
+    assert abs(d - exact) <= 1e-9 * (1 + np.abs(np.array([p, s0, s1])).max())
+    d2, _, _ = gjk_distance(p[None], s0[None])
+    assert abs(d2 - np.linalg.norm(p - s0)) <= 1e-12 * (1 + np.linalg.norm(p - s0))
+
+
+@settings(max_examples=30)
+@given(st.lists(point_clouds(spread=5.0), min_size=2, max_size=6), st.data())
+def test_batched_forms_equal_single_calls(clouds, data):
+    points, offsets = pack_point_sets(clouds)
+    k = len(clouds)
+    pairs = np.array(data.draw(st.lists(st.tuples(st.integers(0, k - 1), st.integers(0, k - 1)), min_size=1,
+                                        max_size=10)))
+    dist, ca, cb = gjk_distance_pairs(points, offsets, pairs)
+    depth, normal = epa_penetration_pairs(points, offsets, pairs)
+    for p, (i, j) in enumerate(pairs):
+        d, a, b = gjk_distance(clouds[i], clouds[j])
+        assert dist[p] == d and np.array_equal(ca[p], a) and np.array_equal(cb[p], b)
+        e, n = epa_penetration(clouds[i], clouds[j])
+        assert depth[p] == e and np.array_equal(normal[p], n)
+    m = min(c.shape[0] for c in clouds)
+    same = np.array([c[:m] for c in clouds])
+    dist2, _, _ = gjk_distance_batch(same[:-1], same[1:])
+    for p in range(k - 1):
+        assert dist2[p] == gjk_distance(same[p], same[p + 1])[0]
+
+
+# --- EPA ------------------------------------------------------------------------------------------------------
+
+@settings(max_examples=100)
+@given(point_clouds(), point_clouds(spread=1.5))
+def test_epa_depth_equals_qhull_minkowski_depth(a, b):
+    exact = exact_penetration_depth(a, b)
+    depth, normal = epa_penetration(a, b)
+    scale = _scale(a, b)
+    assert depth >= 0.0 and abs(np.linalg.norm(normal) - 1.0) <= 1e-12
+    if exact > 1e-7 * scale:
+        assert abs(depth - exact) <= 1e-8 * scale
+        # moving B by the depth along the normal separates the hulls; by a little less, they still overlap
+        assert gjk_distance(a, b + (depth + 1e-6 * scale) * normal)[0] > 0.0
+        assert gjk_distance(a, b + (depth - 1e-6 * scale) * normal)[0] == 0.0
+    elif exact < -1e-7 * scale:
+        assert depth == 0.0
+
+
+fractions = st.tuples(*[st.floats(0.0, 1.0)] * 3).map(np.array)
+
+
+@given(aabbs(), fractions, aabbs())
+def test_epa_axis_aligned_boxes_exact(box_a, where, box_b):
+    # B is moved so that it contains a point of A: the boxes always overlap
+    inside = box_a[0] + where * (box_a[1] - box_a[0])
+    box_b = (box_b[0] - box_b[0] + inside - 0.5 * (box_b[1] - box_b[0]),
+             inside + 0.5 * (box_b[1] - box_b[0]))
+    exact = aabb_depth(*box_a, *box_b)
+    assume(exact > 1e-9)
+    depth, normal = epa_penetration(box_corners(*box_a), box_corners(*box_b))
+    assert abs(depth - exact) <= 1e-9 * (1 + exact)
+
+
+@given(vectors, vectors, st.floats(0.1, 3.0), st.floats(0.1, 3.0), st.floats(1e-3, 0.999))
+def test_epa_spheres_exact(c1, direction, r1, r2, fraction):
+    from engine.narrowphase.contact import contact_feature
+
+    assume(np.linalg.norm(direction) > 1e-3)
+    c2 = c1 + direction / np.linalg.norm(direction) * fraction * (r1 + r2)
+    dist = np.linalg.norm(c1 - c2)
+    contact = contact_feature(c1[None], c2[None], radius_a=r1, radius_b=r2)
+    assert abs(-contact.separation - (r1 + r2 - dist)) <= 1e-9 * (1 + r1 + r2)
+    assert np.allclose(contact.normal, (c2 - c1) / dist, atol=1e-9)
+
+
+def test_concentric_and_touching_cubes():
+    cube = box_corners(np.array([-1.0, -1, -1]), np.array([1.0, 1, 1]))
+    depth, normal = epa_penetration(cube, cube)
+    assert abs(depth - 2.0) <= 1e-12 and abs(np.linalg.norm(normal) - 1) <= 1e-12
+    assert epa_penetration(cube, cube + [2.0, 0, 0])[0] == 0.0
+    assert gjk_distance(cube, cube + [2.0, 0, 0])[0] == 0.0
+    assert gjk_distance(cube, cube + [0, 4.0, 0])[0] == 2.0  # the case python-fcl gets wrong
+
+
+def test_bad_input_raises():
+    good = np.zeros((4, 3))
+    for bad in (np.full((4, 3), np.nan), np.array([[0, 0, np.inf]]), np.zeros((0, 3)), np.zeros((4, 2))):
+        with pytest.raises(ValueError):
+            gjk_distance(bad, good)
+        with pytest.raises(ValueError):
+            epa_penetration(good, bad)
+    with pytest.raises(TypeError):
+        gjk_distance(np.array([["a", "b", "c"]]), good)
+    with pytest.raises(ValueError):
+        gjk_distance(good, good, max_iterations=0)
+    with pytest.raises(ValueError, match=r"pairs\[1\]"):
+        points, offsets = pack_point_sets([good, good + 1])
+        gjk_distance_pairs(points, offsets, np.array([[0, 1], [0, 2]]))
+
+
+def test_iteration_cap_is_a_clear_error():
+    rng = np.random.default_rng(3)
+    a = rng.normal(size=(30, 3))
+    b = rng.normal(size=(30, 3)) + [5.0, 1.0, 0.5]
+    with pytest.raises(GJKNotConverged, match="max_iterations=1"):
+        gjk_distance(a, b, max_iterations=1)
+    d, _, _ = gjk_distance(a, b)
+    assert d > 0
+
+
+def test_inputs_not_modified():
+    rng = np.random.default_rng(4)
+    a = rng.normal(size=(10, 3))
+    b = rng.normal(size=(10, 3)) + 1.0
+    a0, b0 = a.copy(), b.copy()
+    gjk_distance(a, b)
+    epa_penetration(a, b)
+    assert np.array_equal(a, a0) and np.array_equal(b, b0)
