@@ -120,7 +120,8 @@ def _hull_2d(pts: np.ndarray) -> ConvexHull:
         raise ValueError(f"points: all points {what}; a 2-D hull needs 3 non-collinear points")
     v = pts[verts]
     nxt = np.roll(v, -1, axis=0)
-    area2 = float(np.sum(v[:, 0] * nxt[:, 1] - nxt[:, 0] * v[:, 1]))
+    rel, rel_next = v - v[0], nxt - v[0]  # shoelace about a vertex: no cancellation far from the origin
+    area2 = float(np.sum(rel[:, 0] * rel_next[:, 1] - rel_next[:, 0] * rel[:, 1]))
     scale = float(np.abs(pts).max() + np.ptp(pts, axis=0).max())
     if area2 <= HULL_EPS * scale * scale:
         raise ValueError("points: all points are (numerically) collinear; a 2-D hull needs 3 non-collinear points")
