@@ -220,9 +220,18 @@ def _initial_simplex(points, eps):
 
 
 @njit
+def _grown(arr, size, fill):
+    """A copy of ``arr`` (1-D or 2-D) with ``size`` rows, the new rows set to ``fill``."""
+    shape = (size,) + arr.shape[1:]
+    out = np.full(shape, fill, dtype=arr.dtype)
+    out[: arr.shape[0]] = arr
+    return out
+
+
+@njit
 def _quickhull_kernel(points, eps, capacity):
     """Quickhull in 3-D. Returns (faces (m, 3), status): status 0 ok, 1/2/3 degenerate input of that
-    dimension + 1, 4 numerically invalid horizon, 5 face capacity exceeded (the caller retries larger)."""
+    dimension + 1, 4 numerically invalid horizon. ``capacity`` is the initial number of face slots."""
     n = points.shape[0]
     empty = np.zeros((0, 3), dtype=np.int64)
     simplex, status = _initial_simplex(points, eps)
@@ -287,7 +296,7 @@ def _quickhull_kernel(points, eps, capacity):
 
     visible = np.empty(capacity, dtype=np.int64)
     stack = np.empty(capacity, dtype=np.int64)
-    horizon = np.empty((capacity, 3), dtype=np.int64)    # (a, b, face beyond the edge)
+    horizon = np.empty((3 * capacity, 3), dtype=np.int64)  # (a, b, face beyond the edge)
     new_faces = np.empty(capacity, dtype=np.int64)
     f = 0
     iteration = 0
@@ -330,8 +339,21 @@ def _quickhull_kernel(points, eps, capacity):
                 horizon[k] = horizon[t]
                 k += 1
         nhor = k
-        if nfaces + nhor > capacity:
-            return empty, 5
+        if nfaces + nhor > capacity:  # grow every per-face array (amortised doubling)
+            capacity = 2 * (nfaces + nhor)
+            fv = _grown(fv, capacity, 0)
+            fadj = _grown(fadj, capacity, -1)
+            fn = _grown(fn, capacity, 0.0)
+            fd = _grown(fd, capacity, 0.0)
+            alive = _grown(alive, capacity, False)
+            head = _grown(head, capacity, -1)
+            far = _grown(far, capacity, -1)
+            far_d = _grown(far_d, capacity, 0.0)
+            stamp = _grown(stamp, capacity, -1)
+            visible = _grown(visible, capacity, 0)
+            stack = _grown(stack, capacity, 0)
+            horizon = _grown(horizon, 3 * capacity, 0)
+            new_faces = _grown(new_faces, capacity, 0)
         # 2. the cone of new faces (a, b, p) on the horizon edges, linked to the faces beyond and to each other
         for t in range(nhor):
             a = horizon[t, 0]
@@ -445,12 +467,7 @@ def _hull_3d(pts: np.ndarray) -> ConvexHull:
     local = pts - centre  # work about the box centre: round-off then scales with the extent
     scale = float(np.abs(local).sum(axis=1).max() + np.abs(centre).max() * 1e-4)
     eps = HULL_EPS * max(scale, np.finfo(float).tiny)
-    capacity = 8 * n + 64
-    while True:
-        faces, status = _quickhull_kernel(local, eps, capacity)
-        if status != 5:
-            break
-        capacity *= 4
+    faces, status = _quickhull_kernel(local, eps, 256)  # per-face arrays grow as needed
     if status != 0:
         raise ValueError(f"points: {_DEGENERATE_3D[status]}")
     a, b, c = local[faces[:, 0]], local[faces[:, 1]], local[faces[:, 2]]
