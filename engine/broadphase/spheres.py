@@ -39,9 +39,10 @@ def _spheres_touch(c, r, i, j):
 
 
 @njit
-def _sphere_grid_kernel(c, r, large, cell_size):
-    # Ericson 7.1: one cell per sphere (its centre); cell side >= largest diameter, so a touching pair lies in
-    # the same or an adjacent cell. Counting sort by cell, then each cell against itself and 13 neighbours.
+def _sphere_grid_sort(c, r, large, cell_size):
+    # Ericson 7.1.2: one cell per sphere (its centre); cell side >= largest diameter, so a touching pair lies
+    # in the same or an adjacent cell. Counting sort of the spheres by cell number, x varying fastest, into a
+    # sorted structure of arrays; a column (iy, iz) of cells is then one contiguous run ordered by ix.
     n = c.shape[0]
     origin = np.empty(3)
     top = np.empty(3)
@@ -50,8 +51,11 @@ def _sphere_grid_kernel(c, r, large, cell_size):
         top[k] = -np.inf
     for i in range(n):
         for k in range(3):
-            origin[k] = min(origin[k], c[i, k])
-            top[k] = max(top[k], c[i, k])
+            v = c[i, k]
+            if v < origin[k]:
+                origin[k] = v
+            if v > top[k]:
+                top[k] = v
     size = cell_size
     while True:  # at most ~4n cells
         total = 1.0
@@ -74,12 +78,12 @@ def _sphere_grid_kernel(c, r, large, cell_size):
         ix = min(int((c[i, 0] - origin[0]) * inv), nx - 1)
         iy = min(int((c[i, 1] - origin[1]) * inv), ny - 1)
         iz = min(int((c[i, 2] - origin[2]) * inv), nz - 1)
-        cell[i] = (ix * ny + iy) * nz + iz
-        start[cell[i] + 1] += 1
+        key = (iy * nz + iz) * nx + ix
+        cell[i] = key
+        start[key + 1] += 1
         n_small += 1
     for t in range(nx * ny * nz):
         start[t + 1] += start[t]
-    # sorted structure of arrays: x, y, z, r, original index
     fill = start[:-1].copy()
     sx = np.empty(n_small)
     sy = np.empty(n_small)
@@ -87,60 +91,75 @@ def _sphere_grid_kernel(c, r, large, cell_size):
     sr = np.empty(n_small)
     sid = np.empty(n_small, dtype=np.int64)
     for i in range(n):
-        if cell[i] < 0:
+        key = cell[i]
+        if key < 0:
             continue
-        p = fill[cell[i]]
-        fill[cell[i]] = p + 1
+        p = fill[key]
+        fill[key] = p + 1
         sx[p] = c[i, 0]
         sy[p] = c[i, 1]
         sz[p] = c[i, 2]
         sr[p] = r[i]
         sid[p] = i
-    out = np.empty((max(n, 16), 2), dtype=np.int64)
+    return nx, ny, nz, start, sx, sy, sz, sr, sid
+
+
+@njit
+def _sphere_grid_sweep(nx, ny, nz, start, sx, sy, sz, sr, sid, out):
+    """Each cell against the half of its 26 neighbours that comes after it, and itself (q > p).
+
+    Neighbour cells are read as contiguous runs: in its own column the cell and the next one (ix, ix + 1); in
+    the four columns (dy, dz) = (0, 1), (1, −1), (1, 0), (1, 1) the three cells ix − 1 .. ix + 1. The other
+    four columns meet this cell from their own side, so every pair is met once.
+    Pairs are written to ``out`` while it has room; returns their number (the caller retries if larger).
+    """
+    capacity = out.shape[0]
     count = 0
-    for ix in range(nx):
-        for iy in range(ny):
-            for iz in range(nz):
-                home = (ix * ny + iy) * nz + iz
-                h0 = start[home]
-                h1 = start[home + 1]
+    for iy in range(ny):
+        for iz in range(nz):
+            column = (iy * nz + iz) * nx
+            for ix in range(nx):
+                h0 = start[column + ix]
+                h1 = start[column + ix + 1]
                 if h0 == h1:
                     continue
-                # the home cell and the 13 neighbours after it: (dx, dy, dz) > (0, 0, 0) lexicographically
-                for dx in range(0, 2):
-                    jx = ix + dx
-                    if jx >= nx:
+                for side in range(5):
+                    if side == 0:
+                        jy = iy
+                        jz = iz
+                    elif side == 1:
+                        jy = iy
+                        jz = iz + 1
+                    else:
+                        jy = iy + 1
+                        jz = iz + side - 3
+                    if jy >= ny or jz < 0 or jz >= nz:
                         continue
-                    for dy in range(-1 if dx == 1 else 0, 2):
-                        jy = iy + dy
-                        if jy < 0 or jy >= ny:
-                            continue
-                        for dz in range(-1 if (dx == 1 or dy == 1) else 0, 2):
-                            jz = iz + dz
-                            if jz < 0 or jz >= nz:
-                                continue
-                            other = (jx * ny + jy) * nz + jz
-                            o0 = start[other]
-                            o1 = start[other + 1]
-                            if o0 == o1:
-                                continue
-                            same = other == home
-                            for p in range(h0, h1):
-                                px = sx[p]
-                                py = sy[p]
-                                pz = sz[p]
-                                pr = sr[p]
-                                for q in range(p + 1 if same else o0, o1):
-                                    ddx = px - sx[q]
-                                    ddy = py - sy[q]
-                                    ddz = pz - sz[q]
-                                    s = pr + sr[q]
-                                    if ddx * ddx + ddy * ddy + ddz * ddz <= s * s:
-                                        if count == out.shape[0]:
-                                            out = _grow(out, count + 1)
-                                        out[count, 0] = sid[p]
-                                        out[count, 1] = sid[q]
-                                        count += 1
+                    base = (jy * nz + jz) * nx
+                    o1 = start[base + min(ix + 2, nx)]
+                    o0 = start[base + max(ix - 1, 0)]
+                    for p in range(h0, h1):
+                        px = sx[p]
+                        py = sy[p]
+                        pz = sz[p]
+                        pr = sr[p]
+                        for q in range(p + 1 if side == 0 else o0, o1):
+                            ddx = px - sx[q]
+                            ddy = py - sy[q]
+                            ddz = pz - sz[q]
+                            s = pr + sr[q]
+                            if ddx * ddx + ddy * ddy + ddz * ddz <= s * s:
+                                if count < capacity:
+                                    out[count, 0] = sid[p]
+                                    out[count, 1] = sid[q]
+                                count += 1
+    return count
+
+
+@njit
+def _large_sphere_pairs(c, r, large, out, count):
+    """Append to ``out`` (from row ``count``) the pairs of the spheres kept out of the grid."""
+    n = c.shape[0]
     # spheres too large for the grid: against every sphere (once per pair of large spheres)
     for i in range(n):
         if not large[i]:
@@ -154,6 +173,20 @@ def _sphere_grid_kernel(c, r, large, cell_size):
                 out[count, 0] = i
                 out[count, 1] = j
                 count += 1
+    return out, count
+
+
+def _sphere_grid_pairs(c, r, large, cell_size):
+    """Grid broad phase + exact test of spheres (n, 3), radii (n,); canonical pairs."""
+    n = c.shape[0]
+    grid = _sphere_grid_sort(c, r, large, cell_size)
+    out = np.empty((max(16, n), 2), dtype=np.int64)
+    count = _sphere_grid_sweep(*grid, out)
+    if count > out.shape[0]:
+        out = np.empty((count, 2), dtype=np.int64)
+        count = _sphere_grid_sweep(*grid, out)
+    if large.any():
+        out, count = _large_sphere_pairs(c, r, large, out, count)
     return _canonical_pairs_kernel(out, count, n)
 
 
@@ -221,7 +254,7 @@ def sphere_pairs(centers, radii, method: str = "grid") -> np.ndarray:
         cell = max(2.0 * r_cell * (1.0 + 1e-9) + margin, spacing)
         if cell <= 0.0:
             cell = 1.0
-        return _sphere_grid_kernel(c, r, large, cell)
+        return _sphere_grid_pairs(c, r, large, cell)
     widen = r + margin
     candidates = find_pairs(c - widen[:, None], c + widen[:, None], method=method)
     return _exact_filter_kernel(candidates, c, r)
