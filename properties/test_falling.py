@@ -7,33 +7,12 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from scipy.integrate import solve_ivp
 
 from engine import drop_cube, drop_particle
+from properties.oracles import reference_impacts
 from properties.strategies.dynamics import finite, heights, linear_drag_scenes, restitutions, step_sizes
 
 G = 9.81
-
-
-def reference_impacts(height, mass, drag, restitution, n_impacts, quadratic_drag=0.0, ground=0.0):
-    """Impact times by scipy.integrate.solve_ivp (RK45, rtol = atol = 1e-12) with a terminal event at y = ground,
-    restarted after each impact with v -> -e v: the same physics through an independent integrator."""
-
-    def rhs(t, Y):
-        y, v = Y
-        return [v, (-mass * G - drag * v - quadratic_drag * abs(v) * v) / mass]
-
-    def hit(t, Y):
-        return Y[0] - ground
-
-    hit.terminal, hit.direction = True, -1
-    t0, state, times = 0.0, [height, 0.0], []
-    for _ in range(n_impacts):
-        sol = solve_ivp(rhs, (t0, t0 + 1e4), state, events=hit, rtol=1e-12, atol=1e-12)
-        tc, (yc, vc) = sol.t_events[0][0], sol.y_events[0][0]
-        times.append(tc)
-        t0, state = tc, [ground, -restitution * vc]
-    return np.array(times)
 
 
 @given(heights, step_sizes)
@@ -117,6 +96,7 @@ def test_cube_stops_on_the_ground(height, size, dt):
     np.testing.assert_array_equal(c.position, [0.0, size / 2, 0.0])
     np.testing.assert_array_equal(c.velocity, [0.0, 0.0, 0.0])
     assert c.t[-1] == c.t_contact and (c.y >= size / 2).all()
+    assert c.v_contact == pytest.approx(-G * c.t_contact, rel=1e-8)
 
 
 @settings(max_examples=40)

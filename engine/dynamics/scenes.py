@@ -57,6 +57,7 @@ class CubeDrop:
     y: np.ndarray  #: height of the centre, (m,)
     v: np.ndarray  #: vertical velocity, (m,)
     size: float
+    v_contact: float | None = None  #: vertical velocity of the cube at tc, just before it is stopped (m/s)
 
 
 def _fall_params(*, mass, drag, quadratic_drag, restitution, gravity, ground, rest_speed, stop):
@@ -138,9 +139,10 @@ def drop_cube(height, *, size=1.0, mass=1.0, drag=0.0, gravity=9.81, dt=0.01, to
                           gravity=gravity, ground=size / 2.0, rest_speed=np.inf, stop=True)
     samples, impacts, _ = simulate_fall(height, 0.0, t_end, dt, tol, params)
     t_contact = float(impacts[0, I_T]) if impacts.shape[0] else None
+    v_contact = float(impacts[0, I_V_BEFORE]) if impacts.shape[0] else None
     y_last, v_last = float(samples[-1, S_Y]), float(samples[-1, S_V])
     return CubeDrop(t_contact=t_contact, position=np.array([0.0, y_last, 0.0]),
                     velocity=np.array([0.0, v_last, 0.0]), t=samples[:, S_T], y=samples[:, S_Y],
-                    v=samples[:, S_V], size=size)
+                    v=samples[:, S_V], size=size, v_contact=v_contact)
 
 

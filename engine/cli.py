@@ -1,0 +1,132 @@
+"""The ``collide`` command: run the chapter's algorithms from a shell, and the main job (``collide report``).
+
+    collide fall --height 10 --restitution 0.8 [--drag 0.2] [--cube]
+    collide report [--quick]
+"""
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+
+def _float(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
+    return value
+
+
+def cmd_fall(args) -> int:
+    """Drop a particle (or the cube), print the impacts, write a PNG plot of y(t) and a CSV trajectory."""
+    import numpy as np
+    import pandas as pd
+
+    from .dynamics.scenes import drop_cube, drop_particle
+
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    if args.cube:
+        res = drop_cube(args.height, size=args.size, mass=args.mass, drag=args.drag, gravity=args.gravity,
+                        dt=args.dt, tol=args.tol, t_end=args.t_end, quadratic_drag=args.quadratic_drag)
+        rows = [] if res.t_contact is None else [(res.t_contact, res.v_contact, 0.0)]
+        label, t, y, v = "cube (centre)", res.t, res.y, res.v
+    else:
+        res = drop_particle(args.height, mass=args.mass, drag=args.drag, restitution=args.restitution,
+                            gravity=args.gravity, dt=args.dt, t_end=args.t_end, tol=args.tol,
+                            quadratic_drag=args.quadratic_drag)
+        rows = [(imp.t, imp.v_before, imp.v_after) for imp in res.impacts]
+        label, t, y, v = "particle", res.t, res.y, res.v
+    print(f"{label} dropped from y = {args.height} (dt = {args.dt}, tol = {args.tol}, e = "
+          f"{0.0 if args.cube else args.restitution}, drag = {args.drag})")
+    print(f"{'#':>3}  {'t_c (s)':>14}  {'v_before (m/s)':>15}  {'v_after (m/s)':>14}")
+    for k, (tc, vb, va) in enumerate(rows, 1):
+        print(f"{k:>3}  {tc:14.10f}  {vb:15.10f}  {va:14.10f}")
+    if not rows:
+        print("  (no impact before t_end)")
+    if args.cube and res.t_contact is not None:
+        print(f"cube stopped at t = {res.t_contact:.10f} s, centre {res.position.tolist()}, velocity "
+              f"{res.velocity.tolist()}")
+    elif not args.cube and res.rest_time is not None:
+        print(f"resting contact from t = {res.rest_time:.10f} s (contact force m g = {args.mass * args.gravity:g} N)")
+    stem = "fall_cube" if args.cube else "fall_particle"
+    pd.DataFrame({"t": t, "y": y, "v": v}).to_csv(out / f"{stem}.csv", index=False)
+    _plot_fall(out / f"{stem}.png", t, y, [r[0] for r in rows], np.interp([r[0] for r in rows], t, y), label)
+    print(f"wrote {out / (stem + '.csv')} and {out / (stem + '.png')}")
+    return 0
+
+
+def _plot_fall(path, t, y, t_impacts, y_impacts, label):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(8, 4), dpi=110)
+    ax.plot(t, y, lw=1.2, label=f"{label}: y(t), RK4")
+    ax.scatter(t_impacts, y_impacts, color="crimson", zorder=3, s=18, label="impacts (tc by bisection)")
+    ax.axhline(0.0, color="k", lw=0.8)
+    ax.set_xlabel("t (s)")
+    ax.set_ylabel("y (m)")
+    ax.legend(loc="upper right")
+    ax.set_title("Falling body on the ground y = 0")
+    fig.tight_layout()
+    fig.savefig(path)
+    plt.close(fig)
+
+
+def cmd_report(args) -> int:
+    root = Path(__file__).resolve().parents[1]
+    if not (root / "bench" / "report.py").is_file():
+        print("collide report: needs a source checkout (bench/ beside engine/); run it from the repository",
+              file=sys.stderr)
+        return 2
+    sys.path.insert(0, str(root))  # the report generator and its oracles live beside the package, not in it
+    from bench.report import main as report_main
+
+    return report_main(quick=args.quick, out=Path(args.out))
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="collide",
+        description="Collision detection for game physics: whether, where and when two objects collide.")
+    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+
+    fall = sub.add_parser("fall", help="drop a particle (or a cube) on the ground: impacts, plot, CSV",
+                          description="RK4 with drag, impact times by bisection (Algorithme 3), "
+                                      "v_after = -e v_before, resting contact.")
+    fall.add_argument("--height", type=_float, default=10.0, help="initial height in m (default 10)")
+    fall.add_argument("--restitution", "-e", type=_float, default=1.0, help="e in [0, 1] (default 1)")
+    fall.add_argument("--drag", type=_float, default=0.0, help="linear drag k in F = -k v (default 0)")
+    fall.add_argument("--quadratic-drag", type=_float, default=0.0, help="c in F = -c |v| v (default 0)")
+    fall.add_argument("--mass", type=_float, default=1.0, help="mass in kg (default 1)")
+    fall.add_argument("--gravity", type=_float, default=9.81, help="g in m/s^2 (default 9.81)")
+    fall.add_argument("--dt", type=_float, default=0.01, help="RK4 step in s (default 0.01)")
+    fall.add_argument("--tol", type=_float, default=1e-10, help="bisection tolerance on tc in s")
+    fall.add_argument("--t-end", type=_float, default=10.0, help="simulated time in s (default 10)")
+    fall.add_argument("--cube", action="store_true", help="drop the slide's cube instead (stopped at contact)")
+    fall.add_argument("--size", type=_float, default=1.0, help="cube edge in m (default 1)")
+    fall.add_argument("--out", default=".", help="folder for fall_*.png and fall_*.csv (default .)")
+    fall.set_defaults(func=cmd_fall)
+
+    report = sub.add_parser("report", help="the main job: run the benchmarks and validations, write reports/")
+    report.add_argument("--quick", action="store_true", help="small sizes, a few minutes")
+    report.add_argument("--out", default="reports", help="output folder (default reports/)")
+    report.set_defaults(func=cmd_report)
+    return parser
+
+
+def main(argv=None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    try:
+        return int(args.func(args) or 0)
+    except (ValueError, TypeError) as exc:
+        print(f"collide {args.command}: error: {exc}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,34 @@
+"""Independent reference answers used by the properties and by the validation reports (naive or third-party,
+never the engine's own code)."""
+from __future__ import annotations
+
+import numpy as np
+from scipy.integrate import solve_ivp
+
+G = 9.81
+
+
+def reference_impacts(height, mass, drag, restitution, n_impacts, quadratic_drag=0.0, ground=0.0, gravity=G):
+    """Impact times by scipy.integrate.solve_ivp (RK45, rtol = atol = 1e-12) with a terminal event at y = ground,
+    restarted after each impact with v -> -e v: the same physics through an independent integrator."""
+
+    def rhs(t, Y):
+        y, v = Y
+        return [v, (-mass * gravity - drag * v - quadratic_drag * abs(v) * v) / mass]
+
+    def hit(t, Y):
+        return Y[0] - ground
+
+    hit.terminal, hit.direction = True, -1
+    t0, state, times = 0.0, [height, 0.0], []
+    for _ in range(n_impacts):
+        sol = solve_ivp(rhs, (t0, t0 + 1e4), state, events=hit, rtol=1e-12, atol=1e-12)
+        tc, (_, vc) = sol.t_events[0][0], sol.y_events[0][0]
+        times.append(tc)
+        t0, state = tc, [ground, -restitution * vc]
+    return np.array(times)
+
+
+def free_fall_impacts(height, n_impacts, gravity=G):
+    """No drag, e = 1: the k-th impact at sqrt(2h/g)(2k + 1)."""
+    return np.sqrt(2.0 * height / gravity) * (2.0 * np.arange(n_impacts) + 1.0)
