@@ -1,7 +1,9 @@
 """Sphere pairs: broad phase + exact sphere test, the fast path of the confined-gas simulation.
 
 ``sphere_pairs(centers, radii)`` returns exactly the pairs with |c_i − c_j| <= r_i + r_j, computed as
-``dx² + dy² + dz² <= (r_i + r_j)²`` in IEEE double precision (touching counts).
+``dx² + dy² + dz² <= (r_i + r_j)²`` in IEEE double precision (touching counts), together with
+``|dx|, |dy|, |dz| <= r_i + r_j`` so that squares underflowing to zero (coordinates below ~1e-154) cannot make
+distinct points touch.
 
 The default method, "grid", is a uniform grid specialised to spheres (Ericson, *Real-Time Collision Detection*
 7.1.2–7.1.6, and the chapter's "absolue" spatial subdivision): each sphere is stored once, in the cell of its
@@ -35,7 +37,7 @@ def _spheres_touch(c, r, i, j):
     dy = c[i, 1] - c[j, 1]
     dz = c[i, 2] - c[j, 2]
     s = r[i] + r[j]
-    return dx * dx + dy * dy + dz * dz <= s * s
+    return dx * dx + dy * dy + dz * dz <= s * s and abs(dx) <= s and abs(dy) <= s and abs(dz) <= s
 
 
 @njit
@@ -148,7 +150,8 @@ def _sphere_grid_sweep(nx, ny, nz, start, sx, sy, sz, sr, sid, out):
                             ddy = py - sy[q]
                             ddz = pz - sz[q]
                             s = pr + sr[q]
-                            if ddx * ddx + ddy * ddy + ddz * ddz <= s * s:
+                            if (ddx * ddx + ddy * ddy + ddz * ddz <= s * s
+                                    and abs(ddx) <= s and abs(ddy) <= s and abs(ddz) <= s):
                                 if count < capacity:
                                     out[count, 0] = sid[p]
                                     out[count, 1] = sid[q]

@@ -1,0 +1,106 @@
+"""sphere_pairs: equals scipy's cKDTree.query_pairs for equal radii, brute force for unequal radii; the
+broad phase of bounding boxes is a superset of the exact sphere pairs."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from scipy.spatial import cKDTree
+
+from engine.broadphase import BROAD_PHASES, find_pairs, sphere_pairs
+from properties.strategies.boxes import sphere_scenes
+
+
+def brute_sphere_pairs(centers, radii):
+    """Independent reference: numpy all-pairs |c_i − c_j|² <= (r_i + r_j)² and |c_i − c_j|_inf <= r_i + r_j
+    (the second guards against squares underflowing to zero)."""
+    c = np.asarray(centers, dtype=float)
+    n = c.shape[0]
+    r = np.broadcast_to(np.asarray(radii, dtype=float), (n,))
+    diff = c[:, None, :] - c[None, :, :]
+    d2 = np.einsum("ijk,ijk->ij", diff, diff)
+    s = r[:, None] + r[None, :]
+    close = np.all(np.abs(diff) <= s[:, :, None], axis=2)
+    i, j = np.nonzero(np.triu((d2 <= s * s) & close, 1))
+    return np.stack([i, j], axis=1).astype(np.int64)
+
+
+def away_from_ties(centers, radius, rel=1e-9):
+    """True when no pair distance is within round-off of the contact distance 2r (so cKDTree must agree)."""
+    c = np.asarray(centers)
+    if len(c) < 2:
+        return True
+    d = np.sqrt(((c[:, None, :] - c[None, :, :]) ** 2).sum(-1))
+    return not np.any(np.abs(d - 2 * radius) <= rel * (1.0 + np.abs(c).max()))
+
+
+@pytest.mark.parametrize("method", BROAD_PHASES)
+@settings(max_examples=60)
+@given(data=st.data())
+def test_equal_radii_match_ckdtree(method, data):
+    centers, radius = data.draw(sphere_scenes(d=3, equal=True))
+    got = sphere_pairs(centers, radius, method=method)
+    if away_from_ties(centers, radius):
+        expected = cKDTree(centers).query_pairs(2 * radius, output_type="ndarray") if len(centers) else None
+        expected = np.zeros((0, 2), np.int64) if expected is None else expected
+        expected = expected[np.lexsort((expected[:, 1], expected[:, 0]))] if len(expected) else expected
+        np.testing.assert_array_equal(got, expected.reshape(-1, 2))
+    np.testing.assert_array_equal(got, brute_sphere_pairs(centers, radius))
+
+
+@pytest.mark.parametrize("method", BROAD_PHASES)
+@pytest.mark.parametrize("d", [1, 2, 3])
+@settings(max_examples=40)
+@given(data=st.data())
+def test_unequal_radii_match_brute_force(method, d, data):
+    centers, radii = data.draw(sphere_scenes(d=d, equal=False))
+    np.testing.assert_array_equal(sphere_pairs(centers, radii, method=method), brute_sphere_pairs(centers, radii))
+
+
+@st.composite
+def touching_scenes(draw):
+    """Spheres placed exactly at contact distance along an axis (integer data: exact arithmetic)."""
+    n = draw(st.integers(2, 30))
+    cells = draw(st.lists(st.tuples(st.integers(-5, 5), st.integers(-5, 5), st.integers(-5, 5)),
+                          min_size=n, max_size=n))
+    return np.array(cells, dtype=float) * 2.0, 1.0  # neighbours at distance 2 = r_i + r_j: touching
+
+
+@settings(max_examples=40)
+@given(touching_scenes())
+def test_exact_contact_counts(scene):
+    centers, radius = scene
+    expected = brute_sphere_pairs(centers, radius)
+    for method in BROAD_PHASES:
+        np.testing.assert_array_equal(sphere_pairs(centers, radius, method=method), expected)
+
+
+@pytest.mark.parametrize("method", BROAD_PHASES)
+@settings(max_examples=40)
+@given(data=st.data())
+def test_box_broad_phase_is_a_superset_of_sphere_pairs(method, data):
+    centers, radii = data.draw(sphere_scenes(d=3))
+    r = np.broadcast_to(np.asarray(radii, dtype=float), (len(centers),))
+    boxes = find_pairs(centers - r[:, None], centers + r[:, None], method)
+    exact = sphere_pairs(centers, radii)
+    box_set = {tuple(p) for p in boxes.tolist()}
+    assert all(tuple(p) in box_set for p in exact.tolist())
+
+
+def test_sphere_validation():
+    c = np.zeros((3, 3))
+    with pytest.raises(ValueError, match=r"radii\[1\]"):
+        sphere_pairs(c, np.array([1.0, -1.0, 1.0]))
+    with pytest.raises(ValueError, match="radii"):
+        sphere_pairs(c, -1.0)
+    with pytest.raises(ValueError, match="radii"):
+        sphere_pairs(c, np.ones(2))
+    bad = c.copy()
+    bad[2, 1] = np.inf
+    with pytest.raises(ValueError, match=r"centers\[\(2, 1\)\]"):
+        sphere_pairs(bad, 1.0)
+    with pytest.raises(ValueError, match="method"):
+        sphere_pairs(c, 1.0, method="kd")
+    assert sphere_pairs(np.zeros((0, 3)), 1.0).shape == (0, 2)
+    assert sphere_pairs(c, 0.0).tolist() == [[0, 1], [0, 2], [1, 2]]  # identical points touch
