@@ -15,7 +15,8 @@ from properties.oracles import free_fall_impacts, reference_impacts
 
 
 def _rows_to_markdown(df: pd.DataFrame) -> list[str]:
-    lines = ["| case | quantity | engine | oracle | relative error | tolerance | |", "|---|---|---:|---:|---:|---:|---|"]
+    lines = ["| case | quantity | engine | oracle | relative error | tolerance | |",
+             "|---|---|---:|---:|---:|---:|---|"]
     for _, r in df.iterrows():
         lines.append(f"| {r['case']} | {r['quantity']} | {r['engine']:.12g} | {r['oracle']:.12g} | "
                      f"{r['rel_error']:.2e} | {r['tolerance']:.0e} | {'ok' if r['ok'] else 'FAIL'} |")
