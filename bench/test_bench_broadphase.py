@@ -1,0 +1,234 @@
+"""Benchmarks of the broad phase on DESIGN.md section 7's workloads, peers measured in the same run.
+
+- W1 (Terdiman's box pruning): N = 10,000 and 100,000 boxes, centres integers in [−2048, 2048)³, half-extents
+  integers in [0, 127]; every method of ``find_pairs``; ``extra_info["cycles_per_box"]`` = time × nominal clock / N
+  (clock: "cpu MHz" of /proc/cpuinfo).
+- W2 (spheres): N ∈ {1e3, 1e4, 1e5, 1e6} equal spheres uniform in a cube at packing fraction 0.05 and 0.2, all
+  exact pairs; ``sphere_pairs`` (grid and the other methods) against scipy's cKDTree (build + query_pairs,
+  ndarray output), python-fcl's DynamicAABBTreeCollisionManager (register + setup + collide, a Python callback
+  collecting the pairs that fcl's narrow test confirms) and coal's DynamicAABBTreeCollisionManager (register +
+  setup + collide with the C++ CollisionCallBackCollect: its broad-phase pairs only, a lower bound on its time).
+- Scaling: ``find_pairs`` on the bounding boxes of W2 spheres (η = 0.05), N = 1e3 .. 1e6 (brute to 3e4).
+
+N = 1e6 runs are marked ``large`` (deselect with ``-m "not large"``) and skipped with ``--quick``.
+Run: ``python -m pytest bench/test_bench_broadphase.py --benchmark-only -q``.
+Log-log slopes of time against N: ``python bench/test_bench_broadphase.py`` (prints a table, times by timeit).
+"""
+from __future__ import annotations
+
+import math
+import re
+import sys
+import timeit
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+if __name__ == "__main__":  # script mode: make `engine` importable from a checkout
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+from engine.broadphase import BROAD_PHASES, find_pairs, sphere_pairs  # noqa: E402
+
+SEED = 4
+
+
+def cpu_mhz() -> float:
+    """Nominal clock from /proc/cpuinfo ("cpu MHz"), MHz; NaN when unavailable."""
+    try:
+        text = Path("/proc/cpuinfo").read_text()
+    except OSError:
+        return math.nan
+    found = re.findall(r"cpu MHz\s*:\s*([0-9.]+)", text)
+    return float(found[0]) if found else math.nan
+
+
+def w1_boxes(n: int, seed: int = SEED):
+    """Terdiman's box-pruning workload: (lo, hi), (n, 3)."""
+    rng = np.random.default_rng(seed)
+    centre = rng.integers(-2048, 2048, size=(n, 3)).astype(float)
+    half = rng.integers(0, 128, size=(n, 3)).astype(float)
+    return centre - half, centre + half
+
+
+def w2_spheres(n: int, eta: float, seed: int = SEED, radius: float = 0.5):
+    """n equal spheres of radius ``radius`` uniform in a cube at packing fraction eta: (centres (n, 3), radius)."""
+    side = (n * math.pi * (2 * radius) ** 3 / (6 * eta)) ** (1 / 3)
+    return np.random.default_rng(seed).uniform(0.0, side, size=(n, 3)), radius
+
+
+def _large(n):
+    return [pytest.mark.large] if n >= 1_000_000 else []
+
+
+def _run(benchmark, func, *args, rounds=3):
+    func(*args)  # compile / warm outside the timing
+    return benchmark.pedantic(func, args=args, rounds=rounds, iterations=1)
+
+
+# ----------------------------------------------------------------------------------------------------------
+# W1: boxes
+# ----------------------------------------------------------------------------------------------------------
+@pytest.mark.benchmark(group="W1 boxes")
+@pytest.mark.parametrize("n", [10_000, 100_000])
+@pytest.mark.parametrize("method", BROAD_PHASES)
+def test_bench_w1_boxes(benchmark, quick, method, n):
+    if quick and n > 10_000:
+        pytest.skip("quick mode")
+    if method == "brute" and n > 10_000:
+        pytest.skip("brute force only at 10k")
+    lo, hi = w1_boxes(n)
+    pairs = _run(benchmark, find_pairs, lo, hi, method, rounds=5 if n <= 10_000 else 2)
+    benchmark.extra_info.update(work=n, unit="boxes", pairs=int(len(pairs)),
+                                cycles_per_box=benchmark.stats.stats.min * cpu_mhz() * 1e6 / n,
+                                clock_mhz=cpu_mhz())
+
+
+# ----------------------------------------------------------------------------------------------------------
+# W2: spheres, ours against the peers
+# ----------------------------------------------------------------------------------------------------------
+def ckdtree_pairs(centres, radius):
+    from scipy.spatial import cKDTree
+
+    return cKDTree(centres).query_pairs(2 * radius, output_type="ndarray")
+
+
+def fcl_pairs(centres, radius):
+    import fcl
+
+    objects = [fcl.CollisionObject(fcl.Sphere(radius), fcl.Transform(c)) for c in centres]
+    index = {tuple(c): i for i, c in enumerate(centres.tolist())}
+    manager = fcl.DynamicAABBTreeCollisionManager()
+    manager.registerObjects(objects)
+    manager.setup()
+    found = []
+
+    def collect(o1, o2, _):
+        # a fresh request/result per call (DESIGN.md section 5: reused results keep stale state)
+        if fcl.collide(o1, o2, fcl.CollisionRequest(), fcl.CollisionResult()):
+            found.append((index[tuple(o1.getTranslation())], index[tuple(o2.getTranslation())]))
+        return False
+
+    manager.collide(None, collect)
+    return found
+
+
+def coal_pairs(centres, radius):
+    import coal
+
+    manager = coal.DynamicAABBTreeCollisionManager()
+    keep = []
+    for c in centres:
+        transform = coal.Transform3s()
+        transform.setTranslation(c)
+        obj = coal.CollisionObject(coal.Sphere(radius), transform)
+        keep.append(obj)
+        manager.registerObject(obj)
+    manager.setup()
+    callback = coal.CollisionCallBackCollect(max(16, 4 * len(centres)))
+    manager.collide(callback)
+    return callback.numCollisionPairs()
+
+
+W2_SIZES = [1_000, 10_000, 100_000, 1_000_000]
+W2_IMPLS = ["grid", "sap", "tree", "octree", "ckdtree", "fcl", "coal"]
+
+
+@pytest.mark.benchmark(group="W2 spheres")
+@pytest.mark.parametrize("eta", [0.05, 0.2])
+@pytest.mark.parametrize("n", [pytest.param(n, marks=_large(n)) for n in W2_SIZES])
+@pytest.mark.parametrize("impl", W2_IMPLS)
+def test_bench_w2_spheres(benchmark, quick, impl, n, eta):
+    if quick and n > 10_000:
+        pytest.skip("quick mode")
+    if impl in ("fcl", "coal") and (n > 100_000 or (n == 100_000 and eta != 0.05)):
+        pytest.skip("python-fcl / coal: registration alone takes minutes at this size")
+    if impl in ("sap", "tree", "octree") and n > 100_000:
+        pytest.skip("box methods through sphere_pairs: up to 1e5")
+    centres, radius = w2_spheres(n, eta)
+    rounds = 3 if n <= 100_000 else 2
+    if impl == "ckdtree":
+        got = _run(benchmark, ckdtree_pairs, centres, radius, rounds=rounds)
+    elif impl == "fcl":
+        got = _run(benchmark, fcl_pairs, centres, radius, rounds=1)
+    elif impl == "coal":
+        got = _run(benchmark, coal_pairs, centres, radius, rounds=1)
+    else:
+        got = _run(benchmark, sphere_pairs, centres, radius, impl, rounds=rounds)
+    count = got if isinstance(got, int) else len(got)
+    if impl in ("grid", "ckdtree") and n <= 100_000:
+        assert count == len(sphere_pairs(centres, radius, "brute" if n <= 10_000 else "sap"))
+    benchmark.extra_info.update(work=n, unit="spheres", pairs=int(count), eta=eta)
+
+
+# ----------------------------------------------------------------------------------------------------------
+# scaling of find_pairs at fixed density (boxes of W2 spheres, eta = 0.05)
+# ----------------------------------------------------------------------------------------------------------
+SCALING_SIZES = [1_000, 10_000, 100_000, 1_000_000]
+
+
+@pytest.mark.benchmark(group="scaling: find_pairs on W2 boxes, eta 0.05")
+@pytest.mark.parametrize("n", [pytest.param(n, marks=_large(n)) for n in SCALING_SIZES + [30_000]])
+@pytest.mark.parametrize("method", BROAD_PHASES)
+def test_bench_scaling(benchmark, quick, method, n):
+    if quick and n > 10_000:
+        pytest.skip("quick mode")
+    if method == "brute" and n > 30_000:
+        pytest.skip("brute force: up to 3e4 in the suite")
+    if method != "brute" and n == 30_000:
+        pytest.skip("3e4 is brute force's extra point")
+    centres, radius = w2_spheres(n, 0.05)
+    lo, hi = centres - radius, centres + radius
+    pairs = _run(benchmark, find_pairs, lo, hi, method, rounds=3 if n <= 100_000 else 1)
+    benchmark.extra_info.update(work=n, unit="boxes", pairs=int(len(pairs)))
+
+
+def loglog_slope(sizes, seconds) -> float:
+    """Least-squares slope of log(time) against log(N)."""
+    return float(np.polyfit(np.log(sizes), np.log(seconds), 1)[0])
+
+
+def _min_time(func, *args, repeat=3):
+    func(*args)
+    return min(timeit.repeat(lambda: func(*args), number=1, repeat=repeat))
+
+
+def main() -> None:
+    """Print the W2 grid vs cKDTree ratios, W1 cycles per box and the log-log slopes (N = 1e3 .. 1e6)."""
+    mhz = cpu_mhz()
+    print(f"clock: {mhz:.0f} MHz (/proc/cpuinfo 'cpu MHz')")
+    for n in (10_000, 100_000):
+        lo, hi = w1_boxes(n)
+        for method in ("sap", "grid", "tree", "octree"):
+            t = _min_time(find_pairs, lo, hi, method, repeat=5)
+            print(f"W1 n={n:>7} {method:<7} {t * 1e3:9.2f} ms  {t * mhz * 1e6 / n:9.0f} cycles/box")
+    for n in (100_000, 1_000_000):
+        centres, radius = w2_spheres(n, 0.05)
+        t_grid = _min_time(sphere_pairs, centres, radius)
+        t_kd = _min_time(ckdtree_pairs, centres, radius)
+        line = (f"W2 n={n:>8} eta=0.05 grid {t_grid * 1e3:8.2f} ms ({t_grid / n * 1e9:6.1f} ns/sphere)  "
+                f"cKDTree {t_kd * 1e3:8.2f} ms  ratio {t_kd / t_grid:5.1f}")
+        if n <= 100_000:
+            t_fcl = _min_time(fcl_pairs, centres, radius, repeat=1)
+            line += f"  fcl {t_fcl * 1e3:9.1f} ms  ratio {t_fcl / t_grid:6.1f}"
+        print(line)
+    sizes = {m: SCALING_SIZES for m in BROAD_PHASES}
+    sizes["brute"] = [1_000, 3_000, 10_000, 30_000]
+    for method in BROAD_PHASES:
+        times = []
+        for n in sizes[method]:
+            centres, radius = w2_spheres(n, 0.05)
+            times.append(_min_time(find_pairs, centres - radius, centres + radius, method,
+                                   repeat=3 if n <= 100_000 else 1))
+        print(f"slope {method:<7} {loglog_slope(sizes[method], times):5.2f}   "
+              + "  ".join(f"{n:.0e}:{t * 1e3:.1f}ms" for n, t in zip(sizes[method], times)))
+    times = []
+    for n in SCALING_SIZES:
+        centres, radius = w2_spheres(n, 0.05)
+        times.append(_min_time(sphere_pairs, centres, radius, repeat=3 if n <= 100_000 else 1))
+    print(f"slope sphere_pairs(grid) {loglog_slope(SCALING_SIZES, times):5.2f}   "
+          + "  ".join(f"{n:.0e}:{t * 1e3:.1f}ms" for n, t in zip(SCALING_SIZES, times)))
+
+
+if __name__ == "__main__":
+    main()
