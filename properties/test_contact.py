@@ -70,13 +70,17 @@ def test_stacked_boxes_face_face_exact_patch(box_a, box_b, axis, gap, fu, fv):
     assert abs(contact.separation - gap) <= 1e-9
     expected = np.zeros(3)
     expected[axis] = 1.0
-    assert np.allclose(contact.normal, expected, atol=1e-12)
+    # GJK's closest points carry ~1e-12 relative round-off, which tilts the normal by that over the gap
+    assert np.allclose(contact.normal, expected, atol=1e-9)
     lo_patch = np.maximum(lo_a, lo_b)[others]
     hi_patch = np.minimum(hi_a, hi_b)[others]
     assume((hi_patch - lo_patch).min() > 1e-6)
-    corners = {(round(x, 7), round(y, 7)) for x in (lo_patch[0], hi_patch[0]) for y in (lo_patch[1], hi_patch[1])}
-    got = {(round(p[others[0]], 7), round(p[others[1]], 7)) for p in contact.points}
-    assert got == corners
+    corners = np.array([[x, y] for x in (lo_patch[0], hi_patch[0]) for y in (lo_patch[1], hi_patch[1])])
+    got = contact.points[:, others]
+    assert got.shape == (4, 2)
+    # the same four corners, in some order
+    assert all(np.abs(got - c).max(axis=1).min() <= 1e-9 for c in corners)
+    assert all(np.abs(corners - g).max(axis=1).min() <= 1e-9 for g in got)
     assert np.allclose(contact.points[:, axis], hi_a[axis] + gap / 2, atol=1e-9)
 
 

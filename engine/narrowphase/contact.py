@@ -297,6 +297,8 @@ def _toi(pa, ca, va, wa, ra, pb, cb, vb, wb, rb, t_max, tol, max_iter, out):
     IB = np.empty(4, np.int64)
     lam = np.empty(4)
     g = np.empty(7)
+    work_i = np.empty(12, np.int64)
+    work_f = np.empty(13)
     rho_a = 0.0
     for i in range(pa.shape[0]):
         rho_a = max(rho_a, math.sqrt((pa[i, 0] - ca[0]) ** 2 + (pa[i, 1] - ca[1]) ** 2 + (pa[i, 2] - ca[2]) ** 2))
@@ -309,7 +311,7 @@ def _toi(pa, ca, va, wa, ra, pb, cb, vb, wb, rb, t_max, tol, max_iter, out):
     for _ in range(max_iter):
         _pose(pa, ca, va, wa, t, xa)
         _pose(pb, cb, vb, wb, t, xb)
-        status, _ = _gjk(xa, xb, MAX_ITERATIONS, W, IA, IB, lam, g)
+        status, _ = _gjk(xa, xb, MAX_ITERATIONS, W, IA, IB, lam, g, work_i, work_f)
         if status == 2:
             return 3
         gap = g[6] - ra - rb

@@ -65,7 +65,7 @@ class GJKNotConverged(RuntimeError):
 # kernels
 # ---------------------------------------------------------------------------------------------------------------
 
-@njit
+@njit(inline="always")
 def _support(points, dx, dy, dz):
     """Index of the vertex of ``points`` (n, 3) farthest along d (Ericson 9.5: the support mapping s(d))."""
     best = 0
@@ -78,273 +78,256 @@ def _support(points, dx, dy, dz):
     return best
 
 
-@njit
-def _dot(a, b):
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+@njit(inline="always")
+def _keep(W, IA, IB, lam, order, n_keep, weights, o):
+    """Reduce the simplex to the vertices ``order[:n_keep]`` (ascending) with barycentric ``weights``.
 
-
-@njit
-def _keep(W, IA, IB, lam, order, n_keep, weights):
-    """Reduce the simplex to the vertices ``order[:n_keep]`` with barycentric ``weights``."""
-    tw = np.empty((4, 3))
-    ta = np.empty(4, np.int64)
-    tb = np.empty(4, np.int64)
+    The order is ascending, so copying forward in place never overwrites a vertex still to be read.
+    """
     for k in range(n_keep):
-        i = order[k]
-        tw[k, 0] = W[i, 0]
-        tw[k, 1] = W[i, 1]
-        tw[k, 2] = W[i, 2]
-        ta[k] = IA[i]
-        tb[k] = IB[i]
-    for k in range(n_keep):
-        W[k, 0] = tw[k, 0]
-        W[k, 1] = tw[k, 1]
-        W[k, 2] = tw[k, 2]
-        IA[k] = ta[k]
-        IB[k] = tb[k]
-        lam[k] = weights[k]
+        i = order[o + k]
+        W[k, 0] = W[i, 0]
+        W[k, 1] = W[i, 1]
+        W[k, 2] = W[i, 2]
+        IA[k] = IA[i]
+        IB[k] = IB[i]
+        lam[k] = weights[o + k]
     return n_keep
 
 
-@njit
-def _closest_segment(W, IA, IB, lam, i0, i1):
-    """Closest point to the origin on segment [W[i0], W[i1]] (Ericson 5.1.2), simplex reduced to its support."""
-    order = np.empty(2, np.int64)
-    weights = np.empty(2)
+@njit(inline="always")
+def _segment_weights(W, i0, i1, out_order, out_weights, o):
+    """Closest point to the origin on segment [W[i0], W[i1]] (Ericson 5.1.2): supporting vertices and weights."""
     ax, ay, az = W[i0, 0], W[i0, 1], W[i0, 2]
     abx, aby, abz = W[i1, 0] - ax, W[i1, 1] - ay, W[i1, 2] - az
     denom = abx * abx + aby * aby + abz * abz
     t = -(ax * abx + ay * aby + az * abz)
     if t <= 0.0 or denom <= 0.0:
-        order[0] = i0
-        weights[0] = 1.0
-        return _keep(W, IA, IB, lam, order, 1, weights)
+        out_order[o + 0] = i0
+        out_weights[o + 0] = 1.0
+        return 1
     if t >= denom:
-        order[0] = i1
-        weights[0] = 1.0
-        return _keep(W, IA, IB, lam, order, 1, weights)
+        out_order[o + 0] = i1
+        out_weights[o + 0] = 1.0
+        return 1
     t = t / denom
-    order[0] = i0
-    order[1] = i1
-    weights[0] = 1.0 - t
-    weights[1] = t
-    return _keep(W, IA, IB, lam, order, 2, weights)
+    out_order[o + 0] = i0
+    out_order[o + 1] = i1
+    out_weights[o + 0] = 1.0 - t
+    out_weights[o + 1] = t
+    return 2
 
 
-@njit
-def _triangle_weights(W, i0, i1, i2, out_order, out_weights):
+@njit(inline="always")
+def _triangle_weights(W, i0, i1, i2, out_order, out_weights, o):
     """Ericson 5.1.5 ClosestPtPointTriangle with p = origin: Voronoi regions of vertices, edges, face.
 
-    Writes the supporting vertices and their barycentric weights; returns how many there are.
+    Writes the supporting vertices (ascending) and their barycentric weights; returns how many there are, or
+    -1 for a zero-area triangle.
     """
-    a = W[i0]
-    b = W[i1]
-    c = W[i2]
-    ab = b - a
-    ac = c - a
-    ap = -a
-    d1 = _dot(ab, ap)
-    d2 = _dot(ac, ap)
+    ax, ay, az = W[i0, 0], W[i0, 1], W[i0, 2]
+    bx, by, bz = W[i1, 0], W[i1, 1], W[i1, 2]
+    cx, cy, cz = W[i2, 0], W[i2, 1], W[i2, 2]
+    abx, aby, abz = bx - ax, by - ay, bz - az
+    acx, acy, acz = cx - ax, cy - ay, cz - az
+    # ap = -a
+    d1 = -(abx * ax + aby * ay + abz * az)
+    d2 = -(acx * ax + acy * ay + acz * az)
     if d1 <= 0.0 and d2 <= 0.0:  # vertex region A
-        out_order[0] = i0
-        out_weights[0] = 1.0
+        out_order[o + 0] = i0
+        out_weights[o + 0] = 1.0
         return 1
-    bp = -b
-    d3 = _dot(ab, bp)
-    d4 = _dot(ac, bp)
+    # bp = -b
+    d3 = -(abx * bx + aby * by + abz * bz)
+    d4 = -(acx * bx + acy * by + acz * bz)
     if d3 >= 0.0 and d4 <= d3:  # vertex region B
-        out_order[0] = i1
-        out_weights[0] = 1.0
+        out_order[o + 0] = i1
+        out_weights[o + 0] = 1.0
         return 1
     vc = d1 * d4 - d3 * d2
     if vc <= 0.0 and d1 >= 0.0 and d3 <= 0.0:  # edge region AB
         v = d1 / (d1 - d3)
-        out_order[0] = i0
-        out_order[1] = i1
-        out_weights[0] = 1.0 - v
-        out_weights[1] = v
+        out_order[o + 0] = i0
+        out_order[o + 1] = i1
+        out_weights[o + 0] = 1.0 - v
+        out_weights[o + 1] = v
         return 2
-    cp = -c
-    d5 = _dot(ab, cp)
-    d6 = _dot(ac, cp)
+    # cp = -c
+    d5 = -(abx * cx + aby * cy + abz * cz)
+    d6 = -(acx * cx + acy * cy + acz * cz)
     if d6 >= 0.0 and d5 <= d6:  # vertex region C
-        out_order[0] = i2
-        out_weights[0] = 1.0
+        out_order[o + 0] = i2
+        out_weights[o + 0] = 1.0
         return 1
     vb = d5 * d2 - d1 * d6
     if vb <= 0.0 and d2 >= 0.0 and d6 <= 0.0:  # edge region AC
         w = d2 / (d2 - d6)
-        out_order[0] = i0
-        out_order[1] = i2
-        out_weights[0] = 1.0 - w
-        out_weights[1] = w
+        out_order[o + 0] = i0
+        out_order[o + 1] = i2
+        out_weights[o + 0] = 1.0 - w
+        out_weights[o + 1] = w
         return 2
     va = d3 * d6 - d5 * d4
     if va <= 0.0 and (d4 - d3) >= 0.0 and (d5 - d6) >= 0.0:  # edge region BC
         w = (d4 - d3) / ((d4 - d3) + (d5 - d6))
-        out_order[0] = i1
-        out_order[1] = i2
-        out_weights[0] = 1.0 - w
-        out_weights[1] = w
+        out_order[o + 0] = i1
+        out_order[o + 1] = i2
+        out_weights[o + 0] = 1.0 - w
+        out_weights[o + 1] = w
         return 2
     denom = va + vb + vc
-    if not denom > 0.0:  # degenerate (zero-area) triangle: fall back to its longest edge
+    if not denom > 0.0:  # degenerate (zero-area) triangle
         return -1
     v = vb / denom
     w = vc / denom
-    out_order[0] = i0
-    out_order[1] = i1
-    out_order[2] = i2
-    out_weights[0] = 1.0 - v - w
-    out_weights[1] = v
-    out_weights[2] = w
+    out_order[o + 0] = i0
+    out_order[o + 1] = i1
+    out_order[o + 2] = i2
+    out_weights[o + 0] = 1.0 - v - w
+    out_weights[o + 1] = v
+    out_weights[o + 2] = w
     return 3
 
 
-@njit
-def _weights_distance2(W, order, weights, n):
+@njit(inline="always")
+def _weights_distance2(W, order, weights, n, o):
     x = 0.0
     y = 0.0
     z = 0.0
     for k in range(n):
-        i = order[k]
-        x += weights[k] * W[i, 0]
-        y += weights[k] * W[i, 1]
-        z += weights[k] * W[i, 2]
+        i = order[o + k]
+        x += weights[o + k] * W[i, 0]
+        y += weights[o + k] * W[i, 1]
+        z += weights[o + k] * W[i, 2]
     return x * x + y * y + z * z
 
 
-@njit
-def _segment_weights(W, i0, i1, out_order, out_weights):
-    ax, ay, az = W[i0, 0], W[i0, 1], W[i0, 2]
-    abx, aby, abz = W[i1, 0] - ax, W[i1, 1] - ay, W[i1, 2] - az
-    denom = abx * abx + aby * aby + abz * abz
-    t = -(ax * abx + ay * aby + az * abz)
-    if t <= 0.0 or denom <= 0.0:
-        out_order[0] = i0
-        out_weights[0] = 1.0
-        return 1
-    if t >= denom:
-        out_order[0] = i1
-        out_weights[0] = 1.0
-        return 1
-    t = t / denom
-    out_order[0] = i0
-    out_order[1] = i1
-    out_weights[0] = 1.0 - t
-    out_weights[1] = t
-    return 2
+@njit(inline="always")
+def _closest_triangle_any(W, i0, i1, i2, wi, wf, o, tmp):
+    """Closest point of triangle (W[i0], W[i1], W[i2]) to the origin, degenerate triangles included.
 
-
-@njit
-def _closest_triangle_any(W, i0, i1, i2, out_order, out_weights):
-    """Closest point of triangle (W[i0], W[i1], W[i2]) to the origin, degenerate triangles included."""
-    n = _triangle_weights(W, i0, i1, i2, out_order, out_weights)
+    Result in ``wi[o:o+n]`` (vertices) and ``wf[o:o+n]`` (weights); ``wi[tmp:tmp+3]``, ``wf[tmp:tmp+3]`` scratch.
+    """
+    n = _triangle_weights(W, i0, i1, i2, wi, wf, o)
     if n > 0:
         return n
     # zero-area triangle: the closest point lies on one of its three edges
     best_n = 0
     best_d = np.inf
-    o = np.empty(3, np.int64)
-    wt = np.empty(3)
-    edges = ((i0, i1), (i1, i2), (i0, i2))
-    for e in edges:
-        m = _segment_weights(W, e[0], e[1], o, wt)
-        d = _weights_distance2(W, o, wt, m)
+    for e in range(3):
+        if e == 0:
+            m = _segment_weights(W, i0, i1, wi, wf, tmp)
+        elif e == 1:
+            m = _segment_weights(W, i1, i2, wi, wf, tmp)
+        else:
+            m = _segment_weights(W, i0, i2, wi, wf, tmp)
+        d = _weights_distance2(W, wi, wf, m, tmp)
         if d < best_d:
             best_d = d
             best_n = m
             for k in range(m):
-                out_order[k] = o[k]
-                out_weights[k] = wt[k]
+                wi[o + k] = wi[tmp + k]
+                wf[o + k] = wf[tmp + k]
     return best_n
 
 
-@njit
-def _solve_simplex(W, IA, IB, lam, n):
+@njit(inline="always")
+def _solve_simplex(W, IA, IB, lam, n, wi, wf):
     """Closest point of hull(W[:n]) to the origin; reduces the simplex in place and returns its new size.
 
     A return of 4 means the origin lies inside the tetrahedron (the hulls overlap); λ are then the barycentric
-    coordinates of the origin. Ericson 5.1.6 (ClosestPtPointTetrahedron) for n = 4.
+    coordinates of the origin. Ericson 5.1.6 (ClosestPtPointTetrahedron) for n = 4. ``wi`` (12,) int and
+    ``wf`` (13,) float are scratch space (no allocation in the loop): slots 0-2 the current candidate, 3-5
+    scratch, 6-8 the best face so far, wf[9:13] the tetrahedron's barycentric coordinates.
     """
-    order = np.empty(3, np.int64)
-    weights = np.empty(3)
     if n == 1:
         lam[0] = 1.0
         return 1
     if n == 2:
-        return _closest_segment(W, IA, IB, lam, 0, 1)
+        m = _segment_weights(W, 0, 1, wi, wf, 0)
+        return _keep(W, IA, IB, lam, wi, m, wf, 0)
     if n == 3:
-        m = _closest_triangle_any(W, 0, 1, 2, order, weights)
-        return _keep(W, IA, IB, lam, order, m, weights)
+        m = _closest_triangle_any(W, 0, 1, 2, wi, wf, 0, 3)
+        return _keep(W, IA, IB, lam, wi, m, wf, 0)
     # tetrahedron: the origin is outside face (i, j, k) when it is on the other side of it from vertex l
-    faces = ((0, 1, 2, 3), (0, 1, 3, 2), (0, 2, 3, 1), (1, 2, 3, 0))
-    a = W[0]
-    ab = W[1] - a
-    ac = W[2] - a
-    ad = W[3] - a
-    cx = ac[1] * ad[2] - ac[2] * ad[1]
-    cy = ac[2] * ad[0] - ac[0] * ad[2]
-    cz = ac[0] * ad[1] - ac[1] * ad[0]
-    det = ab[0] * cx + ab[1] * cy + ab[2] * cz
-    scale = max(_dot(ab, ab), _dot(ac, ac), _dot(ad, ad))
+    abx, aby, abz = W[1, 0] - W[0, 0], W[1, 1] - W[0, 1], W[1, 2] - W[0, 2]
+    acx, acy, acz = W[2, 0] - W[0, 0], W[2, 1] - W[0, 1], W[2, 2] - W[0, 2]
+    adx, ady, adz = W[3, 0] - W[0, 0], W[3, 1] - W[0, 1], W[3, 2] - W[0, 2]
+    det = abx * (acy * adz - acz * ady) + aby * (acz * adx - acx * adz) + abz * (acx * ady - acy * adx)
+    scale = max(abx * abx + aby * aby + abz * abz, acx * acx + acy * acy + acz * acz,
+                adx * adx + ady * ady + adz * adz)
     flat = abs(det) <= 1e-12 * scale * math.sqrt(scale)
     best_d = np.inf
     best_n = -1
-    best_order = np.empty(3, np.int64)
-    best_weights = np.empty(3)
-    for f in faces:
-        i, j, k, l = f
-        p = W[i]
-        e1 = W[j] - p
-        e2 = W[k] - p
-        nx = e1[1] * e2[2] - e1[2] * e2[1]
-        ny = e1[2] * e2[0] - e1[0] * e2[2]
-        nz = e1[0] * e2[1] - e1[1] * e2[0]
-        sign_origin = -(p[0] * nx + p[1] * ny + p[2] * nz)
-        q = W[l] - p
-        sign_other = q[0] * nx + q[1] * ny + q[2] * nz
+    inside = True
+    for f in range(4):
+        # face (i, j, k) opposite vertex l, with i < j < k
+        if f == 0:
+            i, j, k, l = 0, 1, 2, 3
+        elif f == 1:
+            i, j, k, l = 0, 1, 3, 2
+        elif f == 2:
+            i, j, k, l = 0, 2, 3, 1
+        else:
+            i, j, k, l = 1, 2, 3, 0
+        px, py, pz = W[i, 0], W[i, 1], W[i, 2]
+        e1x, e1y, e1z = W[j, 0] - px, W[j, 1] - py, W[j, 2] - pz
+        e2x, e2y, e2z = W[k, 0] - px, W[k, 1] - py, W[k, 2] - pz
+        nx = e1y * e2z - e1z * e2y
+        ny = e1z * e2x - e1x * e2z
+        nz = e1x * e2y - e1y * e2x
+        sign_origin = -(px * nx + py * ny + pz * nz)
+        sign_other = (W[l, 0] - px) * nx + (W[l, 1] - py) * ny + (W[l, 2] - pz) * nz
+        if not flat:
+            wf[9 + l] = sign_origin / sign_other
         if flat or sign_origin * sign_other < 0.0:
-            m = _closest_triangle_any(W, i, j, k, order, weights)
-            d = _weights_distance2(W, order, weights, m)
+            inside = False
+            m = _closest_triangle_any(W, i, j, k, wi, wf, 0, 3)
+            d = _weights_distance2(W, wi, wf, m, 0)
             if d < best_d:
                 best_d = d
                 best_n = m
                 for t in range(m):
-                    best_order[t] = order[t]
-                    best_weights[t] = weights[t]
-    if best_n < 0:
+                    wi[6 + t] = wi[t]
+                    wf[6 + t] = wf[t]
+    if inside:
         # origin inside (or on) the tetrahedron: barycentric coordinates by signed volumes
-        weights4 = np.empty(4)
-        for f in faces:
-            i, j, k, l = f
-            p = W[i]
-            e1 = W[j] - p
-            e2 = W[k] - p
-            nx = e1[1] * e2[2] - e1[2] * e2[1]
-            ny = e1[2] * e2[0] - e1[0] * e2[2]
-            nz = e1[0] * e2[1] - e1[1] * e2[0]
-            num = -(p[0] * nx + p[1] * ny + p[2] * nz)
-            den = (W[l, 0] - p[0]) * nx + (W[l, 1] - p[1]) * ny + (W[l, 2] - p[2]) * nz
-            weights4[l] = num / den
         for t in range(4):
-            lam[t] = weights4[t]
+            lam[t] = wf[9 + t]
         return 4
-    return _keep(W, IA, IB, lam, best_order, best_n, best_weights)
+    return _keep(W, IA, IB, lam, wi, best_n, wf, 6)
 
 
 @njit
-def _gjk(pa, pb, max_iter, W, IA, IB, lam, out):
+def _gjk(pa, pb, max_iter, W, IA, IB, lam, out, work_i, work_f):
     """GJK (Ericson 9.5) between hull(pa) and hull(pb), (n, 3) and (m, 3).
 
     Fills ``out[0:3]`` with the closest point on A, ``out[3:6]`` on B, ``out[6]`` with the distance, and leaves
-    the final simplex (support points W, their vertex indices IA, IB, weights λ) for EPA. Returns
-    (status, simplex size).
+    the final simplex (support points W, their vertex indices IA, IB, weights λ) for EPA. ``work_i`` (12,) int
+    and ``work_f`` (13,) float are scratch space, allocated once by the caller. Returns (status, simplex size).
     """
-    # start from a support point of M (so that every simplex vertex lies on M's boundary, as EPA assumes)
-    dx = pa[0, 0] - pb[0, 0]
-    dy = pa[0, 1] - pb[0, 1]
-    dz = pa[0, 2] - pb[0, 2]
+    # start from a support point of M (so that every simplex vertex lies on M's boundary, as EPA assumes), in
+    # the direction of M's centroid: the first support point is then already close to the answer
+    dx = 0.0
+    dy = 0.0
+    dz = 0.0
+    for i in range(pa.shape[0]):
+        dx += pa[i, 0]
+        dy += pa[i, 1]
+        dz += pa[i, 2]
+    dx /= pa.shape[0]
+    dy /= pa.shape[0]
+    dz /= pa.shape[0]
+    ex = 0.0
+    ey = 0.0
+    ez = 0.0
+    for i in range(pb.shape[0]):
+        ex += pb[i, 0]
+        ey += pb[i, 1]
+        ez += pb[i, 2]
+    dx -= ex / pb.shape[0]
+    dy -= ey / pb.shape[0]
+    dz -= ez / pb.shape[0]
     if dx == 0.0 and dy == 0.0 and dz == 0.0:
         dx = 1.0
     ia = _support(pa, -dx, -dy, -dz)
@@ -390,7 +373,7 @@ def _gjk(pa, pb, max_iter, W, IA, IB, lam, out):
         IA[n] = ia
         IB[n] = ib
         n += 1
-        n = _solve_simplex(W, IA, IB, lam, n)
+        n = _solve_simplex(W, IA, IB, lam, n, work_i, work_f)
         if n == 4:
             status = _OVERLAP
             break
@@ -437,12 +420,14 @@ def _gjk_pairs(points, offsets, pairs, max_iter, dist, closest_a, closest_b, sta
     IB = np.empty(4, np.int64)
     lam = np.empty(4)
     out = np.empty(7)
+    work_i = np.empty(12, np.int64)
+    work_f = np.empty(13)
     for p in range(pairs.shape[0]):
         i = pairs[p, 0]
         j = pairs[p, 1]
         pa = points[offsets[i]:offsets[i + 1]]
         pb = points[offsets[j]:offsets[j + 1]]
-        st, _ = _gjk(pa, pb, max_iter, W, IA, IB, lam, out)
+        st, _ = _gjk(pa, pb, max_iter, W, IA, IB, lam, out, work_i, work_f)
         status[p] = st
         for c in range(3):
             closest_a[p, c] = out[c]
@@ -457,8 +442,10 @@ def _gjk_batch(points_a, points_b, max_iter, dist, closest_a, closest_b, status)
     IB = np.empty(4, np.int64)
     lam = np.empty(4)
     out = np.empty(7)
+    work_i = np.empty(12, np.int64)
+    work_f = np.empty(13)
     for p in range(points_a.shape[0]):
-        st, _ = _gjk(points_a[p], points_b[p], max_iter, W, IA, IB, lam, out)
+        st, _ = _gjk(points_a[p], points_b[p], max_iter, W, IA, IB, lam, out, work_i, work_f)
         status[p] = st
         for c in range(3):
             closest_a[p, c] = out[c]
@@ -493,7 +480,7 @@ def gjk_distance(points_a, points_b, *, max_iterations: int = MAX_ITERATIONS):
     IB = np.empty(4, np.int64)
     lam = np.empty(4)
     out = np.empty(7)
-    status, _ = _gjk(pa, pb, max_iter, W, IA, IB, lam, out)
+    status, _ = _gjk(pa, pb, max_iter, W, IA, IB, lam, out, np.empty(12, np.int64), np.empty(13))
     if status == _NOT_CONVERGED:
         raise GJKNotConverged(f"GJK did not converge in max_iterations={max_iter} iterations")
     return float(out[6]), out[0:3].copy(), out[3:6].copy()

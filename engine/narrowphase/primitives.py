@@ -25,7 +25,7 @@ import numpy as np
 from .._config import njit
 from .._validate import as_float, as_float_array, as_nonnegative
 from ..bounding.obb import ORTHONORMAL_TOL, OBB
-from .sat import pair_indices
+from .sat import _orthonormal_errors, pair_indices
 
 __all__ = [
     "overlap_sphere_sphere", "overlap_sphere_sphere_batch",
@@ -211,7 +211,8 @@ def _obbs(centers, axes, half_extents):
         i, k = (int(x) for x in np.argwhere(e < 0)[0])
         raise ValueError(f"box_half_extents must be >= 0: box_half_extents[{i}, {k}] = {e[i, k]!r}")
     if c.shape[0]:
-        err = np.abs(np.einsum("nij,nkj->nik", r, r) - np.eye(3)).max(axis=(1, 2))
+        err = np.empty(c.shape[0])
+        _orthonormal_errors(r, err)
         if (err > ORTHONORMAL_TOL).any():
             i = int(np.argmax(err > ORTHONORMAL_TOL))
             raise ValueError(f"box_axes[{i}] must be orthonormal rows (max |A A^T - I| = {err[i]:.3g})")

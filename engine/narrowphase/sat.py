@@ -32,10 +32,9 @@ PARALLEL_EPS = 1e-9
 
 
 @njit
-def _overlap_obb_obb(ca, Aa, ea, cb, Ab, eb):
-    """Ericson 4.4.1 TestOBBOBB. Axes are ROWS of Aa, Ab; ea, eb half extents. True when the boxes overlap."""
-    R = np.empty((3, 3))
-    AbsR = np.empty((3, 3))
+def _overlap_obb_obb(ca, Aa, ea, cb, Ab, eb, R, AbsR):
+    """Ericson 4.4.1 TestOBBOBB. Axes are ROWS of Aa, Ab; ea, eb half extents; R, AbsR (3, 3) scratch.
+    True when the boxes overlap."""
     # rotation expressing B in A's frame: R[i][j] = A_i · B_j
     for i in range(3):
         for j in range(3):
@@ -98,10 +97,26 @@ def _overlap_obb_obb(ca, Aa, ea, cb, Ab, eb):
 
 @njit
 def _overlap_obb_obb_batch(ca, Aa, ea, cb, Ab, eb, index_a, index_b, out):
+    R = np.empty((3, 3))
+    AbsR = np.empty((3, 3))
     for p in range(out.shape[0]):
         i = index_a[p]
         j = index_b[p]
-        out[p] = _overlap_obb_obb(ca[i], Aa[i], ea[i], cb[j], Ab[j], eb[j])
+        out[p] = _overlap_obb_obb(ca[i], Aa[i], ea[i], cb[j], Ab[j], eb[j], R, AbsR)
+
+
+@njit
+def _orthonormal_errors(axes, err):
+    """max |A A^T − I| of every (3, 3) block of ``axes`` (n, 3, 3), into err (n,)."""
+    for n in range(axes.shape[0]):
+        worst = 0.0
+        for i in range(3):
+            for j in range(3):
+                d = axes[n, i, 0] * axes[n, j, 0] + axes[n, i, 1] * axes[n, j, 1] + axes[n, i, 2] * axes[n, j, 2]
+                if i == j:
+                    d -= 1.0
+                worst = max(worst, abs(d))
+        err[n] = worst
 
 
 @njit
@@ -135,7 +150,8 @@ def obb_overlap(a: OBB, b: OBB) -> bool:
     for name, box in (("a", a), ("b", b)):
         if not isinstance(box, OBB):
             raise TypeError(f"{name} must be an engine.bounding.obb.OBB, got {type(box).__name__}")
-    return bool(_overlap_obb_obb(a.center, a.axes, a.half_extents, b.center, b.axes, b.half_extents))
+    return bool(_overlap_obb_obb(a.center, a.axes, a.half_extents, b.center, b.axes, b.half_extents,
+                                 np.empty((3, 3)), np.empty((3, 3))))
 
 
 def _check_boxes(centers, axes, half_extents, side: str):
@@ -146,7 +162,8 @@ def _check_boxes(centers, axes, half_extents, side: str):
         i, k = (int(x) for x in np.argwhere(e < 0)[0])
         raise ValueError(f"half_extents_{side} must be >= 0: half_extents_{side}[{i}, {k}] = {e[i, k]!r}")
     if c.shape[0]:
-        err = np.abs(np.einsum("nij,nkj->nik", r, r) - np.eye(3)).max(axis=(1, 2))
+        err = np.empty(c.shape[0])
+        _orthonormal_errors(r, err)
         if (err > ORTHONORMAL_TOL).any():
             i = int(np.argmax(err > ORTHONORMAL_TOL))
             raise ValueError(f"axes_{side}[{i}] must be orthonormal rows (max |A A^T - I| = {err[i]:.3g})")
