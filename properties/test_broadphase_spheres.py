@@ -104,3 +104,24 @@ def test_sphere_validation():
         sphere_pairs(c, 1.0, method="kd")
     assert sphere_pairs(np.zeros((0, 3)), 1.0).shape == (0, 2)
     assert sphere_pairs(c, 0.0).tolist() == [[0, 1], [0, 2], [1, 2]]  # identical points touch
+
+
+@st.composite
+def dense_scenes(draw):
+    """Many spheres (up to 300) packed so that every neighbour direction of the grid holds touching pairs."""
+    n = draw(st.integers(2, 300))
+    seed = draw(st.integers(0, 2**32 - 1))
+    rng = np.random.default_rng(seed)
+    side = draw(st.sampled_from([3.0, 8.0, 15.0]))
+    centers = rng.uniform(-side, side, size=(n, 3)) + draw(st.sampled_from([0.0, -1e4, 1e6]))
+    if draw(st.booleans()):
+        return centers, draw(st.floats(0.05, 1.5))
+    return centers, rng.uniform(0.0, draw(st.floats(0.1, 2.0)), size=n)
+
+
+@pytest.mark.parametrize("method", BROAD_PHASES)
+@settings(max_examples=40)
+@given(dense_scenes())
+def test_dense_scenes_match_brute_force(method, scene):
+    centers, radii = scene
+    np.testing.assert_array_equal(sphere_pairs(centers, radii, method=method), brute_sphere_pairs(centers, radii))
