@@ -92,6 +92,78 @@ def test_no_false_negative_when_shapes_overlap(pair):
         assert obb_overlap_lp(fit_obb(a), fit_obb(b), grow)
 
 
+def touching_offset(a, b, u):
+    """The smallest t such that hull(a) and hull(b + t u) intersect, with the LP's witness weights: b + t u
+    then just touches a (first contact when b slides in along +u). b is assumed centred on a's centroid, so
+    the line of translations meets the Minkowski difference and the LP is feasible and bounded."""
+    na, nb = len(a), len(b)
+    dim = a.shape[1]
+    a_eq = np.zeros((dim + 2, na + nb + 1))
+    a_eq[:dim, :na] = a.T
+    a_eq[:dim, na:na + nb] = -b.T
+    a_eq[:dim, -1] = -u
+    a_eq[dim, :na] = 1.0
+    a_eq[dim + 1, na:na + nb] = 1.0
+    b_eq = np.zeros(dim + 2)
+    b_eq[dim:] = 1.0
+    cost = np.zeros(na + nb + 1)
+    cost[-1] = 1.0
+    bounds = [(0, None)] * (na + nb) + [(None, None)]
+    res = linprog(cost, A_eq=a_eq, b_eq=b_eq, bounds=bounds, method="highs")
+    assert res.status == 0
+    lam = np.clip(res.x[:na], 0, None)
+    mu = np.clip(res.x[na:na + nb], 0, None)
+    return res.x[-1], lam / lam.sum(), mu / mu.sum()
+
+
+@st.composite
+def touching_pairs(draw):
+    """Two convex clouds that just touch: B slides along a direction u until first contact with A. The
+    directions include the world axes, the k-DOP diagonals and A's PCA axes, along which the volumes are tight,
+    so a fit or an overlap test that is too small by any margin shows up as a false negative."""
+    dim = draw(st.sampled_from([2, 3]))
+    a, b = draw(cloud_pairs(dim))
+    b = b - b.mean(axis=0) + a.mean(axis=0)
+    kind = draw(st.sampled_from(["axis", "diagonal", "pca", "random"]))
+    rng = np.random.default_rng(draw(seeds))
+    if kind == "axis":
+        u = np.eye(dim)[rng.integers(dim)]
+    elif kind == "diagonal":
+        dirs = kdop_directions(8 if dim == 2 else 26)[dim:]
+        u = dirs[rng.integers(len(dirs))]
+    elif kind == "pca" and dim == 3:
+        u = fit_obb(a).axes[rng.integers(3)]
+    else:
+        u = rng.normal(size=dim)
+    u = u / np.linalg.norm(u) * (1 if rng.integers(2) else -1)
+    t, lam, mu = touching_offset(a, b, u)
+    b = b + t * u
+    return a, b, lam @ a, mu @ b
+
+
+@settings(max_examples=150)
+@given(touching_pairs())
+def test_no_false_negative_when_shapes_just_touch(case):
+    a, b, x_a, x_b = case
+    scale = scale_of(a, b)
+    grow = float(np.linalg.norm(x_a - x_b)) + 1e-9 * scale
+    assert grow <= 1e-6 * scale  # the LP found a genuine contact point
+    dim = a.shape[1]
+    lo_a, hi_a = fit_aabb(a)
+    lo_b, hi_b = fit_aabb(b)
+    assert overlap_aabb_aabb(lo_a - grow, hi_a + grow, lo_b, hi_b)
+    for fit in (ritter_sphere, min_bounding_sphere):
+        (ca, ra), (cb, rb) = fit(a), fit(b)
+        assert overlap_sphere_sphere(ca, ra + grow, cb, rb)
+    for k in ((8,) if dim == 2 else (14, 18, 26)):
+        lo_a, hi_a = fit_kdop(a, k)
+        lo_b, hi_b = fit_kdop(b, k)
+        slack = grow * np.linalg.norm(kdop_directions(k), axis=1)
+        assert overlap_kdop_kdop(lo_a - slack, hi_a + slack, lo_b, hi_b, k)
+    if dim == 3:
+        assert obb_overlap_lp(fit_obb(a), fit_obb(b), grow)
+
+
 # ------------------------------------------------------------------------------------------------------------
 # each overlap test is exact for its own volume
 # ------------------------------------------------------------------------------------------------------------

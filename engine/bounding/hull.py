@@ -122,8 +122,9 @@ def _hull_2d(pts: np.ndarray) -> ConvexHull:
     nxt = np.roll(v, -1, axis=0)
     rel, rel_next = v - v[0], nxt - v[0]  # shoelace about a vertex: no cancellation far from the origin
     area2 = float(np.sum(rel[:, 0] * rel_next[:, 1] - rel_next[:, 0] * rel[:, 1]))
-    scale = float(np.abs(pts).max() + np.ptp(pts, axis=0).max())
-    if area2 <= HULL_EPS * scale * scale:
+    extent = float(np.ptp(pts, axis=0).max())
+    scale = float(np.abs(pts).max() + extent)
+    if area2 <= HULL_EPS * extent * scale:  # round-off of a cross product: ~ machine epsilon * |x| * extent
         raise ValueError("points: all points are (numerically) collinear; a 2-D hull needs 3 non-collinear points")
     edges = nxt - v
     lengths = np.hypot(edges[:, 0], edges[:, 1])
