@@ -360,3 +360,24 @@ def test_inputs_are_never_modified():
     for fit in (fit_aabb, ritter_sphere, min_bounding_sphere, fit_obb, lambda p: fit_kdop(p, 26)):
         fit(pts)
         assert np.array_equal(pts, keep)
+
+
+# ------------------------------------------------------------------------------------------------------------
+# command-line summaries
+# ------------------------------------------------------------------------------------------------------------
+@given(clouds_any_dim(min_size=4))
+def test_summaries_are_json_ready_and_agree_with_the_fits(pts):
+    import json
+
+    from engine.bounding import describe_bounding_volumes
+
+    summary = json.loads(json.dumps(describe_bounding_volumes(pts)))
+    assert summary["dim"] == pts.shape[1] and summary["points"] == len(pts)
+    assert summary["welzl"]["radius"] == min_bounding_sphere(pts)[1]
+    assert summary["welzl"]["radius"] <= summary["ritter"]["radius"] * (1 + 1e-9) + REL * scale_of(pts)
+    assert summary["aabb"]["lo"] == fit_aabb(pts)[0].tolist()
+    expected = {"welzl", "ritter", "aabb"} | ({"obb", "kdop14", "kdop18", "kdop26"} if pts.shape[1] == 3
+                                             else {"kdop8"})
+    assert expected <= set(summary)
+    with pytest.raises(ValueError, match="does not apply"):
+        describe_bounding_volumes(pts, kinds=["kdop8" if pts.shape[1] == 3 else "obb"])

@@ -581,7 +581,13 @@ def is_convex(vertices, faces=None, *, tol: float = 1e-9) -> bool:
     if pts.shape[1] == 2:
         if faces is not None:
             raise ValueError("faces must be None for a 2-D polygon (its vertices are given in boundary order)")
-        return bool(_polygon_convex_kernel(pts - pts.mean(axis=0), tol * scale))
+        repeated = (pts == np.roll(pts, 1, axis=0)).all(axis=1)  # a vertex equal to its predecessor adds nothing
+        if repeated.all():
+            return False
+        ring = pts[~repeated]
+        if len(ring) < 3:
+            return False
+        return bool(_polygon_convex_kernel(ring - ring.mean(axis=0), tol * scale))
     if faces is None:
         raise ValueError("faces is required for a 3-D polyhedron: an (m, 3) array of vertex indices")
     tri = np.asarray(faces)

@@ -338,9 +338,12 @@ def overlap_spheres(centers_a, radii_a, centers_b, radii_b) -> np.ndarray:
 def overlap_sphere_sphere(center_a, radius_a, center_b, radius_b) -> bool:
     """Whether two closed spheres (centres (d,), radii >= 0) overlap (touching counts)."""
     ca = as_float_array(center_a, "center_a", ndim=1)
+    cb = as_float_array(center_b, "center_b", shape=ca.shape)
     ra = as_nonnegative(radius_a, "radius_a")
     rb = as_nonnegative(radius_b, "radius_b")
-    return bool(overlap_spheres(ca[None], [ra], np.asarray(center_b, dtype=float)[None], [rb])[0])
+    out = np.empty(1, dtype=np.bool_)
+    _overlap_spheres_kernel(ca[None], np.array([ra]), cb[None], np.array([rb]), out)
+    return bool(out[0])
 
 
 def merge_spheres(center_a, radius_a, center_b, radius_b) -> tuple[np.ndarray, float]:
