@@ -35,8 +35,10 @@ def sphere_time_of_impact(p, w, s):
 
 @settings(max_examples=300)
 @given(vec3, vec3, vec3, vec3, st.floats(0, 3, allow_nan=False), st.floats(0, 3, allow_nan=False),
-       st.floats(0.01, 5.0))
-def test_sphere_filter_keeps_every_pair_that_collides_within_the_step(c0, c1, v0, v1, r0, r1, dt):
+       st.floats(0.01, 5.0), st.booleans(), st.floats(0.05, 6.0))
+def test_sphere_filter_keeps_every_pair_that_collides_within_the_step(c0, c1, v0, v1, r0, r1, dt, aim, t_meet):
+    if aim:  # aim sphere 1 at sphere 0: centres meet at time t_meet
+        v1 = v0 + (c0 - c1) / t_meet
     toi = sphere_time_of_impact(c1 - c0, v1 - v0, r0 + r1)
     # stay clear of grazing contacts decided by round-off
     assume(not math.isfinite(toi) or toi == 0.0 or toi < dt * (1 - 1e-9))
@@ -53,6 +55,10 @@ def moving_boxes(draw):
     lo = np.stack([draw(vec3), draw(vec3)])
     hi = lo + np.stack([draw(arrays(np.float64, (3,), elements=st.floats(0, 4))) for _ in range(2)])
     v = np.stack([draw(vec3), draw(vec3)])
+    if draw(st.booleans()):  # aim box 1 at box 0 so that their centres meet at time t_meet
+        t_meet = draw(st.floats(0.05, 6.0))
+        centre = 0.5 * (lo + hi)
+        v[1] = v[0] + (centre[0] - centre[1]) / t_meet
     return lo, hi, v
 
 
