@@ -145,6 +145,9 @@ def main(quick: bool = False, out: Path | str = "reports") -> int:
     df = benchmark_table(json_path, info)
     df.to_csv(out / "benchmarks.csv", index=False)
     (out / "benchmarks.md").write_text(benchmark_markdown(df, info))
+    from bench.report_broadphase import broadphase_section
+
+    sections += broadphase_section(json_path, out, info, quick)
     write_index(out, sections, info)
     print(f"[report] wrote {out}", flush=True)
     return 0

@@ -1,0 +1,162 @@
+"""The broad-phase part of the main job: reports/broadphase.csv, .md, .png and .svg from the benchmark JSON.
+
+Reads the groups of bench/test_bench_broadphase.py ("W1 boxes", "W2 spheres", "scaling: ...") from
+pytest-benchmark's JSON output; one row per (workload, method, n, packing fraction).
+"""
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+COLUMNS = ["workload", "method", "n", "packing_fraction", "seed", "seconds_min", "seconds_median",
+           "ns_per_object", "pairs", "candidates", "cycles_per_box", "commit", "machine"]
+SEED = 4  # the seed of bench/test_bench_broadphase.py's workloads
+
+
+def broadphase_rows(json_path: Path, info: dict) -> pd.DataFrame:
+    data = json.loads(Path(json_path).read_text())
+    rows = []
+    for b in data["benchmarks"]:
+        group = b.get("group") or ""
+        if not (group.startswith("W1") or group.startswith("W2") or group.startswith("scaling")):
+            continue
+        params, extra, stats = b.get("params") or {}, b.get("extra_info") or {}, b["stats"]
+        n = int(params["n"])
+        workload = "W1" if group.startswith("W1") else "W2" if group.startswith("W2") else "scaling"
+        eta = params.get("eta", extra.get("eta", 0.05 if workload == "scaling" else math.nan))
+        rows.append({
+            "workload": workload,
+            "method": params.get("method") or params.get("impl"),
+            "n": n,
+            "packing_fraction": eta,
+            "seed": SEED,
+            "seconds_min": stats["min"],
+            "seconds_median": stats["median"],
+            "ns_per_object": stats["min"] * 1e9 / n,
+            "pairs": extra.get("pairs"),
+            "candidates": extra.get("candidates"),
+            "cycles_per_box": extra.get("cycles_per_box"),
+            "commit": info["commit"],
+            "machine": info["machine"],
+        })
+    df = pd.DataFrame(rows, columns=COLUMNS)
+    return df.sort_values(["workload", "packing_fraction", "method", "n"], na_position="first").reset_index(drop=True)
+
+
+def loglog_slope(n, seconds) -> float:
+    """Least-squares slope of log(time) against log(N); NaN with fewer than two sizes."""
+    n, seconds = np.asarray(n, float), np.asarray(seconds, float)
+    if len(np.unique(n)) < 2:
+        return math.nan
+    return float(np.polyfit(np.log(n), np.log(seconds), 1)[0])
+
+
+def _ratio_table(d: pd.DataFrame, reference: str) -> pd.DataFrame:
+    """time(reference) / time(method) at the same (n, eta): how many times faster than the reference."""
+    ref = d[d["method"] == reference].set_index(["n", "packing_fraction"])["seconds_min"]
+    key = list(zip(d["n"], d["packing_fraction"]))
+    return pd.Series([ref.get(k, math.nan) for k in key], index=d.index) / d["seconds_min"]
+
+
+def broadphase_markdown(df: pd.DataFrame, info: dict, quick: bool) -> str:
+    lines = ["# Broad phase: scaling and peers", "",
+             f"{info['date']} · commit `{info['commit']}` · {info['machine']}"
+             + (" · **quick mode** (N <= 1e4)" if quick else ""), "",
+             "Workloads (DESIGN.md §7): **W1** Terdiman's box pruning (centres integers in [−2048, 2048)³, "
+             "half-extents integers in [0, 127]); **W2** equal spheres uniform in a cube at packing fraction η, "
+             "all exact overlapping pairs (ours: `sphere_pairs(method)`; peers: scipy cKDTree build + query_pairs, "
+             "python-fcl's and coal's DynamicAABBTree managers); **scaling** `find_pairs` on the bounding boxes "
+             "of W2 spheres at η = 0.05. Times are the minimum over rounds; `× brute` and `× cKDTree` say how many "
+             "times faster than those, measured in the same run (> 1 is faster). Brute force is run only up to "
+             "N = 1e4 on W1 and 3e4 on the scaling workload (beyond, it would take over a minute per round); "
+             "python-fcl and coal up to 1e5 (their per-object Python registration dominates beyond).", ""]
+    for workload, d in df.groupby("workload", sort=False):
+        d = d.copy()
+        d["x_brute"] = _ratio_table(d, "brute")
+        d["x_ckdtree"] = _ratio_table(d, "ckdtree")
+        lines += [f"## {workload}", ""]
+        header = "| method | η | N | time (ms) | ns / object | pairs | × brute | × cKDTree |"
+        if workload == "W1":
+            header = "| method | N | time (ms) | ns / box | cycles / box | pairs | × brute |"
+        lines += [header, "|" + "---|" * (header.count("|") - 1)]
+        for _, r in d.iterrows():
+            pairs = "" if pd.isna(r["pairs"]) else f"{int(r['pairs']):,}"
+            xb = "" if pd.isna(r["x_brute"]) else f"{r['x_brute']:.1f}"
+            xk = "" if pd.isna(r["x_ckdtree"]) else f"{r['x_ckdtree']:.2f}"
+            if workload == "W1":
+                cyc = "" if pd.isna(r["cycles_per_box"]) else f"{r['cycles_per_box']:,.0f}"
+                lines.append(f"| {r['method']} | {r['n']:,} | {r['seconds_min'] * 1e3:,.2f} | "
+                             f"{r['ns_per_object']:,.1f} | {cyc} | {pairs} | {xb} |")
+            else:
+                lines.append(f"| {r['method']} | {r['packing_fraction']:g} | {r['n']:,} | "
+                             f"{r['seconds_min'] * 1e3:,.2f} | {r['ns_per_object']:,.1f} | {pairs} | {xb} | {xk} |")
+        lines.append("")
+        if workload != "W1":
+            lines += ["Fitted log-log slope of time against N (1.0 is linear, 2.0 is brute force's n²):", "",
+                      "| method | η | sizes | slope |", "|---|---|---|---:|"]
+            for (method, eta), g in d.groupby(["method", "packing_fraction"]):
+                slope = loglog_slope(g["n"], g["seconds_min"])
+                sizes = f"{g['n'].min():.0e} … {g['n'].max():.0e}"
+                lines.append(f"| {method} | {eta:g} | {sizes} | {'' if math.isnan(slope) else f'{slope:.2f}'} |")
+            lines.append("")
+    lines += ["![broad-phase scaling](broadphase.png)", ""]
+    return "\n".join(lines)
+
+
+def broadphase_plot(df: pd.DataFrame, out: Path) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    panels = [("scaling", 0.05, "find_pairs on W2 boxes, η = 0.05"), ("W2", 0.05, "sphere pairs, η = 0.05"),
+              ("W2", 0.2, "sphere pairs, η = 0.2")]
+    panels = [p for p in panels if ((df["workload"] == p[0]) & np.isclose(df["packing_fraction"], p[1])).any()]
+    if not panels:
+        return
+    methods = sorted(df["method"].unique())
+    colours = {m: plt.get_cmap("tab10")(i % 10) for i, m in enumerate(methods)}
+    fig, axes = plt.subplots(1, len(panels), figsize=(5.2 * len(panels), 4.8), dpi=110, squeeze=False)
+    for ax, (workload, eta, title) in zip(axes[0], panels):
+        d = df[(df["workload"] == workload) & np.isclose(df["packing_fraction"], eta)]
+        for method, g in d.groupby("method"):
+            g = g.sort_values("n")
+            ax.loglog(g["n"], g["seconds_min"], marker="o", ms=4, color=colours[method], label=method)
+        n0, n1 = d["n"].min(), d["n"].max()
+        t0 = d[d["n"] == n0]["seconds_min"].median()
+        ns = np.geomspace(n0, n1, 20)
+        for label, f, style in [("O(n)", ns / n0, ":"), ("O(n log n)", ns * np.log(ns) / (n0 * np.log(n0)), "-."),
+                                ("O(n²)", (ns / n0) ** 2, "--")]:
+            ax.loglog(ns, t0 * f, color="grey", ls=style, lw=0.9, label=label)
+        ax.set_ylim(d["seconds_min"].min() / 3, d["seconds_min"].max() * 3)
+        ax.set_title(title)
+        ax.set_xlabel("N (objects)")
+        ax.set_ylabel("time (s)")
+        ax.grid(True, which="both", alpha=0.25)
+    handles, labels = {}, []
+    for ax in axes[0]:
+        for h, lab in zip(*ax.get_legend_handles_labels()):
+            handles.setdefault(lab, h)
+    labels = list(handles)
+    fig.legend([handles[k] for k in labels], labels, loc="lower center", ncol=min(len(labels), 11), fontsize=8,
+               frameon=False)
+    fig.tight_layout(rect=(0, 0.07, 1, 1))
+    fig.savefig(out / "broadphase.png")
+    fig.savefig(out / "broadphase.svg")
+    plt.close(fig)
+
+
+def broadphase_section(json_path: Path, out: Path, info: dict, quick: bool):
+    df = broadphase_rows(json_path, info)
+    if df.empty:
+        return []
+    df.to_csv(out / "broadphase.csv", index=False)
+    (out / "broadphase.md").write_text(broadphase_markdown(df, info, quick))
+    broadphase_plot(df, out)
+    return [("[broadphase.md](broadphase.md), [broadphase.csv](broadphase.csv), [broadphase.png](broadphase.png)",
+             "broad phase: time against N per method (W1 boxes, W2 spheres, scaling), ratios against brute force "
+             "and cKDTree, fitted log-log slopes, O(n)/O(n log n)/O(n²) guides")]
