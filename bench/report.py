@@ -58,7 +58,8 @@ def stamp() -> dict:
 def run_benchmarks(out: Path, quick: bool) -> Path:
     """pytest-benchmark over bench/, raw JSON into out/benchmarks.json (pytest prints its progress)."""
     json_path = out / "benchmarks.json"
-    cmd = [sys.executable, "-m", "pytest", str(ROOT / "bench"), "--benchmark-only", "-p", "no:cacheprovider",
+    cmd = [sys.executable, "-m", "pytest", str(ROOT / "bench"), f"--ignore={ROOT / 'bench' / 'gate'}",
+           "--benchmark-only", "-p", "no:cacheprovider",
            f"--benchmark-json={json_path}", "--benchmark-columns=min,median,rounds", "-q"]
     if quick:
         cmd.append("--quick")

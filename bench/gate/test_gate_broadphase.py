@@ -1,0 +1,78 @@
+"""The CI gate for algorithm changes (run by `tox -e gate`, which CI runs): deterministic agreement of every
+broad phase on the benchmark workloads, and speed ratios measured interleaved in one process.
+
+Thresholds: each ratio must stay above about a third of what this machine measures (2-core AMD EPYC, numbers
+in the comments), so ordinary noise on a shared 2-core machine (up to ~2-3x on one measurement) passes while a
+method made 5x slower fails. Ratios are minimums over interleaved rounds: a, b, c, a, b, c, ...
+"""
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+import pytest
+
+from bench.test_bench_broadphase import ckdtree_pairs, w1_boxes, w2_spheres
+from engine.broadphase import BROAD_PHASES, find_pairs, sphere_pairs
+
+N_GATE = 5_000
+ROUNDS = 7
+
+#: minimum "times faster than brute force" on W1 at N = 5,000 (measured: sap ~170, grid ~170, octree ~26, tree ~20)
+FASTER_THAN_BRUTE = {"sap": 50.0, "grid": 50.0, "octree": 7.0, "tree": 7.0}
+#: minimum "times faster than scipy cKDTree" for sphere_pairs(grid) on W2, N = 1e5, eta = 0.05 (measured 3.7-10)
+GRID_FASTER_THAN_CKDTREE = 1.5
+
+
+def interleaved_min_times(funcs: dict, rounds: int = ROUNDS) -> dict:
+    for f in funcs.values():
+        f()  # compile and warm caches outside the timing
+    best = {k: math.inf for k in funcs}
+    for _ in range(rounds):
+        for k, f in funcs.items():
+            t0 = time.perf_counter()
+            f()
+            best[k] = min(best[k], time.perf_counter() - t0)
+    return best
+
+
+@pytest.mark.parametrize("workload", ["W1", "W2"])
+def test_every_method_returns_the_brute_force_pairs(workload):
+    if workload == "W1":
+        lo, hi = w1_boxes(N_GATE)
+    else:
+        c, r = w2_spheres(N_GATE, 0.2)
+        lo, hi = c - r, c + r
+    reference = find_pairs(lo, hi, "brute")
+    assert len(reference) > 100
+    for method in BROAD_PHASES:
+        np.testing.assert_array_equal(find_pairs(lo, hi, method), reference, err_msg=method)
+
+
+def test_sphere_pairs_equal_ckdtree_on_w2():
+    c, r = w2_spheres(20_000, 0.05)
+    expected = ckdtree_pairs(c, r)
+    expected = expected[np.lexsort((expected[:, 1], expected[:, 0]))]
+    np.testing.assert_array_equal(sphere_pairs(c, r, "grid"), expected)
+
+
+def test_broad_phases_stay_faster_than_brute_force():
+    lo, hi = w1_boxes(N_GATE)
+    funcs = {m: (lambda m=m: find_pairs(lo, hi, m)) for m in ("brute", *FASTER_THAN_BRUTE)}
+    best = interleaved_min_times(funcs)
+    ratios = {m: best["brute"] / best[m] for m in FASTER_THAN_BRUTE}
+    report = ", ".join(f"{m} {ratios[m]:.1f}x (needs {FASTER_THAN_BRUTE[m]:g}x)" for m in ratios)
+    print(f"W1 N={N_GATE}: brute {best['brute'] * 1e3:.1f} ms; {report}")
+    slow = {m: r for m, r in ratios.items() if r < FASTER_THAN_BRUTE[m]}
+    assert not slow, f"broad phase slower than its gate: {report}"
+
+
+def test_sphere_grid_stays_faster_than_ckdtree():
+    c, r = w2_spheres(100_000, 0.05)
+    best = interleaved_min_times({"grid": lambda: sphere_pairs(c, r, "grid"), "ckdtree": lambda: ckdtree_pairs(c, r)},
+                                 rounds=5)
+    ratio = best["ckdtree"] / best["grid"]
+    print(f"W2 N=1e5 eta=0.05: grid {best['grid'] * 1e3:.1f} ms, cKDTree {best['ckdtree'] * 1e3:.1f} ms, {ratio:.2f}x")
+    assert ratio >= GRID_FASTER_THAN_CKDTREE, (
+        f"sphere_pairs(grid) is only {ratio:.2f}x faster than cKDTree (needs {GRID_FASTER_THAN_CKDTREE}x)")
