@@ -105,6 +105,36 @@ def test_lower_dimensional_input_raises_value_error(pts, seed, kind):
             convex_hull(flat[:, :2])
 
 
+@st.composite
+def lattice_clouds(draw):
+    """Degenerate but full-dimensional input: small-integer lattice points (many duplicates, and many points
+    on the hull's faces and edges that are not corners), possibly far from the origin."""
+    dim = draw(dims)
+    n = draw(st.integers(dim + 1, 80))
+    rng = np.random.default_rng(draw(seeds))
+    width = draw(st.integers(1, 4))
+    pts = rng.integers(-width, width + 1, size=(n, dim)).astype(float)
+    if draw(st.booleans()):  # points on the surface of a box only
+        axis = rng.integers(0, dim, size=n)
+        pts[np.arange(n), axis] = rng.choice([-width, width], size=n)
+    return pts * draw(st.sampled_from([1.0, 0.1, 1e3])) + draw(st.sampled_from([0.0, 1e3]))
+
+
+@given(lattice_clouds())
+def test_degenerate_lattice_input_gives_qhulls_corners_or_a_value_error(pts):
+    """Points inside faces or on edges are never reported as vertices; flat input is rejected, as Qhull does."""
+    try:
+        ref = QhullHull(pts)
+    except Exception:  # Qhull refuses flat input: so must we
+        with pytest.raises(ValueError, match="points"):
+            convex_hull(pts)
+        return
+    hull = convex_hull(pts)
+    assert {tuple(p) for p in pts[hull.vertices]} == {tuple(p) for p in pts[ref.vertices]}
+    assert len(hull.vertices) == len({tuple(p) for p in pts[ref.vertices]})
+    assert hull.volume == pytest.approx(ref.volume, rel=1e-9)
+
+
 @pytest.mark.parametrize("pts", [np.zeros((3, 3)), np.eye(3), np.zeros((2, 2)), np.ones((1, 2))])
 def test_too_few_points_raise_value_error(pts):
     with pytest.raises(ValueError, match="at least"):

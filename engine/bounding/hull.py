@@ -32,6 +32,8 @@ __all__ = ["ConvexHull", "convex_hull", "is_convex"]
 HULL_EPS = 1e-12
 #: certification tolerance, in units of the coordinate scale
 CERTIFY_EPS = 1e-9
+#: incident face normals closer than this (radians) to a common plane or line count as one flat region
+FLAT_ANGLE = 1e-10
 #: up to this many point-face pairs, every input point is checked against every hull face
 FULL_CERTIFY_WORK = 50_000_000
 
@@ -460,6 +462,57 @@ def _convex_at_every_edge(points, faces, normals, offsets, tol) -> bool:
     return bool(max(d1.max(), d2.max()) <= tol)
 
 
+@njit
+def _non_extreme_kernel(faces, normals, n):
+    """Boolean (n,): hull vertices that are not extreme points (they lie inside a face or on an edge).
+
+    A vertex is a corner of the polytope iff the normals of its incident faces span 3-D (its normal cone is
+    full-dimensional). With ties, quickhull may pick a point in the middle of a flat region or of an edge as
+    "farthest"; such a vertex has incident normals all parallel (rank 1) or all orthogonal to one direction
+    (rank 2), to FLAT_ANGLE.
+    """
+    m = faces.shape[0]
+    count = np.zeros(n + 1, dtype=np.int64)
+    for f in range(m):
+        for k in range(3):
+            count[faces[f, k] + 1] += 1
+    for v in range(n):
+        count[v + 1] += count[v]
+    fill = count[:-1].copy()
+    incident = np.empty(3 * m, dtype=np.int64)
+    for f in range(m):
+        for k in range(3):
+            v = faces[f, k]
+            incident[fill[v]] = f
+            fill[v] += 1
+    flat = np.zeros(n, dtype=np.bool_)
+    for v in range(n):
+        start, stop = count[v], count[v + 1]
+        if stop == start:
+            continue
+        ref = normals[incident[start]]
+        best = 0.0
+        w = np.zeros(3)
+        for t in range(start + 1, stop):
+            q = normals[incident[t]]
+            c = np.array([ref[1] * q[2] - ref[2] * q[1], ref[2] * q[0] - ref[0] * q[2], ref[0] * q[1] - ref[1] * q[0]])
+            size = math.sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2])
+            if size > best:
+                best = size
+                w = c / size
+        if best <= FLAT_ANGLE:
+            flat[v] = True  # rank 1: inside a flat region
+            continue
+        rank2 = True
+        for t in range(start, stop):
+            q = normals[incident[t]]
+            if abs(q[0] * w[0] + q[1] * w[1] + q[2] * w[2]) > FLAT_ANGLE:
+                rank2 = False
+                break
+        flat[v] = rank2  # rank 2: on an edge
+    return flat
+
+
 def _hull_3d(pts: np.ndarray) -> ConvexHull:
     n = pts.shape[0]
     if n < 4:
@@ -468,13 +521,23 @@ def _hull_3d(pts: np.ndarray) -> ConvexHull:
     local = pts - centre  # work about the box centre: round-off then scales with the extent
     scale = float(np.abs(local).sum(axis=1).max() + np.abs(centre).max() * 1e-4)
     eps = HULL_EPS * max(scale, np.finfo(float).tiny)
-    faces, status = _quickhull_kernel(local, eps, 256)  # per-face arrays grow as needed
-    if status != 0:
-        raise ValueError(f"points: {_DEGENERATE_3D[status]}")
-    a, b, c = local[faces[:, 0]], local[faces[:, 1]], local[faces[:, 2]]
-    cross = np.cross(b - a, c - a)
-    twice_area = np.linalg.norm(cross, axis=1)
-    normals = cross / np.where(twice_area > 0, twice_area, 1.0)[:, None]
+    index = np.arange(n)  # rows of `work` -> rows of `points`
+    work = local
+    while True:
+        faces, status = _quickhull_kernel(work, eps, 256)  # per-face arrays grow as needed
+        if status != 0:
+            raise ValueError(f"points: {_DEGENERATE_3D[status]}")
+        a, b, c = work[faces[:, 0]], work[faces[:, 1]], work[faces[:, 2]]
+        cross = np.cross(b - a, c - a)
+        twice_area = np.linalg.norm(cross, axis=1)
+        normals = cross / np.where(twice_area > 0, twice_area, 1.0)[:, None]
+        flat = _non_extreme_kernel(faces, normals, work.shape[0])
+        if not flat.any():
+            break
+        # ties made quickhull keep points inside faces or edges: rebuild from the true corners only
+        keep = np.setdiff1d(np.unique(faces), np.flatnonzero(flat))
+        index, work = index[keep], work[keep]
+    faces = index[faces]
     offsets_local = np.einsum("ij,ij->i", normals, (a + b + c) / 3.0)
     vertices = np.unique(faces)
     # certify: a closed triangulated sphere (F = 2V - 4) that is convex at every edge (no vertex of the hull
