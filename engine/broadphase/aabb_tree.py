@@ -207,8 +207,12 @@ def _tree_pairs_kernel(root, node_lo, node_hi, child1, child2, obj_of, obj_lo, o
     if root == -1:
         return out[:0].copy()
     stack = np.empty(node_lo.shape[0] + 1, dtype=np.int64)
-    for i in range(n_objects):
-        if obj_node[i] < 0:
+    for leaf in range(node_lo.shape[0]):
+        # objects in node order (leaves of a subtree are close): consecutive queries share branches
+        if child1[leaf] != -1 or obj_of[leaf] < 0:
+            continue
+        i = obj_of[leaf]
+        if obj_node[i] != leaf:
             continue
         top = 1
         stack[0] = root

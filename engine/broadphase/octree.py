@@ -112,7 +112,8 @@ def _octree_pairs_kernel(lo, hi, perm, node_lo, node_hi, first, last, child0, n_
     out = np.empty((max(n, 16), 2), dtype=np.int64)
     count = 0
     stack = np.empty(node_lo.shape[0] + 1, dtype=np.int64)
-    for i in range(n):
+    for t in range(n):
+        i = perm[t]  # leaf order: consecutive queries walk the same branches (cache-friendly)
         top = 1
         stack[0] = 0
         while top > 0:

@@ -74,7 +74,7 @@ def _sphere_grid_sort(c, r, large, cell_size):
     nz = int(np.floor((top[2] - origin[2]) / size)) + 1
     inv = 1.0 / size
     cell = np.empty(n, dtype=np.int64)
-    start = np.zeros(nx * ny * nz + 1, dtype=np.int64)
+    start = np.empty(nx * ny * nz + 1, dtype=np.int64)
     n_small = 0
     for i in range(n):
         if large[i]:
@@ -83,29 +83,68 @@ def _sphere_grid_sort(c, r, large, cell_size):
         ix = min(int((c[i, 0] - origin[0]) * inv), nx - 1)
         iy = min(int((c[i, 1] - origin[1]) * inv), ny - 1)
         iz = min(int((c[i, 2] - origin[2]) * inv), nz - 1)
-        key = (iy * nz + iz) * nx + ix
-        cell[i] = key
-        start[key + 1] += 1
+        cell[i] = (iy * nz + iz) * nx + ix
         n_small += 1
-    for t in range(nx * ny * nz):
-        start[t + 1] += start[t]
-    fill = start[:-1].copy()
+    # Two-pass (MSD radix) counting sort, so the counters of each pass stay in cache: first on the high bits
+    # of the cell number (at most 2048 buckets), then each bucket on its low bits.
+    n_cells = nx * ny * nz
+    shift = 0
+    while ((n_cells - 1) >> shift) >= 2048:
+        shift += 1
+    n_buckets = ((n_cells - 1) >> shift) + 1
+    bucket_start = np.zeros(n_buckets + 1, dtype=np.int64)
+    for i in range(n):
+        if cell[i] >= 0:
+            bucket_start[(cell[i] >> shift) + 1] += 1
+    for b in range(n_buckets):
+        bucket_start[b + 1] += bucket_start[b]
+    # pass 1 moves every payload (cell, x, y, z, r, index) to its bucket: sequential reads, 2048 write streams
+    fill_bucket = bucket_start[:-1].copy()
+    b_cell = np.empty(n_small, dtype=np.int64)
+    b_x = np.empty(n_small)
+    b_y = np.empty(n_small)
+    b_z = np.empty(n_small)
+    b_r = np.empty(n_small)
+    b_id = np.empty(n_small, dtype=np.int64)
+    for i in range(n):
+        if cell[i] >= 0:
+            b = cell[i] >> shift
+            q = fill_bucket[b]
+            fill_bucket[b] = q + 1
+            b_cell[q] = cell[i]
+            b_x[q] = c[i, 0]
+            b_y[q] = c[i, 1]
+            b_z[q] = c[i, 2]
+            b_r[q] = r[i]
+            b_id[q] = i
+    # pass 2 sorts each bucket on the low bits of the cell number, within a cache-sized window
     sx = np.empty(n_small)
     sy = np.empty(n_small)
     sz = np.empty(n_small)
     sr = np.empty(n_small)
     sid = np.empty(n_small, dtype=np.int64)
-    for i in range(n):
-        key = cell[i]
-        if key < 0:
-            continue
-        p = fill[key]
-        fill[key] = p + 1
-        sx[p] = c[i, 0]
-        sy[p] = c[i, 1]
-        sz[p] = c[i, 2]
-        sr[p] = r[i]
-        sid[p] = i
+    width = 1 << shift
+    local = np.zeros(width + 1, dtype=np.int64)
+    for b in range(n_buckets):
+        first_cell = b << shift
+        m = min(n_cells, first_cell + width) - first_cell
+        local[: m + 1] = 0
+        for t in range(bucket_start[b], bucket_start[b + 1]):
+            local[b_cell[t] - first_cell + 1] += 1
+        local[0] = bucket_start[b]
+        for u in range(m):
+            local[u + 1] += local[u]
+            start[first_cell + u] = local[u]
+        for t in range(bucket_start[b], bucket_start[b + 1]):
+            u = b_cell[t] - first_cell
+            p = local[u]
+            local[u] = p + 1
+            sx[p] = b_x[t]
+            sy[p] = b_y[t]
+            sz[p] = b_z[t]
+            sr[p] = b_r[t]
+            sid[p] = b_id[t]
+    start[n_cells] = n_small
     return nx, ny, nz, start, sx, sy, sz, sr, sid
 
 

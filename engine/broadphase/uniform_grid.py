@@ -85,6 +85,8 @@ def _grid_pairs_kernel(lo, hi, cell_size):
         start[c + 1] += start[c]
     fill = start[:n_cells].copy()
     member = np.empty(entries, dtype=np.int64)
+    elo = np.empty((entries, 3))  # the members' boxes, contiguous cell by cell
+    ehi = np.empty((entries, 3))
     for i in range(n):
         if large[i]:
             continue
@@ -92,8 +94,12 @@ def _grid_pairs_kernel(lo, hi, cell_size):
             for cy in range(first[i, 1], last[i, 1] + 1):
                 for cz in range(first[i, 2], last[i, 2] + 1):
                     c = (cx * dims[1] + cy) * dims[2] + cz
-                    member[fill[c]] = i
-                    fill[c] += 1
+                    t = fill[c]
+                    member[t] = i
+                    for k in range(3):
+                        elo[t, k] = lo[i, k]
+                        ehi[t, k] = hi[i, k]
+                    fill[c] = t + 1
     out = np.empty((max(n, 16), 2), dtype=np.int64)
     count = 0
     # boxes sharing a cell; report in the cell of the lower corner of the overlap only
@@ -102,17 +108,15 @@ def _grid_pairs_kernel(lo, hi, cell_size):
             for cz in range(dims[2]):
                 c = (cx * dims[1] + cy) * dims[2] + cz
                 for p in range(start[c], start[c + 1]):
-                    i = member[p]
                     for q in range(p + 1, start[c + 1]):
-                        j = member[q]
-                        if boxes_overlap(lo, hi, i, j):
-                            if (_cell(max(lo[i, 0], lo[j, 0]), origin[0], inv, dims[0]) == cx
-                                    and _cell(max(lo[i, 1], lo[j, 1]), origin[1], inv, dims[1]) == cy
-                                    and _cell(max(lo[i, 2], lo[j, 2]), origin[2], inv, dims[2]) == cz):
+                        if boxes_overlap(elo, ehi, p, q):
+                            if (_cell(max(elo[p, 0], elo[q, 0]), origin[0], inv, dims[0]) == cx
+                                    and _cell(max(elo[p, 1], elo[q, 1]), origin[1], inv, dims[1]) == cy
+                                    and _cell(max(elo[p, 2], elo[q, 2]), origin[2], inv, dims[2]) == cz):
                                 if count == out.shape[0]:
                                     out = _grow(out, count + 1)
-                                out[count, 0] = i
-                                out[count, 1] = j
+                                out[count, 0] = member[p]
+                                out[count, 1] = member[q]
                                 count += 1
     # boxes too large for the grid: against every box (once per pair of large boxes)
     if n_large > 0:
