@@ -98,7 +98,7 @@ def _sphere_grid_sort(c, r, large, cell_size):
             bucket_start[(cell[i] >> shift) + 1] += 1
     for b in range(n_buckets):
         bucket_start[b + 1] += bucket_start[b]
-    # pass 1 moves every payload (cell, x, y, z, r, index) to its bucket: sequential reads, 2048 write streams
+    # pass 1 moves every payload (cell, x, y, z, r, index) to its bucket: sequential reads, one write stream per bucket and array
     fill_bucket = bucket_start[:-1].copy()
     b_cell = np.empty(n_small, dtype=np.int64)
     b_x = np.empty(n_small)
