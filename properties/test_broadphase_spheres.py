@@ -125,3 +125,15 @@ def dense_scenes(draw):
 def test_dense_scenes_match_brute_force(method, scene):
     centers, radii = scene
     np.testing.assert_array_equal(sphere_pairs(centers, radii, method=method), brute_sphere_pairs(centers, radii))
+
+
+@settings(max_examples=60)
+@given(sphere_scenes(d=3, min_n=2))
+def test_incremental_sap_then_exact_filter_equals_sphere_pairs(scene):
+    # the gas's per-frame path: incremental SAP on the spheres' boxes, then the exact sphere test
+    from engine.broadphase import IncrementalSAP, spheres_overlap_pairs
+
+    centers, radii = scene
+    r = np.broadcast_to(np.asarray(radii, dtype=float), (len(centers),))
+    sap = IncrementalSAP(centers - r[:, None] * (1 + 1e-12) - 1e-9, centers + r[:, None] * (1 + 1e-12) + 1e-9)
+    np.testing.assert_array_equal(spheres_overlap_pairs(centers, radii, sap.pairs()), sphere_pairs(centers, radii))

@@ -14,7 +14,7 @@ from engine.broadphase.brute_force import brute_force_pairs
 from engine.broadphase.kinematic import cull_separating_box_pairs, cull_separating_sphere_pairs, front_faces
 from engine.broadphase.octree import build_octree, octree_pairs
 from engine.broadphase.pairs import canonical_pairs
-from engine.broadphase.spheres import sphere_pairs
+from engine.broadphase.spheres import sphere_pairs, spheres_overlap_pairs
 from engine.broadphase.sweep_and_prune import IncrementalSAP, sap_example_trace, sap_pairs, sweep_intervals
 from engine.broadphase.uniform_grid import grid_pairs
 
@@ -23,6 +23,7 @@ __all__ = [
     "find_pairs",
     "sweep_intervals",
     "sphere_pairs",
+    "spheres_overlap_pairs",
     "sap_example_trace",
     "IncrementalSAP",
     "DynamicAABBTree",

@@ -500,7 +500,7 @@ class DynamicAABBTree:
         self._free_nodes = list(range(self._node_lo.shape[0] - 1, int(n_nodes) - 1, -1))
 
     @classmethod
-    def from_boxes(cls, lo, hi, margin: float | None = None) -> "DynamicAABBTree":
+    def from_boxes(cls, lo, hi, margin: float | None = None) -> DynamicAABBTree:
         """A tree holding boxes lo, hi ((n, d)) with ids 0..n−1, built in batch (top-down)."""
         lo_d, _ = as_boxes(lo, hi)
         tree = cls(dim=lo_d.shape[1], margin=margin)

@@ -26,7 +26,7 @@ from engine._config import njit
 from engine._validate import as_choice, as_float_array, as_nonnegative
 from engine.broadphase.pairs import _canonical_pairs_kernel, _grow, empty_pairs
 
-__all__ = ["sphere_pairs", "spheres_overlap_pairs", "SPHERE_METHODS"]
+__all__ = ["sphere_pairs", "spheres_overlap_pairs"]
 
 _EPS = np.finfo(np.float64).eps
 #: cells are at least this fraction of the mean spacing (V/n)^(1/3) wide (about 0.3 spheres per cell)
@@ -98,7 +98,8 @@ def _sphere_grid_sort(c, r, large, cell_size):
             bucket_start[(cell[i] >> shift) + 1] += 1
     for b in range(n_buckets):
         bucket_start[b + 1] += bucket_start[b]
-    # pass 1 moves every payload (cell, x, y, z, r, index) to its bucket: sequential reads, one write stream per bucket and array
+    # pass 1 moves every payload (cell, x, y, z, r, index) to its bucket: sequential reads, one write stream
+    # per bucket and array
     fill_bucket = bucket_start[:-1].copy()
     b_cell = np.empty(n_small, dtype=np.int64)
     b_x = np.empty(n_small)
@@ -322,10 +323,6 @@ def sphere_pairs(centers, radii, method: str = "grid") -> np.ndarray:
     widen = r + margin
     candidates = find_pairs(c - widen[:, None], c + widen[:, None], method=method)
     return _exact_filter_kernel(candidates, c, r)
-
-
-#: the methods sphere_pairs accepts (those of BROAD_PHASES)
-SPHERE_METHODS = ("grid", "sap", "tree", "octree", "brute")
 
 
 def spheres_overlap_pairs(centers, radii, pairs) -> np.ndarray:

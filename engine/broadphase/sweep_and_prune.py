@@ -21,7 +21,7 @@ from __future__ import annotations
 import numpy as np
 
 from engine._config import njit
-from engine._validate import as_choice, as_float_array
+from engine._validate import as_float_array
 from engine.broadphase.pairs import _canonical_pairs_kernel, _grow, as_boxes, as_boxes_3d, empty_pairs
 
 __all__ = ["sweep_intervals", "sap_pairs", "sap_example_trace", "IncrementalSAP", "SLIDE_EXAMPLE"]
@@ -149,8 +149,8 @@ def sap_example_trace(begin=None, end=None, labels=None) -> str:
         reported += new
         act = "{" + ", ".join(str(labels[a]) for a in active) + "}"
         lines.append(f"{event:<14}{act:<28}" + (", ".join(f"({p}, {q})" for p, q in new) or "-"))
-    lines += ["", f"{len(reported)} overlapping pairs: "
-              + ", ".join(f"({min(p, q)}, {max(p, q)})" for p, q in sorted((min(p, q), max(p, q)) for p, q in reported))]
+    ordered = sorted((min(p, q), max(p, q)) for p, q in reported)
+    lines += ["", f"{len(reported)} overlapping pairs: " + ", ".join(f"({p}, {q})" for p, q in ordered)]
     return "\n".join(lines)
 
 
