@@ -1,26 +1,39 @@
 """engine — collision detection for game physics: whether, where and when two objects collide.
 
-Every public name of DESIGN.md section 3 is importable from here; see engine/ARCHITECTURE.md for the map from
-modules to the chapter's slides, their oracles and their property files.
+Every public name of DESIGN.md section 3 is importable from here; the subpackages hold the rest:
+``engine.dynamics`` (falling bodies), ``engine.bounding`` (bounding volumes, hull, decomposition),
+``engine.broadphase``, ``engine.narrowphase``, ``engine.gas``. engine/ARCHITECTURE.md maps each module to the
+chapter's slides, its oracle and its property file.
 """
 from __future__ import annotations
 
+from .bounding import OBB, ConvexHull, convex_hull, fit_obb, is_convex, min_bounding_sphere
+from .broadphase import BROAD_PHASES, DynamicAABBTree, IncrementalSAP, find_pairs, sphere_pairs, sweep_intervals
 from .dynamics.bisection import BisectionResult, bisect
 from .dynamics.rk4 import rk4_step, split_state, state_vector
 from .dynamics.scenes import CubeDrop, FallResult, Impact, drop_cube, drop_particle
+from .gas import GasResult, simulate_gas
+from .narrowphase import (
+    Contact,
+    contact_feature,
+    epa_penetration,
+    gjk_distance,
+    obb_overlap,
+    time_of_impact,
+)
 
 __version__ = "0.1.0"
 
 __all__ = [
     # dynamics: falling bodies, RK4, Algorithme 3
-    "rk4_step",
-    "state_vector",
-    "split_state",
-    "bisect",
-    "BisectionResult",
-    "drop_particle",
-    "drop_cube",
-    "FallResult",
-    "CubeDrop",
-    "Impact",
+    "rk4_step", "state_vector", "split_state", "bisect", "BisectionResult",
+    "drop_particle", "drop_cube", "FallResult", "CubeDrop", "Impact",
+    # bounding volumes
+    "OBB", "fit_obb", "min_bounding_sphere", "convex_hull", "ConvexHull", "is_convex",
+    # broad phase
+    "BROAD_PHASES", "find_pairs", "sweep_intervals", "sphere_pairs", "IncrementalSAP", "DynamicAABBTree",
+    # narrow phase
+    "obb_overlap", "gjk_distance", "epa_penetration", "contact_feature", "Contact", "time_of_impact",
+    # the confined gas
+    "simulate_gas", "GasResult",
 ]
