@@ -1,6 +1,9 @@
 """The ``collide`` command: run the chapter's algorithms from a shell, and the main job (``collide report``).
 
     collide fall --height 10 --restitution 0.8 [--drag 0.2] [--cube]
+    collide sap-example
+    collide contact A.json B.json
+    collide gas --n 2000 --eta 0.2 --method events
     collide report [--quick]
 """
 from __future__ import annotations
@@ -76,6 +79,31 @@ def _plot_fall(path, t, y, t_impacts, y_impacts, label):
     plt.close(fig)
 
 
+def cmd_sap_example(args) -> int:
+    """The slide's 1-D sweep-and-prune example, step by step (event, active list, pairs reported)."""
+    from .broadphase import sap_example_trace
+
+    print(sap_example_trace())
+    return 0
+
+
+def cmd_contact(args) -> int:
+    """Whether, where (point, normal, feature) and when two shapes given as JSON files collide."""
+    from .narrowphase import describe_contact
+
+    print(describe_contact(args.shape_a, args.shape_b, t_max=args.t_max))
+    return 0
+
+
+def cmd_gas(args) -> int:
+    """The confined ideal gas: Z, Γ, energy drift, collisions per second, the speed histogram (PNG)."""
+    from .gas.command import run_gas_command
+
+    return run_gas_command(n=args.n, eta=args.eta, method=args.method, boundary=args.boundary,
+                           t_measure=args.t_measure, seed=args.seed, out=args.out, progress=not args.no_progress,
+                           dt=args.dt, broad_phase=args.broad_phase, t_equilibrate=args.t_equilibrate)
+
+
 def cmd_report(args) -> int:
     root = Path(__file__).resolve().parents[1]
     if not (root / "bench" / "report.py").is_file():
@@ -110,6 +138,37 @@ def build_parser() -> argparse.ArgumentParser:
     fall.add_argument("--size", type=_float, default=1.0, help="cube edge in m (default 1)")
     fall.add_argument("--out", default=".", help="folder for fall_*.png and fall_*.csv (default .)")
     fall.set_defaults(func=cmd_fall)
+
+    sap = sub.add_parser("sap-example", help="the slide's 1-D sweep-and-prune example, step by step",
+                         description="Sorted list of all b_i and e_i, swept with a list of active intervals "
+                                     "(slide \"Algorithmes de balayage et de tri\").")
+    sap.set_defaults(func=cmd_sap_example)
+
+    contact = sub.add_parser("contact", help="whether, where and when two shapes (JSON files) collide",
+                             description="Shapes, poses and velocities in the JSON format documented in "
+                                         "engine/narrowphase/contact_io.py.")
+    contact.add_argument("shape_a", help="JSON file of shape A")
+    contact.add_argument("shape_b", help="JSON file of shape B")
+    contact.add_argument("--t-max", type=_float, default=10.0, help="look for an impact up to this time (s)")
+    contact.set_defaults(func=cmd_contact)
+
+    from .broadphase import BROAD_PHASES
+
+    gas = sub.add_parser("gas", help="the confined ideal gas: Z, collision rate, energy drift, speed histogram",
+                         description="Elastic spheres in the chapter's box of side 10 (walls at +-5).")
+    gas.add_argument("--n", type=int, default=2000, help="number of spheres (default 2000)")
+    gas.add_argument("--eta", type=_float, default=0.2, help="packing fraction (default 0.2)")
+    gas.add_argument("--method", choices=["events", "stepped"], default="events", help="default events")
+    gas.add_argument("--boundary", choices=["walls", "periodic"], default="walls", help="default walls")
+    gas.add_argument("--broad-phase", choices=list(BROAD_PHASES), default="sap",
+                     help="broad phase of the stepped method (default sap)")
+    gas.add_argument("--dt", type=_float, default=1e-3, help="time step of the stepped method (default 1e-3)")
+    gas.add_argument("--t-equilibrate", type=_float, default=5.0, help="equilibration time (default 5)")
+    gas.add_argument("--t-measure", type=_float, default=20.0, help="measurement time (default 20)")
+    gas.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    gas.add_argument("--out", default="gas_speeds.png", help="speed histogram PNG (default gas_speeds.png)")
+    gas.add_argument("--no-progress", action="store_true", help="no progress bar")
+    gas.set_defaults(func=cmd_gas)
 
     report = sub.add_parser("report", help="the main job: run the benchmarks and validations, write reports/")
     report.add_argument("--quick", action="store_true", help="small sizes, a few minutes")
