@@ -11,7 +11,8 @@ collision"); the uniform cut is the "absolue" one. Ericson, *Real-Time Collision
 - Boxes covering more than 64 cells (one huge box among tiny ones) are kept out of the grid and tested against
   every box, so the grid stays linear in size.
 - Cells are numbered from the scene's lowest corner, so negative coordinates need nothing special; the cells are
-  stored densely and filled by a counting sort on the cell number (two passes: count, then fill).
+  stored densely and filled by a counting sort on the cell number (count, then fill; two radix passes so the
+  counters stay in cache).
 """
 from __future__ import annotations
 
@@ -71,35 +72,68 @@ def _grid_pairs_kernel(lo, hi, cell_size):
             n_large += 1
         else:
             entries += cells
-    # counting sort of (cell, box) entries by cell number
+    # counting sort of the (cell, box) entries by cell number, in two passes (MSD radix) so that the counters
+    # of each pass stay in cache: first on the high bits of the cell number (<= 2048 buckets), then each bucket
+    # on its low bits; the entries carry their boxes along, so each cell's boxes end up contiguous.
     n_cells = dims[0] * dims[1] * dims[2]
-    start = np.zeros(n_cells + 1, dtype=np.int64)
+    shift = 0
+    while ((n_cells - 1) >> shift) >= 2048:
+        shift += 1
+    n_buckets = ((n_cells - 1) >> shift) + 1
+    bucket_start = np.zeros(n_buckets + 1, dtype=np.int64)
     for i in range(n):
         if large[i]:
             continue
         for cx in range(first[i, 0], last[i, 0] + 1):
             for cy in range(first[i, 1], last[i, 1] + 1):
                 for cz in range(first[i, 2], last[i, 2] + 1):
-                    start[(cx * dims[1] + cy) * dims[2] + cz + 1] += 1
-    for c in range(n_cells):
-        start[c + 1] += start[c]
-    fill = start[:n_cells].copy()
+                    bucket_start[(((cx * dims[1] + cy) * dims[2] + cz) >> shift) + 1] += 1
+    for b in range(n_buckets):
+        bucket_start[b + 1] += bucket_start[b]
+    fill = bucket_start[:-1].copy()
+    b_key = np.empty(entries, dtype=np.int64)
+    b_id = np.empty(entries, dtype=np.int64)
+    b_lo = np.empty((entries, 3))
+    b_hi = np.empty((entries, 3))
+    for i in range(n):
+        if large[i]:
+            continue
+        for cx in range(first[i, 0], last[i, 0] + 1):
+            for cy in range(first[i, 1], last[i, 1] + 1):
+                for cz in range(first[i, 2], last[i, 2] + 1):
+                    key = (cx * dims[1] + cy) * dims[2] + cz
+                    t = fill[key >> shift]
+                    fill[key >> shift] = t + 1
+                    b_key[t] = key
+                    b_id[t] = i
+                    for k in range(3):
+                        b_lo[t, k] = lo[i, k]
+                        b_hi[t, k] = hi[i, k]
+    start = np.empty(n_cells + 1, dtype=np.int64)
     member = np.empty(entries, dtype=np.int64)
     elo = np.empty((entries, 3))  # the members' boxes, contiguous cell by cell
     ehi = np.empty((entries, 3))
-    for i in range(n):
-        if large[i]:
-            continue
-        for cx in range(first[i, 0], last[i, 0] + 1):
-            for cy in range(first[i, 1], last[i, 1] + 1):
-                for cz in range(first[i, 2], last[i, 2] + 1):
-                    c = (cx * dims[1] + cy) * dims[2] + cz
-                    t = fill[c]
-                    member[t] = i
-                    for k in range(3):
-                        elo[t, k] = lo[i, k]
-                        ehi[t, k] = hi[i, k]
-                    fill[c] = t + 1
+    width = 1 << shift
+    local = np.zeros(width + 1, dtype=np.int64)
+    for b in range(n_buckets):
+        first_cell = b << shift
+        m = min(n_cells, first_cell + width) - first_cell
+        local[: m + 1] = 0
+        for t in range(bucket_start[b], bucket_start[b + 1]):
+            local[b_key[t] - first_cell + 1] += 1
+        local[0] = bucket_start[b]
+        for u in range(m):
+            local[u + 1] += local[u]
+            start[first_cell + u] = local[u]
+        for t in range(bucket_start[b], bucket_start[b + 1]):
+            u = b_key[t] - first_cell
+            q = local[u]
+            local[u] = q + 1
+            member[q] = b_id[t]
+            for k in range(3):
+                elo[q, k] = b_lo[t, k]
+                ehi[q, k] = b_hi[t, k]
+    start[n_cells] = entries
     out = np.empty((max(n, 16), 2), dtype=np.int64)
     count = 0
     # boxes sharing a cell; report in the cell of the lower corner of the overlap only
