@@ -35,6 +35,14 @@ def _cell(v, origin, inv_size, k):
 
 
 @njit
+def _cell_range(lo, hi, i, origin, inv, dims):
+    """First and last cell along x, y, z of box i."""
+    return (_cell(lo[i, 0], origin[0], inv, dims[0]), _cell(hi[i, 0], origin[0], inv, dims[0]),
+            _cell(lo[i, 1], origin[1], inv, dims[1]), _cell(hi[i, 1], origin[1], inv, dims[1]),
+            _cell(lo[i, 2], origin[2], inv, dims[2]), _cell(hi[i, 2], origin[2], inv, dims[2]))
+
+
+@njit
 def _grid_pairs_kernel(lo, hi, cell_size):
     # Ericson 7.1.3-7.1.6: each box goes into every cell it overlaps; boxes sharing a cell are tested.
     n = lo.shape[0]
@@ -56,17 +64,13 @@ def _grid_pairs_kernel(lo, hi, cell_size):
     for k in range(3):
         dims[k] = int(np.floor((top[k] - origin[k]) / size)) + 1
     inv = 1.0 / size
-    first = np.empty((n, 3), dtype=np.int64)
-    last = np.empty((n, 3), dtype=np.int64)
+    # the cell ranges are recomputed in each pass rather than stored (less memory traffic)
     large = np.zeros(n, dtype=np.bool_)
     n_large = 0
     entries = 0
     for i in range(n):
-        cells = 1
-        for k in range(3):
-            first[i, k] = _cell(lo[i, k], origin[k], inv, dims[k])
-            last[i, k] = _cell(hi[i, k], origin[k], inv, dims[k])
-            cells *= last[i, k] - first[i, k] + 1
+        x0, x1, y0, y1, z0, z1 = _cell_range(lo, hi, i, origin, inv, dims)
+        cells = (x1 - x0 + 1) * (y1 - y0 + 1) * (z1 - z0 + 1)
         if cells > _MAX_CELLS_PER_BOX:
             large[i] = True
             n_large += 1
@@ -84,9 +88,10 @@ def _grid_pairs_kernel(lo, hi, cell_size):
     for i in range(n):
         if large[i]:
             continue
-        for cx in range(first[i, 0], last[i, 0] + 1):
-            for cy in range(first[i, 1], last[i, 1] + 1):
-                for cz in range(first[i, 2], last[i, 2] + 1):
+        x0, x1, y0, y1, z0, z1 = _cell_range(lo, hi, i, origin, inv, dims)
+        for cx in range(x0, x1 + 1):
+            for cy in range(y0, y1 + 1):
+                for cz in range(z0, z1 + 1):
                     bucket_start[(((cx * dims[1] + cy) * dims[2] + cz) >> shift) + 1] += 1
     for b in range(n_buckets):
         bucket_start[b + 1] += bucket_start[b]
@@ -98,9 +103,10 @@ def _grid_pairs_kernel(lo, hi, cell_size):
     for i in range(n):
         if large[i]:
             continue
-        for cx in range(first[i, 0], last[i, 0] + 1):
-            for cy in range(first[i, 1], last[i, 1] + 1):
-                for cz in range(first[i, 2], last[i, 2] + 1):
+        x0, x1, y0, y1, z0, z1 = _cell_range(lo, hi, i, origin, inv, dims)
+        for cx in range(x0, x1 + 1):
+            for cy in range(y0, y1 + 1):
+                for cz in range(z0, z1 + 1):
                     key = (cx * dims[1] + cy) * dims[2] + cz
                     t = fill[key >> shift]
                     fill[key >> shift] = t + 1
