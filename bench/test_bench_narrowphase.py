@@ -69,6 +69,21 @@ def test_gjk_box_box_batch_engine(benchmark, boxes):
     assert np.isfinite(dist).all()
 
 
+def test_gjk_box_box_batch_engine_kernel_only(benchmark, boxes):
+    """The compiled loop alone (no validation, no copies): what the public boundary costs is the difference."""
+    from engine.narrowphase.gjk import MAX_ITERATIONS, _gjk_batch
+
+    a = np.ascontiguousarray(boxes["corners"][:N_BATCH])
+    b = np.ascontiguousarray(boxes["corners"][N_BATCH:])
+    dist = np.empty(N_BATCH)
+    ca = np.empty((N_BATCH, 3))
+    cb = np.empty((N_BATCH, 3))
+    status = np.empty(N_BATCH, np.int64)
+    _run(benchmark, lambda: _gjk_batch(a, b, MAX_ITERATIONS, dist, ca, cb, status), N_BATCH, "engine-kernel",
+         "gjk box-box")
+    assert (status != 2).all()
+
+
 def test_gjk_hull20_batch_engine(benchmark, hulls):
     dist, _, _ = _run(benchmark, lambda: gjk_distance_batch(hulls[:N_HULL], hulls[N_HULL:]), N_HULL, "engine",
                       "gjk hull20")

@@ -15,6 +15,7 @@ from engine.narrowphase.gjk import gjk_distance, pack_point_sets
 from properties.strategies.narrow import (
     aabbs,
     box_corners,
+    edge_edge_obb_pairs,
     hull_signed_distance,
     point_clouds,
     rotations,
@@ -82,6 +83,17 @@ def test_stacked_boxes_face_face_exact_patch(box_a, box_b, axis, gap, fu, fv):
     assert all(np.abs(got - c).max(axis=1).min() <= 1e-9 for c in corners)
     assert all(np.abs(corners - g).max(axis=1).min() <= 1e-9 for g in got)
     assert np.allclose(contact.points[:, axis], hi_a[axis] + gap / 2, atol=1e-9)
+
+
+@settings(max_examples=60)
+@given(edge_edge_obb_pairs())
+def test_crossing_edges_are_edge_edge(pair):
+    a, b = pair
+    contact = contact_feature(a.corners(), b.corners())
+    assume(contact.separation > 1e-6)
+    assert contact.kind == "edge-edge" and contact.points.shape == (1, 3)
+    # the contact point is the midpoint of GJK's closest points
+    assert np.allclose(contact.points[0], 0.5 * (contact.closest_a + contact.closest_b), atol=1e-9)
 
 
 def test_named_features():

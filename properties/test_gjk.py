@@ -177,6 +177,21 @@ def test_epa_depth_equals_qhull_minkowski_depth(a, b):
 fractions = st.tuples(*[st.floats(0.0, 1.0)] * 3).map(np.array)
 
 
+@settings(max_examples=100)
+@given(point_clouds(), point_clouds(spread=1.5))
+def test_epa_kernel_needs_no_fallback_in_general_position(a, b):
+    """Random clouds are in general position: the expanding polytope itself must converge there (the exact Qhull
+    fallback of ``epa_penetration`` is for degenerate inputs only, and must not hide a broken EPA)."""
+    from engine.narrowphase.epa import _EPA_NOT_CONVERGED, _penetration
+
+    out = np.empty(10)
+    assert _penetration(a, b, 128, out) != _EPA_NOT_CONVERGED
+    exact = exact_penetration_depth(a, b)
+    scale = _scale(a, b)
+    if exact > 1e-7 * scale:
+        assert abs(out[0] - exact) <= 1e-8 * scale
+
+
 @given(aabbs(), fractions, aabbs())
 def test_epa_axis_aligned_boxes_exact(box_a, where, box_b):
     # B is moved so that it contains a point of A: the boxes always overlap

@@ -9,7 +9,7 @@ from hypothesis import strategies as st
 from engine.bounding.obb import OBB
 from engine.narrowphase.gjk import gjk_distance
 from engine.narrowphase.sat import obb_overlap, overlap_convex_sat, overlap_obb_obb_batch
-from properties.strategies.narrow import obb_pairs, obbs, point_clouds
+from properties.strategies.narrow import edge_edge_obb_pairs, obb_pairs, obbs, point_clouds
 
 GAP = 1e-7  # pairs closer than this (relative to their size) are left out: SAT's epsilon may call them touching
 
@@ -53,6 +53,15 @@ def test_obb_overlap_agrees_with_coal(pair):
 
         assume(epa_penetration(a.corners(), b.corners())[0] > GAP * _scale(a, b))
     assert obb_overlap(a, b) == _coal_collide(a, b)
+
+
+@given(edge_edge_obb_pairs())
+def test_obb_overlap_on_crossing_edges(pair):
+    """Boxes separated (or not) across crossing edges: only the edge-edge axis decides, one of the 9 each time."""
+    a, b = pair
+    d, _, _ = gjk_distance(a.corners(), b.corners())
+    assume(d == 0.0 or d > GAP * _scale(a, b))
+    assert obb_overlap(a, b) == (d == 0.0)
 
 
 def test_parallel_edges_and_face_separation_examples():

@@ -51,12 +51,73 @@ def obbs(draw, spread: float = 3.0) -> OBB:
     return OBB(center, draw(rotations()).T, half)
 
 
+def _axis_rotation(axis: int, angle: float) -> np.ndarray:
+    c, s = np.cos(angle), np.sin(angle)
+    i, j = [k for k in range(3) if k != axis]
+    m = np.eye(3)
+    m[i, i] = c
+    m[j, j] = c
+    m[i, j] = -s
+    m[j, i] = s
+    return m
+
+
+@st.composite
+def edge_edge_obb_pairs(draw):
+    """Two boxes whose closest features are crossing edges: A's edge along its axis i lies horizontal (world x)
+    on top of A, B's edge along its axis j lies along world y under B, B above A by a gap (possibly negative),
+    the whole scene turned by a random rotation. Only the edge–edge axis (x × y) separates them when the gap is
+    small and positive: the 9 cross-product axes of the OBB test are exercised one by one."""
+    i = draw(st.integers(0, 2))
+    j = draw(st.integers(0, 2))
+    ha = np.array(draw(st.tuples(sizes, sizes, sizes)))
+    hb = np.array(draw(st.tuples(sizes, sizes, sizes)))
+    tilt_a = draw(st.floats(0.3, 1.27))  # keeps a single top edge (away from 0 and 90 degrees)
+    tilt_b = draw(st.floats(0.3, 1.27))
+    # a gap small against the boxes, so that no face axis separates them
+    gap = draw(st.floats(-0.1, 0.1, allow_nan=False)) * min(ha.min(), hb.min())
+    # frames: columns = world images of the local axes; A's axis i -> world x, then tilt about x
+    perm_a = np.zeros((3, 3))
+    others_a = [k for k in range(3) if k != i]
+    perm_a[0, i] = 1.0
+    perm_a[1, others_a[0]] = 1.0
+    perm_a[2, others_a[1]] = 1.0
+    rot_a = _axis_rotation(0, tilt_a) @ perm_a
+    perm_b = np.zeros((3, 3))
+    others_b = [k for k in range(3) if k != j]
+    perm_b[1, j] = 1.0
+    perm_b[0, others_b[0]] = 1.0
+    perm_b[2, others_b[1]] = 1.0
+    rot_b = _axis_rotation(1, tilt_b) @ perm_b
+    top_a = np.abs(rot_a[2]) @ ha
+    bottom_b = np.abs(rot_b[2]) @ hb
+    # the middle of A's top edge and of B's bottom edge, relative to each centre
+    sign_a = np.sign(rot_a[2])
+    sign_a[i] = 0.0
+    mid_top_a = rot_a @ (sign_a * ha)
+    sign_b = -np.sign(rot_b[2])
+    sign_b[j] = 0.0
+    mid_bottom_b = rot_b @ (sign_b * hb)
+    # B placed so that its bottom edge (along y) crosses A's top edge (along x), within both edges' lengths
+    dx = draw(st.floats(-0.9, 0.9)) * ha[i]
+    dy = draw(st.floats(-0.9, 0.9)) * hb[j]
+    center_b = np.array([dx - mid_bottom_b[0], mid_top_a[1] + dy, top_a + bottom_b + gap])
+    turn = draw(rotations())
+    shift = np.array(draw(st.tuples(*[st.floats(-3.0, 3.0, allow_nan=False)] * 3)))
+    a = OBB(shift, (turn @ rot_a).T, ha)
+    b = OBB(shift + turn @ center_b, (turn @ rot_b).T, hb)
+    return a, b
+
+
 @st.composite
 def obb_pairs(draw):
     """Two boxes: independent, or sharing a rotation (all edges parallel), or face-separated along one of A's
-    axes (separation only on that axis, the hardest case for the epsilon of Ericson 4.4.1)."""
+    axes (separation only on that axis, the hardest case for the epsilon of Ericson 4.4.1), or crossing edges
+    (separation only on an edge-edge axis)."""
+    kind = draw(st.integers(0, 3))
+    if kind == 3:
+        return draw(edge_edge_obb_pairs())
     a = draw(obbs())
-    kind = draw(st.integers(0, 2))
     if kind == 0:
         return a, draw(obbs())
     if kind == 1:
