@@ -73,7 +73,6 @@ def test_distance_agrees_with_coal_and_fcl_on_separated_hulls(a, b):
 @settings(max_examples=60)
 @given(point_clouds(), point_clouds(spread=2.0))
 def test_overlap_iff_coal_collides(a, b):
-    import coal
 
     d, _, _ = gjk_distance(a, b)
     dc = _coal_distance(a, b)

@@ -24,7 +24,7 @@ import numpy as np
 
 from .._config import njit
 from .._validate import as_float, as_float_array, as_nonnegative
-from ..bounding.obb import ORTHONORMAL_TOL, OBB
+from ..bounding.obb import OBB, ORTHONORMAL_TOL
 from .sat import _orthonormal_errors, pair_indices
 
 __all__ = [

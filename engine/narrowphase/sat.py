@@ -23,7 +23,7 @@ import numpy as np
 
 from .._config import njit
 from .._validate import as_float_array
-from ..bounding.obb import ORTHONORMAL_TOL, OBB
+from ..bounding.obb import OBB, ORTHONORMAL_TOL
 
 __all__ = ["PARALLEL_EPS", "obb_overlap", "overlap_obb_obb_batch", "overlap_convex_sat", "convex_axes"]
 
