@@ -81,8 +81,14 @@ class ConvexHull:
 # 2-D: Andrew's monotone chain
 # ---------------------------------------------------------------------------------------------------------
 @njit
-def _cross2(o, a, b):
-    return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
+def _not_left_turn(o, a, b):
+    """True unless o -> a -> b turns left by more than FLAT_ANGLE (sine of the turn; exact 0 for repeats)."""
+    ux = a[0] - o[0]
+    uy = a[1] - o[1]
+    vx = b[0] - o[0]
+    vy = b[1] - o[1]
+    cross = ux * vy - uy * vx
+    return cross <= FLAT_ANGLE * math.sqrt((ux * ux + uy * uy) * (vx * vx + vy * vy))
 
 
 @njit
@@ -90,21 +96,22 @@ def _monotone_chain_kernel(points, order):
     """Indices of the hull vertices, counter-clockwise, from points visited in lexicographic ``order``.
 
     Andrew's algorithm: lower chain left to right, upper chain right to left; a point is popped while the last
-    two chain points and the new point do not turn strictly left (cross <= 0), so collinear points are dropped.
+    two chain points and the new point do not turn strictly left (cross <= 0, or a turn below FLAT_ANGLE), so
+    collinear points and duplicates are dropped.
     """
     n = order.shape[0]
     hull = np.empty(2 * n + 1, dtype=np.int64)
     k = 0
     for t in range(n):  # lower chain
         i = order[t]
-        while k >= 2 and _cross2(points[hull[k - 2]], points[hull[k - 1]], points[i]) <= 0.0:
+        while k >= 2 and _not_left_turn(points[hull[k - 2]], points[hull[k - 1]], points[i]):
             k -= 1
         hull[k] = i
         k += 1
     lower = k + 1
     for t in range(n - 2, -1, -1):  # upper chain
         i = order[t]
-        while k >= lower and _cross2(points[hull[k - 2]], points[hull[k - 1]], points[i]) <= 0.0:
+        while k >= lower and _not_left_turn(points[hull[k - 2]], points[hull[k - 1]], points[i]):
             k -= 1
         hull[k] = i
         k += 1
