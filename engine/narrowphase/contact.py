@@ -16,8 +16,8 @@ direction of the closest points, no contact can happen before d / μ where μ = 
 ρ_B bounds the closing speed (ρ = farthest vertex from the rotation centre). The step t += d / μ never
 overshoots; it stops when d <= tol.
 
-For the faces of a convex polyhedron the module relies on ``scipy.spatial.ConvexHull`` (Qhull) in 2-D on the
-projected support set. # swap in engine.bounding.hull.convex_hull (2-D monotone chain) once it lands.
+The contact polygon of a face is the 2-D convex hull (the engine's monotone chain, engine.bounding.hull) of the
+support set projected on the contact plane.
 """
 from __future__ import annotations
 
@@ -89,7 +89,7 @@ def _plane_basis(n: np.ndarray):
 def _feature_polygon(points2d: np.ndarray, tol: float):
     """The support set projected on the contact plane, reduced to its shape: (1, 2) a vertex, (2, 2) an edge
     (its two extreme points), or (k, 2) a convex polygon in counter-clockwise order."""
-    from scipy.spatial import ConvexHull, QhullError
+    from ..bounding.hull import convex_hull
 
     pts = points2d
     spread = pts - pts[0]
@@ -102,10 +102,10 @@ def _feature_polygon(points2d: np.ndarray, tol: float):
     if pts.shape[0] == 2 or across.max() <= tol:
         return pts[[int(np.argmin(along)), int(np.argmax(along))]]
     try:
-        hull = ConvexHull(pts)
-    except (QhullError, ValueError):
+        hull = convex_hull(pts)
+    except ValueError:  # collinear to round-off: the support set is an edge
         return pts[[int(np.argmin(along)), int(np.argmax(along))]]
-    return pts[hull.vertices]  # Qhull gives 2-D hull vertices counter-clockwise
+    return pts[hull.vertices]  # the monotone chain gives 2-D hull vertices counter-clockwise
 
 
 def _cross2(a, b):

@@ -221,19 +221,19 @@ def overlap_obb_obb_batch(centers_a, axes_a, half_extents_a, centers_b, axes_b, 
 def convex_axes(points):
     """Candidate separating axes of one hull: ``(face_normals (f, 3), edge_directions (e, 3))``, unit vectors.
 
-    Faces and edges come from ``scipy.spatial.ConvexHull`` (Qhull, triangulated; the extra diagonals of
-    non-triangular faces are harmless extra axes). Point sets that span less than 3-D use the directions of
-    the set itself. # swap in engine.bounding.hull.convex_hull once it lands
+    Faces and edges come from the engine's quickhull (``engine.bounding.hull.convex_hull``: outward unit normals,
+    triangulated faces; the extra diagonals of non-triangular faces are harmless extra axes). Point sets that span
+    less than 3-D have no 3-D hull and use the directions of the set itself.
     """
-    from scipy.spatial import ConvexHull, QhullError
+    from ..bounding.hull import convex_hull
 
     pts = np.asarray(points, dtype=np.float64)
     try:
-        hull = ConvexHull(pts)
-    except (QhullError, ValueError):
+        hull = convex_hull(pts)
+    except ValueError:
         return _flat_axes(pts)
-    normals = hull.equations[:, :3]
-    simplices = hull.simplices
+    normals = np.array(hull.normals)
+    simplices = hull.faces
     edges = np.concatenate([pts[simplices[:, 1]] - pts[simplices[:, 0]],
                             pts[simplices[:, 2]] - pts[simplices[:, 1]],
                             pts[simplices[:, 0]] - pts[simplices[:, 2]]])
