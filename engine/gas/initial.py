@@ -132,7 +132,7 @@ def place_spheres(n: int, radii: np.ndarray, box: float, boundary: str, rng: np.
     """Non-overlapping centres (n, 3) in the reachable cube; ValueError when the packing is impossible.
 
     initial: "random" (random sequential addition), "lattice" (FCC sites, a random subset) or "auto" (random
-    below η = 0.25, else the lattice).
+    below η = 0.25, else the lattice; the other one when the first cannot place the spheres).
     """
     periodic = boundary == "periodic"
     rmean = float(radii.mean())
@@ -145,7 +145,17 @@ def place_spheres(n: int, radii: np.ndarray, box: float, boundary: str, rng: np.
     lo = -box / 2.0 + (0.0 if periodic else rmean)
     side = reachable_side(box, rmean, boundary)
     if initial == "auto":
-        initial = "random" if eta <= _RANDOM_UP_TO or np.ptp(radii) > 0.0 else "lattice"
+        first = "random" if eta <= _RANDOM_UP_TO or np.ptp(radii) > 0.0 else "lattice"
+        second = "lattice" if first == "random" else "random"
+        try:
+            return place_spheres(n, radii, box, boundary, rng, first)
+        except ValueError as error:
+            if second == "lattice" and np.ptp(radii) > 0.0:
+                raise
+            try:
+                return place_spheres(n, radii, box, boundary, rng, second)
+            except ValueError:
+                raise error from None
     if initial == "random":
         seed = int(rng.integers(0, 2**31 - 1))
         # with unequal radii each sphere keeps its own reachable cube: sample in [−L/2 + r_i, L/2 − r_i]

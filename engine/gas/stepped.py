@@ -24,8 +24,8 @@ import math
 import numpy as np
 
 from engine._config import njit
-from engine.broadphase import IncrementalSAP, find_pairs
-from engine.broadphase.pairs import canonical_pairs
+from engine.broadphase import DynamicAABBTree, IncrementalSAP, find_pairs
+from engine.broadphase.pairs import canonical_pairs, empty_pairs
 from engine.gas.elastic import _pair_impulse
 from engine.gas.events import _kinetic_energy_kernel
 
@@ -81,6 +81,24 @@ def _separation(pos, i, j, box, periodic):
 
 
 @njit
+def _keep_inside(pos, rad, q, half, periodic):
+    """Clamp sphere q's centre into the reachable cube [−L/2 + r, L/2 − r]³ (periodic: wrap into [−L/2, L/2))."""
+    box = 2.0 * half
+    for k in range(3):
+        if periodic:
+            pos[q, k] -= box * math.floor((pos[q, k] + half) / box)
+            if pos[q, k] >= half:
+                pos[q, k] -= box
+        else:
+            lo = -half + rad[q]
+            hi = half - rad[q]
+            if pos[q, k] < lo:
+                pos[q, k] = lo
+            elif pos[q, k] > hi:
+                pos[q, k] = hi
+
+
+@njit
 def _respond(pairs, pos, vel, rad, mass, half, periodic, dt, acc, counters):
     """Step 4 of the frame on the candidate pairs (canonical order): elastic response of approaching contacts
     at their contact instant, then overlap removal. Returns the number of pairs still overlapping."""
@@ -121,6 +139,9 @@ def _respond(pairs, pos, vel, rad, mass, half, periodic, dt, acc, counters):
             for k in range(3):
                 pos[i, k] += (vel[i, k] - old[k]) * tau
                 pos[j, k] += (vel[j, k] - old[3 + k]) * tau
+    # the moves back to contact and forward again may cross a wall: keep every centre in the reachable box
+    for q in range(pos.shape[0]):
+        _keep_inside(pos, rad, q, half, periodic)
     # overlap removal: push overlapping pairs apart along the line of centres, mass-weighted
     remaining = 0
     for _ in range(_MAX_PASSES):
@@ -148,22 +169,22 @@ def _respond(pairs, pos, vel, rad, mass, half, periodic, dt, acc, counters):
             pos[j, 0] -= wj * gap * ux
             pos[j, 1] -= wj * gap * uy
             pos[j, 2] -= wj * gap * uz
-            for q in (i, j):
-                for k in range(3):
-                    if periodic:
-                        pos[q, k] -= box * math.floor((pos[q, k] + half) / box)
-                        if pos[q, k] >= half:
-                            pos[q, k] -= box
-                    else:
-                        lo = -half + rad[q]
-                        hi = half - rad[q]
-                        if pos[q, k] < lo:
-                            pos[q, k] = lo
-                        elif pos[q, k] > hi:
-                            pos[q, k] = hi
+            _keep_inside(pos, rad, i, half, periodic)
+            _keep_inside(pos, rad, j, half, periodic)
         if remaining == 0:
             break
     return remaining
+
+
+def _box_pairs(lo, hi, method):
+    """find_pairs(lo, hi, method), except "tree", which builds the same top-down tree through
+    ``DynamicAABBTree.from_boxes(..., margin=0)``: ``tree_pairs`` reads an uninitialised node slot (its arrays
+    come from np.empty with one slot more than the 2n − 1 nodes built) and can crash; reported to the lead."""
+    if method == "tree":
+        if lo.shape[0] < 2:
+            return empty_pairs()
+        return DynamicAABBTree.from_boxes(lo, hi, margin=0.0).pairs()
+    return find_pairs(lo, hi, method=method)
 
 
 class SteppedGas:
@@ -206,7 +227,7 @@ class SteppedGas:
                 self._sap = IncrementalSAP(lo, hi)
                 return self._sap.pairs()
             return self._sap.update(lo, hi)
-        return find_pairs(lo, hi, method=self.broad_phase)
+        return _box_pairs(lo, hi, self.broad_phase)
 
     def candidate_pairs(self) -> np.ndarray:
         """Canonical pairs whose (slightly widened) boxes overlap, periodic images included."""
@@ -241,7 +262,7 @@ class SteppedGas:
         owner = np.concatenate(ids)
         p_all = np.concatenate(shifted)
         r_all = reach[owner]
-        extra = find_pairs(p_all - r_all[:, None], p_all + r_all[:, None], method=self.broad_phase)
+        extra = _box_pairs(p_all - r_all[:, None], p_all + r_all[:, None], self.broad_phase)
         a, b = owner[extra[:, 0]], owner[extra[:, 1]]
         cross = (extra[:, 1] >= border.shape[0]) & (a != b)  # at least one member is an image
         cross_pairs = np.stack([np.minimum(a[cross], b[cross]), np.maximum(a[cross], b[cross])], axis=1)

@@ -1,0 +1,87 @@
+"""W3, the confined gas (DESIGN.md section 7): event-driven collisions per second at N = 32,000 and η = 0.1, 0.3
+(target >= 150,000 per second on one core), and the stepped method's frames per second at N = 2,620 for every
+broad phase (the same scene, so the entries of a group are comparable as ratios).
+
+``--quick`` keeps N = 4,000 for the event-driven runs and fewer frames.
+"""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from engine.broadphase import BROAD_PHASES
+from engine.gas import EventDrivenGas, SteppedGas, radius_for_packing
+from engine.gas.initial import draw_velocities, place_spheres
+
+L = 10.0
+
+
+def _scene(n, eta, seed=0):
+    r = np.full(n, radius_for_packing(n, eta, L))
+    m = np.ones(n)
+    rng = np.random.default_rng(seed)
+    p = place_spheres(n, r, L, "walls", rng)
+    v = draw_velocities(m, 1.0, "walls", rng)
+    return p, v, r, m
+
+
+@pytest.mark.parametrize("eta", [0.1, 0.3])
+@pytest.mark.benchmark(group="gas W3: event-driven collisions")
+def test_events_collisions_per_second(benchmark, quick, eta):
+    """N = 32,000 spheres (quick: 4,000), walls, after a short equilibration; each round runs 0.05 time units
+    further (≈ 40,000 to 150,000 collisions at N = 32,000)."""
+    n = 4000 if quick else 32000
+    p, v, r, m = _scene(n, eta)
+    gas = EventDrivenGas(p, v, r, m, L, periodic=False)
+    gas.run(0.2)  # compile + melt the lattice start a little
+    state = {"t": gas.time, "collisions": 0}
+
+    def advance():
+        gas.reset_sums()
+        state["t"] += 0.05
+        gas.run(state["t"])
+        state["collisions"] += gas.collisions
+        return gas.collisions
+
+    benchmark.pedantic(advance, rounds=3 if quick else 5, iterations=1, warmup_rounds=1)
+    per_round = state["collisions"] / ((3 if quick else 5) + 1)
+    rate = per_round / benchmark.stats.stats.mean
+    benchmark.extra_info.update(n=n, eta=eta, collisions_per_round=per_round, work=per_round, unit="collisions",
+                                collisions_per_second=rate, target_per_second=150_000)
+    assert per_round > 0
+
+
+@pytest.mark.parametrize("broad_phase", BROAD_PHASES)
+@pytest.mark.benchmark(group="gas W3: stepped frames, N = 2,620")
+def test_stepped_frames_per_second(benchmark, quick, broad_phase):
+    """N = 2,620 spheres at η = 0.2, dt = 2e-3, walls: frames (move, walls, broad phase, response) per second."""
+    n = 2620
+    p, v, r, m = _scene(n, 0.2)
+    gas = SteppedGas(p, v, r, m, L, periodic=False, dt=2e-3, broad_phase=broad_phase)
+    gas.run(2)  # compile, build the incremental SAP
+    frames = 5 if (quick or broad_phase == "brute") else 20
+
+    benchmark.pedantic(gas.run, args=(frames,), rounds=3, iterations=1, warmup_rounds=0)
+    benchmark.extra_info.update(n=n, frames=frames, work=frames, unit="frames",
+                                frames_per_second=frames / benchmark.stats.stats.mean)
+
+
+@pytest.mark.benchmark(group="gas W3: event-driven collisions")
+def test_events_stepped_peer_collisions_per_second(benchmark, quick):
+    """Peer in the same group: the stepped method's collisions per second on N = 4,000 at η = 0.1 (dt = 2e-3,
+    incremental SAP), to compare both methods by the same unit."""
+    p, v, r, m = _scene(4000, 0.1)
+    gas = SteppedGas(p, v, r, m, L, periodic=False, dt=2e-3, broad_phase="sap")
+    gas.run(2)
+    state = {"collisions": 0, "rounds": 0}
+
+    def advance():
+        gas.reset_sums()
+        gas.run(10)
+        state["collisions"] += gas.collisions
+        state["rounds"] += 1
+
+    benchmark.pedantic(advance, rounds=3, iterations=1, warmup_rounds=0)
+    per_round = state["collisions"] / state["rounds"]
+    benchmark.extra_info.update(n=4000, eta=0.1, work=per_round, unit="collisions",
+                                collisions_per_second=per_round / benchmark.stats.stats.mean)
