@@ -20,6 +20,8 @@ round-off margin so no touching pair is lost) and then applies the same exact te
 """
 from __future__ import annotations
 
+import threading
+
 import numpy as np
 
 from engine._config import njit
@@ -31,6 +33,8 @@ __all__ = ["sphere_pairs", "spheres_overlap_pairs"]
 _EPS = np.finfo(np.float64).eps
 #: cells are at least this fraction of the mean spacing (V/n)^(1/3) wide (about 0.3 spheres per cell)
 _SPACING_FACTOR = 0.7
+#: up to this many cells the spheres are counting-sorted in one pass; beyond, in two radix passes
+_DIRECT_SORT_CELLS = 1 << 19
 
 
 @njit
@@ -44,10 +48,8 @@ def _spheres_touch(c, r, i, j):
 
 
 @njit
-def _sphere_grid_sort(c, r, large, cell_size):
-    # Ericson 7.1.2: one cell per sphere (its centre); cell side >= largest diameter, so a touching pair lies
-    # in the same or an adjacent cell. Counting sort of the spheres by cell number, x varying fastest, into a
-    # sorted structure of arrays; a column (iy, iz) of cells is then one contiguous run ordered by ix.
+def _sphere_grid_shape(c, cell_size):
+    """(origin (3,), 1/side, nx, ny, nz) of the grid over the centres c (n, 3), at most ~32n cells."""
     n = c.shape[0]
     origin = np.empty(3)
     top = np.empty(3)
@@ -72,9 +74,18 @@ def _sphere_grid_sort(c, r, large, cell_size):
     nx = int(np.floor((top[0] - origin[0]) / size)) + 1
     ny = int(np.floor((top[1] - origin[1]) / size)) + 1
     nz = int(np.floor((top[2] - origin[2]) / size)) + 1
-    inv = 1.0 / size
-    cell = np.empty(n, dtype=np.int64)
-    start = np.empty(nx * ny * nz + 1, dtype=np.int64)
+    return origin, 1.0 / size, nx, ny, nz
+
+
+@njit
+def _sphere_grid_sort(c, r, large, origin, inv, nx, ny, nz, cell, start, sx, sy, sz, sr, sid,
+                      b_cell, b_x, b_y, b_z, b_r, b_id):
+    # Ericson 7.1.2: one cell per sphere (its centre); cell side >= largest diameter, so a touching pair lies
+    # in the same or an adjacent cell. Counting sort of the spheres by cell number, x varying fastest, into a
+    # sorted structure of arrays (sx, sy, sz, sr, sid); a column (iy, iz) of cells is then one contiguous run
+    # ordered by ix, and start[cell] .. start[cell + 1] are the spheres of a cell. All arrays are work arrays
+    # given by the caller (reused between calls); returns the number of spheres placed in the grid.
+    n = c.shape[0]
     n_small = 0
     for i in range(n):
         if large[i]:
@@ -85,9 +96,28 @@ def _sphere_grid_sort(c, r, large, cell_size):
         iz = min(int((c[i, 2] - origin[2]) * inv), nz - 1)
         cell[i] = (iy * nz + iz) * nx + ix
         n_small += 1
-    # Two-pass (MSD radix) counting sort, so the counters of each pass stay in cache: first on the high bits
-    # of the cell number (at most 2048 buckets), then each bucket on its low bits.
     n_cells = nx * ny * nz
+    if n_cells <= _DIRECT_SORT_CELLS:  # the counters fit in cache: one counting sort straight into place
+        start[: n_cells + 1] = 0
+        for i in range(n):
+            if cell[i] >= 0:
+                start[cell[i] + 1] += 1
+        for t in range(n_cells):
+            start[t + 1] += start[t]
+        fill = start[:n_cells].copy()
+        for i in range(n):
+            key = cell[i]
+            if key >= 0:
+                p = fill[key]
+                fill[key] = p + 1
+                sx[p] = c[i, 0]
+                sy[p] = c[i, 1]
+                sz[p] = c[i, 2]
+                sr[p] = r[i]
+                sid[p] = i
+        return n_small
+    # larger grids: two-pass (MSD radix) counting sort, so the counters of each pass stay in cache: first on
+    # the high bits of the cell number (at most 2048 buckets), then each bucket on its low bits
     shift = 0
     while ((n_cells - 1) >> shift) >= 2048:
         shift += 1
@@ -101,12 +131,6 @@ def _sphere_grid_sort(c, r, large, cell_size):
     # pass 1 moves every payload (cell, x, y, z, r, index) to its bucket: sequential reads, one write stream
     # per bucket and array
     fill_bucket = bucket_start[:-1].copy()
-    b_cell = np.empty(n_small, dtype=np.int64)
-    b_x = np.empty(n_small)
-    b_y = np.empty(n_small)
-    b_z = np.empty(n_small)
-    b_r = np.empty(n_small)
-    b_id = np.empty(n_small, dtype=np.int64)
     for i in range(n):
         if cell[i] >= 0:
             b = cell[i] >> shift
@@ -119,11 +143,6 @@ def _sphere_grid_sort(c, r, large, cell_size):
             b_r[q] = r[i]
             b_id[q] = i
     # pass 2 sorts each bucket on the low bits of the cell number, within a cache-sized window
-    sx = np.empty(n_small)
-    sy = np.empty(n_small)
-    sz = np.empty(n_small)
-    sr = np.empty(n_small)
-    sid = np.empty(n_small, dtype=np.int64)
     width = 1 << shift
     local = np.zeros(width + 1, dtype=np.int64)
     for b in range(n_buckets):
@@ -146,7 +165,7 @@ def _sphere_grid_sort(c, r, large, cell_size):
             sr[p] = b_r[t]
             sid[p] = b_id[t]
     start[n_cells] = n_small
-    return nx, ny, nz, start, sx, sy, sz, sr, sid
+    return n_small
 
 
 @njit
@@ -222,18 +241,50 @@ def _large_sphere_pairs(c, r, large, out, count):
     return out, count
 
 
+_WORK = threading.local()  # per-thread work arrays of the sphere grid, reused between calls
+
+
+def _work_array(name: str, size: int, dtype) -> np.ndarray:
+    """A per-thread work array of at least ``size`` elements (grown by 25 %, never shrunk): reusing it saves
+    the page faults of fresh allocations, a large share of the time at 1e5-1e6 spheres."""
+    arr = getattr(_WORK, name, None)
+    if arr is None or arr.shape[0] < size:
+        arr = np.empty(max(16, size + size // 4), dtype=dtype)
+        setattr(_WORK, name, arr)
+    return arr
+
+
 def _sphere_grid_pairs(c, r, large, cell_size, equal_radii=False):
     """Grid broad phase + exact test of spheres (n, 3), radii (n,); canonical pairs."""
     n = c.shape[0]
-    grid = _sphere_grid_sort(c, r, large, cell_size)
-    out = np.empty((max(16, n), 2), dtype=np.int64)
+    origin, inv, nx, ny, nz = _sphere_grid_shape(c, cell_size)
+    n_cells = nx * ny * nz
+    radix = n_cells > _DIRECT_SORT_CELLS
+    m = n if radix else 1
+    sorted_arrays = [_work_array(name, n, np.float64) for name in ("sx", "sy", "sz", "sr")]
+    n_small = _sphere_grid_sort(
+        c, r, large, origin, inv, nx, ny, nz, _work_array("cell", n, np.int64),
+        _work_array("start", n_cells + 1, np.int64), *sorted_arrays, _work_array("sid", n, np.int64),
+        _work_array("b_cell", m, np.int64), *[_work_array(name, m, np.float64) for name in ("bx", "by", "bz", "br")],
+        _work_array("b_id", m, np.int64))
+    grid = (nx, ny, nz, _WORK.start[: n_cells + 1], *[a[:n_small] for a in sorted_arrays], _WORK.sid[:n_small])
+    out = _work_pairs(max(16, n))
     count = _sphere_grid_sweep(*grid, out)
     if count > out.shape[0]:
-        out = np.empty((count, 2), dtype=np.int64)
+        out = _work_pairs(count)
         count = _sphere_grid_sweep(*grid, out)
     if not equal_radii:
         out, count = _large_sphere_pairs(c, r, large, out, count)
     return _canonical_pairs_kernel(out, count, n)
+
+
+def _work_pairs(rows: int) -> np.ndarray:
+    """A per-thread (rows, 2) int64 work buffer for candidate pairs."""
+    buf = getattr(_WORK, "pairs", None)
+    if buf is None or buf.shape[0] < rows:
+        buf = np.empty((max(16, rows + rows // 4), 2), dtype=np.int64)
+        _WORK.pairs = buf
+    return buf
 
 
 @njit
