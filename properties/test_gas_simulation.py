@@ -94,7 +94,7 @@ def _min_gap(p, r, box=None):
     return float((dist / s).min())
 
 
-@settings(max_examples=40)
+@settings(max_examples=100)
 @given(gas_scenes(max_n=6, periodic=False), st.integers(3, 25))
 def test_events_match_the_naive_event_loop(scene, k):
     p, v, r, m = _start(scene)
@@ -114,7 +114,7 @@ def test_events_match_the_naive_event_loop(scene, k):
     assert gas.events >= k  # the fast kernel also counts cell crossings
 
 
-@settings(max_examples=25)
+@settings(max_examples=60)
 @given(gas_scenes(max_n=30), st.floats(0.5, 3.0))
 def test_events_never_overlap_nor_leave_the_box(scene, t_end):
     p, v, r, m = _start(scene)
@@ -130,7 +130,7 @@ def test_events_never_overlap_nor_leave_the_box(scene, t_end):
             assert (np.abs(q) <= L / 2 - r[:, None] + 1e-9).all()
 
 
-@settings(max_examples=15)
+@settings(max_examples=40)
 @given(st.integers(0, 2**16), st.floats(1e2, 1e7), st.integers(8, 40))
 def test_events_do_not_tunnel_at_any_speed(seed, speed, n):
     """One sphere moves many diameters (up to millions of boxes) between the events of slow others."""
@@ -164,7 +164,7 @@ def test_events_energy_drift_after_1e5_collisions():
             assert np.linalg.norm(res.momentum) <= 1e-10 * np.sqrt(n)
 
 
-@settings(max_examples=20)
+@settings(max_examples=60)
 @given(gas_scenes(max_n=40), st.floats(1e-3, 0.05), st.integers(5, 40))
 def test_stepped_frames_never_leave_the_box_and_end_without_overlap(scene, dt, steps):
     p, v, r, m = _start(scene)
@@ -183,7 +183,7 @@ def test_stepped_frames_never_leave_the_box_and_end_without_overlap(scene, dt, s
     assert gas.overlapping == 0
 
 
-@settings(max_examples=20)
+@settings(max_examples=60)
 @given(gas_scenes(max_n=40), st.floats(1e-3, 0.05))
 def test_stepped_conserves_energy_and_periodic_momentum_to_round_off(scene, dt):
     p, v, r, m = _start(scene)
@@ -198,7 +198,7 @@ def test_stepped_conserves_energy_and_periodic_momentum_to_round_off(scene, dt):
         assert np.linalg.norm((m[:, None] * gas.velocities).sum(0) - p0) <= 1e-13 * scale
 
 
-@settings(max_examples=8)
+@settings(max_examples=25)
 @given(gas_scenes(max_n=30))
 def test_same_seed_same_final_state_for_every_broad_phase(scene):
     runs = [simulate_gas(scene["n"], radius=scene["radius"], mass=scene["mass"], boundary=scene["boundary"],
@@ -261,7 +261,7 @@ def test_speeds_relax_to_maxwell_boltzmann():
     (dict(n=100, radius=1.0), "too dense|cannot place"),
     (dict(n=4, radius=4.9), "cannot place|too dense"),
     (dict(n=10, radius=6.0), "radius"),
-    (dict(n=10, radius=1.0, boundary="periodic"), "3 diameters"),
+    (dict(n=10, radius=1.8, boundary="periodic"), "3 diameters"),
     (dict(n=10, radius=0.1, method="leapfrog"), "method"),
     (dict(n=10, radius=0.1, broad_phase="kd"), "broad_phase"),
     (dict(n=10, radius=-0.1), "radius"),

@@ -59,10 +59,15 @@ def _random_sequential_kernel(n, r, lo, side, periodic, max_trials, seed):
     rmax = 0.0
     for i in range(n):
         rmax = max(rmax, r[i])
-    total = side + 2.0 * rmax
+    if periodic:
+        # the cells tile the period exactly, so that wrapped neighbour cells are the true neighbours
+        total = side
+        origin = lo
+    else:
+        total = side + 2.0 * rmax
+        origin = lo - rmax
     ncell = max(1, min(int(total / (2.0 * rmax)) if rmax > 0.0 else 1, 64))
     width = total / ncell
-    origin = lo - rmax
     head = -np.ones(ncell * ncell * ncell, dtype=np.int64)
     nxt = -np.ones(n, dtype=np.int64)
     for i in range(n):
@@ -140,7 +145,7 @@ def place_spheres(n: int, radii: np.ndarray, box: float, boundary: str, rng: np.
     eta = packing_fraction(radii, box, boundary)
     if not periodic and box - 2.0 * rmax <= 0.0:
         raise ValueError(f"radius {rmax!r} does not fit in a box of side {box!r} (need 2 r < box)")
-    if eta > MAX_PACKING:
+    if eta > MAX_PACKING * (1.0 + 1e-9):
         raise ValueError(f"packing fraction {eta:.4g} is too dense: the gas is supported up to eta = {MAX_PACKING}")
     lo = -box / 2.0 + (0.0 if periodic else rmean)
     side = reachable_side(box, rmean, boundary)
