@@ -160,3 +160,23 @@ def test_incremental_sap_repairs_by_insertion_sort():
     step = rng.normal(0, 0.05, lo.shape)
     np.testing.assert_array_equal(sap.update(lo + step, hi + step), find_pairs(lo + step, hi + step, "brute"))
     assert 0 < sap.last_swaps < 200  # nearly sorted: few swaps
+
+
+def test_tree_query_skips_free_slots():
+    # regression: a node slot that is not a live leaf (free, or never built) must be ignored, whatever it holds
+    from engine.broadphase.aabb_tree import _tree_pairs_kernel
+
+    rng = np.random.default_rng(3)
+    lo = rng.uniform(-5, 5, (30, 3))
+    hi = lo + 1.5
+    tree = DynamicAABBTree.from_boxes(lo, hi, margin=0.0)
+    extra = tree._node_lo.shape[0]
+    node_lo = np.vstack([tree._node_lo, np.full((2, 3), -1e9)])
+    node_hi = np.vstack([tree._node_hi, np.full((2, 3), 1e9)])
+    child1 = np.concatenate([tree._child1, [-1, -1]])
+    child2 = np.concatenate([tree._child2, [-1, -1]])
+    obj_of = np.concatenate([tree._obj_of, [10**9, -5]])  # garbage in the extra slots
+    got = _tree_pairs_kernel(tree._root, node_lo, node_hi, child1, child2, obj_of, tree._obj_lo, tree._obj_hi,
+                             tree._obj_node, 30)
+    assert extra > 0
+    np.testing.assert_array_equal(got, find_pairs(lo, hi, "brute"))

@@ -209,11 +209,11 @@ def _tree_pairs_kernel(root, node_lo, node_hi, child1, child2, obj_of, obj_lo, o
     stack = np.empty(node_lo.shape[0] + 1, dtype=np.int64)
     for leaf in range(node_lo.shape[0]):
         # objects in node order (leaves of a subtree are close): consecutive queries share branches
-        if child1[leaf] != -1 or obj_of[leaf] < 0:
+        if child1[leaf] != -1:
             continue
         i = obj_of[leaf]
-        if obj_node[i] != leaf:
-            continue
+        if i < 0 or i >= n_objects or obj_node[i] != leaf:
+            continue  # a free slot, not a live leaf
         top = 1
         stack[0] = root
         while top > 0:
@@ -559,14 +559,14 @@ def tree_pairs(lo, hi) -> np.ndarray:
     n = lo3.shape[0]
     if n < 2:
         return empty_pairs()
-    capacity = 2 * n
+    capacity = 2 * n - 1  # exactly the nodes of a binary tree with n leaves: no uninitialised slot
     node_lo = np.empty((capacity, 3))
     node_hi = np.empty((capacity, 3))
     parent = np.empty(capacity, dtype=np.int64)
-    child1 = np.empty(capacity, dtype=np.int64)
-    child2 = np.empty(capacity, dtype=np.int64)
-    height = np.empty(capacity, dtype=np.int64)
+    child1 = np.full(capacity, -1, dtype=np.int64)
+    child2 = np.full(capacity, -1, dtype=np.int64)
+    height = np.zeros(capacity, dtype=np.int64)
     leaf_of = np.empty(n, dtype=np.int64)
-    obj_of = np.empty(capacity, dtype=np.int64)
+    obj_of = np.full(capacity, -1, dtype=np.int64)
     _build_kernel(lo3, hi3, node_lo, node_hi, parent, child1, child2, height, leaf_of, obj_of)
     return _tree_pairs_kernel(0, node_lo, node_hi, child1, child2, obj_of, lo3, hi3, leaf_of, n)
