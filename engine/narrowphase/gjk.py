@@ -63,6 +63,11 @@ class GJKNotConverged(RuntimeError):
 
 # ---------------------------------------------------------------------------------------------------------------
 # kernels
+#
+# The per-pair loop holds no reference counting (numba's NRT incref/decref are atomic operations): the one kernel
+# ``_gjk_loop`` runs the pair loop and the GJK loop in one function body, takes every array once as an argument,
+# and addresses shapes by (index, row range) rather than by slices or views; the Voronoi-region helpers below
+# take and return scalars only (no arrays, no tuple-of-arrays).
 # ---------------------------------------------------------------------------------------------------------------
 
 @njit(inline="always")
@@ -79,223 +84,421 @@ def _support(points, dx, dy, dz):
 
 
 @njit(inline="always")
-def _keep(W, IA, IB, lam, order, n_keep, weights, o):
-    """Reduce the simplex to the vertices ``order[:n_keep]`` (ascending) with barycentric ``weights``.
+def _segment(ax, ay, az, bx, by, bz):
+    """Closest point to the origin on segment [a, b] (Ericson 5.1.2).
 
-    The order is ascending, so copying forward in place never overwrites a vertex still to be read.
+    Returns ``(m, s0, s1, l0, l1)``: the m supporting vertices (0 = a, 1 = b, ascending) and their weights.
     """
-    for k in range(n_keep):
-        i = order[o + k]
-        W[k, 0] = W[i, 0]
-        W[k, 1] = W[i, 1]
-        W[k, 2] = W[i, 2]
-        IA[k] = IA[i]
-        IB[k] = IB[i]
-        lam[k] = weights[o + k]
-    return n_keep
-
-
-@njit(inline="always")
-def _segment_weights(W, i0, i1, out_order, out_weights, o):
-    """Closest point to the origin on segment [W[i0], W[i1]] (Ericson 5.1.2): supporting vertices and weights."""
-    ax, ay, az = W[i0, 0], W[i0, 1], W[i0, 2]
-    abx, aby, abz = W[i1, 0] - ax, W[i1, 1] - ay, W[i1, 2] - az
+    abx, aby, abz = bx - ax, by - ay, bz - az
     denom = abx * abx + aby * aby + abz * abz
     t = -(ax * abx + ay * aby + az * abz)
     if t <= 0.0 or denom <= 0.0:
-        out_order[o + 0] = i0
-        out_weights[o + 0] = 1.0
-        return 1
+        return 1, 0, 0, 1.0, 0.0
     if t >= denom:
-        out_order[o + 0] = i1
-        out_weights[o + 0] = 1.0
-        return 1
+        return 1, 1, 0, 1.0, 0.0
     t = t / denom
-    out_order[o + 0] = i0
-    out_order[o + 1] = i1
-    out_weights[o + 0] = 1.0 - t
-    out_weights[o + 1] = t
-    return 2
+    return 2, 0, 1, 1.0 - t, t
 
 
 @njit(inline="always")
-def _triangle_weights(W, i0, i1, i2, out_order, out_weights, o):
+def _triangle(ax, ay, az, bx, by, bz, cx, cy, cz):
     """Ericson 5.1.5 ClosestPtPointTriangle with p = origin: Voronoi regions of vertices, edges, face.
 
-    Writes the supporting vertices (ascending) and their barycentric weights; returns how many there are, or
-    -1 for a zero-area triangle.
+    Returns ``(m, s0, s1, s2, l0, l1, l2)``: the m supporting vertices (0 = a, 1 = b, 2 = c, ascending) and their
+    barycentric weights, or m = -1 for a zero-area triangle.
     """
-    ax, ay, az = W[i0, 0], W[i0, 1], W[i0, 2]
-    bx, by, bz = W[i1, 0], W[i1, 1], W[i1, 2]
-    cx, cy, cz = W[i2, 0], W[i2, 1], W[i2, 2]
     abx, aby, abz = bx - ax, by - ay, bz - az
     acx, acy, acz = cx - ax, cy - ay, cz - az
     # ap = -a
     d1 = -(abx * ax + aby * ay + abz * az)
     d2 = -(acx * ax + acy * ay + acz * az)
     if d1 <= 0.0 and d2 <= 0.0:  # vertex region A
-        out_order[o + 0] = i0
-        out_weights[o + 0] = 1.0
-        return 1
+        return 1, 0, 0, 0, 1.0, 0.0, 0.0
     # bp = -b
     d3 = -(abx * bx + aby * by + abz * bz)
     d4 = -(acx * bx + acy * by + acz * bz)
     if d3 >= 0.0 and d4 <= d3:  # vertex region B
-        out_order[o + 0] = i1
-        out_weights[o + 0] = 1.0
-        return 1
+        return 1, 1, 0, 0, 1.0, 0.0, 0.0
     vc = d1 * d4 - d3 * d2
     if vc <= 0.0 and d1 >= 0.0 and d3 <= 0.0:  # edge region AB
         v = d1 / (d1 - d3)
-        out_order[o + 0] = i0
-        out_order[o + 1] = i1
-        out_weights[o + 0] = 1.0 - v
-        out_weights[o + 1] = v
-        return 2
+        return 2, 0, 1, 0, 1.0 - v, v, 0.0
     # cp = -c
     d5 = -(abx * cx + aby * cy + abz * cz)
     d6 = -(acx * cx + acy * cy + acz * cz)
     if d6 >= 0.0 and d5 <= d6:  # vertex region C
-        out_order[o + 0] = i2
-        out_weights[o + 0] = 1.0
-        return 1
+        return 1, 2, 0, 0, 1.0, 0.0, 0.0
     vb = d5 * d2 - d1 * d6
     if vb <= 0.0 and d2 >= 0.0 and d6 <= 0.0:  # edge region AC
         w = d2 / (d2 - d6)
-        out_order[o + 0] = i0
-        out_order[o + 1] = i2
-        out_weights[o + 0] = 1.0 - w
-        out_weights[o + 1] = w
-        return 2
+        return 2, 0, 2, 0, 1.0 - w, w, 0.0
     va = d3 * d6 - d5 * d4
     if va <= 0.0 and (d4 - d3) >= 0.0 and (d5 - d6) >= 0.0:  # edge region BC
         w = (d4 - d3) / ((d4 - d3) + (d5 - d6))
-        out_order[o + 0] = i1
-        out_order[o + 1] = i2
-        out_weights[o + 0] = 1.0 - w
-        out_weights[o + 1] = w
-        return 2
+        return 2, 1, 2, 0, 1.0 - w, w, 0.0
     denom = va + vb + vc
     if not denom > 0.0:  # degenerate (zero-area) triangle
-        return -1
+        return -1, 0, 0, 0, 0.0, 0.0, 0.0
     v = vb / denom
     w = vc / denom
-    out_order[o + 0] = i0
-    out_order[o + 1] = i1
-    out_order[o + 2] = i2
-    out_weights[o + 0] = 1.0 - v - w
-    out_weights[o + 1] = v
-    out_weights[o + 2] = w
-    return 3
+    return 3, 0, 1, 2, 1.0 - v - w, v, w
 
 
 @njit(inline="always")
-def _weights_distance2(W, order, weights, n, o):
+def _pick3(s, a, b, c):
+    """Component ``s`` (0, 1, 2) of (a, b, c)."""
+    if s == 0:
+        return a
+    if s == 1:
+        return b
+    return c
+
+
+@njit(inline="always")
+def _triangle_distance2(m, s0, s1, s2, l0, l1, l2, ax, ay, az, bx, by, bz, cx, cy, cz):
+    """|Σ λ_k p_{s_k}|² over the m supporting vertices of triangle (a, b, c)."""
     x = 0.0
     y = 0.0
     z = 0.0
-    for k in range(n):
-        i = order[o + k]
-        x += weights[o + k] * W[i, 0]
-        y += weights[o + k] * W[i, 1]
-        z += weights[o + k] * W[i, 2]
+    if m >= 1:
+        x += l0 * _pick3(s0, ax, bx, cx)
+        y += l0 * _pick3(s0, ay, by, cy)
+        z += l0 * _pick3(s0, az, bz, cz)
+    if m >= 2:
+        x += l1 * _pick3(s1, ax, bx, cx)
+        y += l1 * _pick3(s1, ay, by, cy)
+        z += l1 * _pick3(s1, az, bz, cz)
+    if m >= 3:
+        x += l2 * _pick3(s2, ax, bx, cx)
+        y += l2 * _pick3(s2, ay, by, cy)
+        z += l2 * _pick3(s2, az, bz, cz)
     return x * x + y * y + z * z
 
 
 @njit(inline="always")
-def _closest_triangle_any(W, i0, i1, i2, wi, wf, o, tmp):
-    """Closest point of triangle (W[i0], W[i1], W[i2]) to the origin, degenerate triangles included.
+def _triangle_any(ax, ay, az, bx, by, bz, cx, cy, cz):
+    """Closest point of triangle (a, b, c) to the origin, degenerate triangles included.
 
-    Result in ``wi[o:o+n]`` (vertices) and ``wf[o:o+n]`` (weights); ``wi[tmp:tmp+3]``, ``wf[tmp:tmp+3]`` scratch.
+    Returns ``(m, s0, s1, s2, l0, l1, l2)`` as ``_triangle`` (never -1: a zero-area triangle falls back on the
+    best of its three edges).
     """
-    n = _triangle_weights(W, i0, i1, i2, wi, wf, o)
-    if n > 0:
-        return n
+    m, s0, s1, s2, l0, l1, l2 = _triangle(ax, ay, az, bx, by, bz, cx, cy, cz)
+    if m > 0:
+        return m, s0, s1, s2, l0, l1, l2
     # zero-area triangle: the closest point lies on one of its three edges
     best_n = 0
+    b0 = 0
+    b1 = 0
+    bl0 = 0.0
+    bl1 = 0.0
     best_d = np.inf
     for e in range(3):
         if e == 0:
-            m = _segment_weights(W, i0, i1, wi, wf, tmp)
+            i0, i1 = 0, 1
+            k, t0, t1, w0, w1 = _segment(ax, ay, az, bx, by, bz)
         elif e == 1:
-            m = _segment_weights(W, i1, i2, wi, wf, tmp)
+            i0, i1 = 1, 2
+            k, t0, t1, w0, w1 = _segment(bx, by, bz, cx, cy, cz)
         else:
-            m = _segment_weights(W, i0, i2, wi, wf, tmp)
-        d = _weights_distance2(W, wi, wf, m, tmp)
+            i0, i1 = 0, 2
+            k, t0, t1, w0, w1 = _segment(ax, ay, az, cx, cy, cz)
+        # segment vertex 0 / 1 -> triangle vertex i0 / i1
+        g0 = i1 if t0 == 1 else i0
+        g1 = i1 if t1 == 1 else i0
+        d = _triangle_distance2(k, g0, g1, 0, w0, w1, 0.0, ax, ay, az, bx, by, bz, cx, cy, cz)
         if d < best_d:
             best_d = d
-            best_n = m
-            for k in range(m):
-                wi[o + k] = wi[tmp + k]
-                wf[o + k] = wf[tmp + k]
-    return best_n
+            best_n = k
+            b0 = g0
+            b1 = g1
+            bl0 = w0
+            bl1 = w1
+    return best_n, b0, b1, 0, bl0, bl1, 0.0
 
 
-@njit(inline="always")
-def _solve_simplex(W, IA, IB, lam, n, wi, wf):
-    """Closest point of hull(W[:n]) to the origin; reduces the simplex in place and returns its new size.
+#: stands for "no pair list" in ``_gjk_loop`` (batch and single-pair calls address shapes by pair index)
+_NO_PAIRS = np.zeros((0, 2), np.int64)
 
-    A return of 4 means the origin lies inside the tetrahedron (the hulls overlap); λ are then the barycentric
-    coordinates of the origin. Ericson 5.1.6 (ClosestPtPointTetrahedron) for n = 4. ``wi`` (12,) int and
-    ``wf`` (13,) float are scratch space (no allocation in the loop): slots 0-2 the current candidate, 3-5
-    scratch, 6-8 the best face so far, wf[9:13] the tetrahedron's barycentric coordinates.
+
+@njit
+def _gjk_loop(PA, PB, pairs, offsets, k_pairs, max_iter, W, IA, IB, lam, dist, closest_a, closest_b, status_out):
+    """GJK (Ericson 9.5) over k pairs of shapes, in one compiled loop.
+
+    ``PA``, ``PB`` are (S, N, 3). With a pair list (``pairs`` (k, 2), ``offsets``), pair p is shape
+    ``pairs[p, 0]`` of A = rows ``offsets[s]:offsets[s + 1]`` of ``PA[0]`` against shape ``pairs[p, 1]`` of B, the
+    same way; without one (``pairs`` empty), pair p is ``PA[p]`` against ``PB[p]``. Shapes are addressed by
+    (index, row range), never by slices: the loop creates no array views and assigns no array variable, so it
+    holds no reference counting. Writes ``dist[p]``, ``closest_a[p]``, ``closest_b[p]``, ``status_out[p]`` and
+    leaves the last pair's final simplex in W (4, 3), IA, IB (row indices into PA[sa], PB[sb]), λ (for EPA).
+    Returns the last pair's (status, simplex size).
     """
-    if n == 1:
-        lam[0] = 1.0
-        return 1
-    if n == 2:
-        m = _segment_weights(W, 0, 1, wi, wf, 0)
-        return _keep(W, IA, IB, lam, wi, m, wf, 0)
-    if n == 3:
-        m = _closest_triangle_any(W, 0, 1, 2, wi, wf, 0, 3)
-        return _keep(W, IA, IB, lam, wi, m, wf, 0)
-    # tetrahedron: the origin is outside face (i, j, k) when it is on the other side of it from vertex l
-    abx, aby, abz = W[1, 0] - W[0, 0], W[1, 1] - W[0, 1], W[1, 2] - W[0, 2]
-    acx, acy, acz = W[2, 0] - W[0, 0], W[2, 1] - W[0, 1], W[2, 2] - W[0, 2]
-    adx, ady, adz = W[3, 0] - W[0, 0], W[3, 1] - W[0, 1], W[3, 2] - W[0, 2]
-    det = abx * (acy * adz - acz * ady) + aby * (acz * adx - acx * adz) + abz * (acx * ady - acy * adx)
-    scale = max(abx * abx + aby * aby + abz * abz, acx * acx + acy * acy + acz * acz,
-                adx * adx + ady * ady + adz * adz)
-    flat = abs(det) <= 1e-12 * scale * math.sqrt(scale)
-    best_d = np.inf
-    best_n = -1
-    inside = True
-    for f in range(4):
-        # face (i, j, k) opposite vertex l, with i < j < k
-        if f == 0:
-            i, j, k, l = 0, 1, 2, 3
-        elif f == 1:
-            i, j, k, l = 0, 1, 3, 2
-        elif f == 2:
-            i, j, k, l = 0, 2, 3, 1
+    use_pairs = pairs.shape[0] > 0
+    status = _NOT_CONVERGED
+    n = 0
+    for p in range(k_pairs):
+        if use_pairs:
+            sa = 0
+            sb = 0
+            a0 = offsets[pairs[p, 0]]
+            a1 = offsets[pairs[p, 0] + 1]
+            b0 = offsets[pairs[p, 1]]
+            b1 = offsets[pairs[p, 1] + 1]
         else:
-            i, j, k, l = 1, 2, 3, 0
-        px, py, pz = W[i, 0], W[i, 1], W[i, 2]
-        e1x, e1y, e1z = W[j, 0] - px, W[j, 1] - py, W[j, 2] - pz
-        e2x, e2y, e2z = W[k, 0] - px, W[k, 1] - py, W[k, 2] - pz
-        nx = e1y * e2z - e1z * e2y
-        ny = e1z * e2x - e1x * e2z
-        nz = e1x * e2y - e1y * e2x
-        sign_origin = -(px * nx + py * ny + pz * nz)
-        sign_other = (W[l, 0] - px) * nx + (W[l, 1] - py) * ny + (W[l, 2] - pz) * nz
-        if not flat:
-            wf[9 + l] = sign_origin / sign_other
-        if flat or sign_origin * sign_other < 0.0:
-            inside = False
-            m = _closest_triangle_any(W, i, j, k, wi, wf, 0, 3)
-            d = _weights_distance2(W, wi, wf, m, 0)
-            if d < best_d:
-                best_d = d
-                best_n = m
-                for t in range(m):
-                    wi[6 + t] = wi[t]
-                    wf[6 + t] = wf[t]
-    if inside:
-        # origin inside (or on) the tetrahedron: barycentric coordinates by signed volumes
-        for t in range(4):
-            lam[t] = wf[9 + t]
-        return 4
-    return _keep(W, IA, IB, lam, wi, best_n, wf, 6)
+            sa = p
+            sb = p
+            a0 = 0
+            a1 = PA.shape[1]
+            b0 = 0
+            b1 = PB.shape[1]
+        # start from a support point of M (so that every simplex vertex lies on M's boundary, as EPA assumes), in
+        # the direction of M's centroid: the first support point is then already close to the answer
+        na = a1 - a0
+        nb = b1 - b0
+        dx = 0.0
+        dy = 0.0
+        dz = 0.0
+        for i in range(a0, a1):
+            dx += PA[sa, i, 0]
+            dy += PA[sa, i, 1]
+            dz += PA[sa, i, 2]
+        dx /= na
+        dy /= na
+        dz /= na
+        ex = 0.0
+        ey = 0.0
+        ez = 0.0
+        for i in range(b0, b1):
+            ex += PB[sb, i, 0]
+            ey += PB[sb, i, 1]
+            ez += PB[sb, i, 2]
+        dx -= ex / nb
+        dy -= ey / nb
+        dz -= ez / nb
+        if dx == 0.0 and dy == 0.0 and dz == 0.0:
+            dx = 1.0
+        vx, vy, vz = dx, dy, dz
+        n = 0
+        vv = 0.0
+        size2 = 0.0
+        status = _NOT_CONVERGED
+        # iteration -1 takes the first support point as the simplex, unconditionally
+        for it in range(-1, max_iter):
+            if it >= 0 and vv <= (OVERLAP_TOL * OVERLAP_TOL) * size2:
+                status = _OVERLAP
+                break
+            # w <- s_A(-v) - s_B(v)
+            ia = a0
+            best = -(PA[sa, a0, 0] * vx + PA[sa, a0, 1] * vy + PA[sa, a0, 2] * vz)
+            for i in range(a0 + 1, a1):
+                d = -(PA[sa, i, 0] * vx + PA[sa, i, 1] * vy + PA[sa, i, 2] * vz)
+                if d > best:
+                    best = d
+                    ia = i
+            ib = b0
+            best = PB[sb, b0, 0] * vx + PB[sb, b0, 1] * vy + PB[sb, b0, 2] * vz
+            for i in range(b0 + 1, b1):
+                d = PB[sb, i, 0] * vx + PB[sb, i, 1] * vy + PB[sb, i, 2] * vz
+                if d > best:
+                    best = d
+                    ib = i
+            wx = PA[sa, ia, 0] - PB[sb, ib, 0]
+            wy = PA[sa, ia, 1] - PB[sb, ib, 1]
+            wz = PA[sa, ia, 2] - PB[sb, ib, 2]
+            if it < 0:
+                W[0, 0] = wx
+                W[0, 1] = wy
+                W[0, 2] = wz
+                IA[0] = ia
+                IB[0] = ib
+                lam[0] = 1.0
+                n = 1
+                vx, vy, vz = wx, wy, wz
+                vv = vx * vx + vy * vy + vz * vz
+                size2 = vv
+                continue
+            ww = wx * wx + wy * wy + wz * wz
+            if ww > size2:
+                size2 = ww
+            vw = vx * wx + vy * wy + vz * wz
+            # stopping test: w is no closer to the origin along v than v itself (to round-off)
+            if vv - vw <= REL_TOL * vv + 1e-15 * size2:
+                status = _SEPARATED
+                break
+            duplicate = False
+            for k in range(n):
+                if IA[k] == ia and IB[k] == ib:
+                    duplicate = True
+            if duplicate:
+                status = _SEPARATED
+                break
+            W[n, 0] = wx
+            W[n, 1] = wy
+            W[n, 2] = wz
+            IA[n] = ia
+            IB[n] = ib
+            n += 1
+            # W <- smallest subset of W holding the closest point of hull(W) to the origin (Ericson 5.1.2, 5.1.5,
+            # 5.1.6): m supporting vertices s0 < s1 < s2 with weights l0, l1, l2
+            m = 0
+            s0 = 0
+            s1 = 0
+            s2 = 0
+            l0 = 0.0
+            l1 = 0.0
+            l2 = 0.0
+            if n == 2:
+                m, s0, s1, l0, l1 = _segment(W[0, 0], W[0, 1], W[0, 2], W[1, 0], W[1, 1], W[1, 2])
+            elif n == 3:
+                m, s0, s1, s2, l0, l1, l2 = _triangle_any(W[0, 0], W[0, 1], W[0, 2], W[1, 0], W[1, 1], W[1, 2],
+                                                         W[2, 0], W[2, 1], W[2, 2])
+            else:
+                # tetrahedron: the origin is outside face (i, j, k) when it is on the other side of it from vertex l
+                abx, aby, abz = W[1, 0] - W[0, 0], W[1, 1] - W[0, 1], W[1, 2] - W[0, 2]
+                acx, acy, acz = W[2, 0] - W[0, 0], W[2, 1] - W[0, 1], W[2, 2] - W[0, 2]
+                adx, ady, adz = W[3, 0] - W[0, 0], W[3, 1] - W[0, 1], W[3, 2] - W[0, 2]
+                det = abx * (acy * adz - acz * ady) + aby * (acz * adx - acx * adz) + abz * (acx * ady - acy * adx)
+                scale = max(abx * abx + aby * aby + abz * abz, acx * acx + acy * acy + acz * acz,
+                            adx * adx + ady * ady + adz * adz)
+                flat = abs(det) <= 1e-12 * scale * math.sqrt(scale)
+                best_d = np.inf
+                m = -1
+                inside = True
+                bary0 = 0.0
+                bary1 = 0.0
+                bary2 = 0.0
+                bary3 = 0.0
+                for f in range(4):
+                    # face (i, j, k) opposite vertex l, with i < j < k
+                    if f == 0:
+                        i, j, k, l = 0, 1, 2, 3
+                    elif f == 1:
+                        i, j, k, l = 0, 1, 3, 2
+                    elif f == 2:
+                        i, j, k, l = 0, 2, 3, 1
+                    else:
+                        i, j, k, l = 1, 2, 3, 0
+                    px, py, pz = W[i, 0], W[i, 1], W[i, 2]
+                    qx, qy, qz = W[j, 0], W[j, 1], W[j, 2]
+                    rx, ry, rz = W[k, 0], W[k, 1], W[k, 2]
+                    e1x, e1y, e1z = qx - px, qy - py, qz - pz
+                    e2x, e2y, e2z = rx - px, ry - py, rz - pz
+                    nx = e1y * e2z - e1z * e2y
+                    ny = e1z * e2x - e1x * e2z
+                    nz = e1x * e2y - e1y * e2x
+                    sign_origin = -(px * nx + py * ny + pz * nz)
+                    sign_other = (W[l, 0] - px) * nx + (W[l, 1] - py) * ny + (W[l, 2] - pz) * nz
+                    if not flat:
+                        bary = sign_origin / sign_other
+                        if l == 0:
+                            bary0 = bary
+                        elif l == 1:
+                            bary1 = bary
+                        elif l == 2:
+                            bary2 = bary
+                        else:
+                            bary3 = bary
+                    if flat or sign_origin * sign_other < 0.0:
+                        inside = False
+                        fm, t0, t1, t2, w0, w1, w2 = _triangle_any(px, py, pz, qx, qy, qz, rx, ry, rz)
+                        d = _triangle_distance2(fm, t0, t1, t2, w0, w1, w2, px, py, pz, qx, qy, qz, rx, ry, rz)
+                        if d < best_d:
+                            best_d = d
+                            m = fm
+                            # face vertex 0 / 1 / 2 -> simplex vertex i / j / k (ascending stays ascending)
+                            s0 = _pick3(t0, i, j, k)
+                            s1 = _pick3(t1, i, j, k)
+                            s2 = _pick3(t2, i, j, k)
+                            l0 = w0
+                            l1 = w1
+                            l2 = w2
+                if inside:
+                    # origin inside (or on) the tetrahedron: barycentric coordinates by signed volumes
+                    lam[0] = bary0
+                    lam[1] = bary1
+                    lam[2] = bary2
+                    lam[3] = bary3
+                    n = 4
+                    status = _OVERLAP
+                    break
+            # keep W[s0], W[s1], W[s2] (ascending, so copying forward in place never overwrites one still to read)
+            if m >= 1:
+                W[0, 0] = W[s0, 0]
+                W[0, 1] = W[s0, 1]
+                W[0, 2] = W[s0, 2]
+                IA[0] = IA[s0]
+                IB[0] = IB[s0]
+                lam[0] = l0
+            if m >= 2:
+                W[1, 0] = W[s1, 0]
+                W[1, 1] = W[s1, 1]
+                W[1, 2] = W[s1, 2]
+                IA[1] = IA[s1]
+                IB[1] = IB[s1]
+                lam[1] = l1
+            if m >= 3:
+                W[2, 0] = W[s2, 0]
+                W[2, 1] = W[s2, 1]
+                W[2, 2] = W[s2, 2]
+                IA[2] = IA[s2]
+                IB[2] = IB[s2]
+                lam[2] = l2
+            n = m
+            # v <- Σ λ_k W_k
+            nx = 0.0
+            ny = 0.0
+            nz = 0.0
+            if n >= 1:
+                nx += lam[0] * W[0, 0]
+                ny += lam[0] * W[0, 1]
+                nz += lam[0] * W[0, 2]
+            if n >= 2:
+                nx += lam[1] * W[1, 0]
+                ny += lam[1] * W[1, 1]
+                nz += lam[1] * W[1, 2]
+            if n >= 3:
+                nx += lam[2] * W[2, 0]
+                ny += lam[2] * W[2, 1]
+                nz += lam[2] * W[2, 2]
+            nvv = nx * nx + ny * ny + nz * nz
+            if nvv >= vv:
+                # no progress: round-off has the last word; v is as close as this simplex gets
+                vx, vy, vz, vv = nx, ny, nz, nvv
+                status = _SEPARATED
+                break
+            vx, vy, vz, vv = nx, ny, nz, nvv
+        if status == _NOT_CONVERGED and vv <= (OVERLAP_TOL * OVERLAP_TOL) * size2:
+            status = _OVERLAP
+        # closest points from the barycentric weights of the final simplex
+        qx = 0.0
+        qy = 0.0
+        qz = 0.0
+        rx = 0.0
+        ry = 0.0
+        rz = 0.0
+        for k in range(n):
+            qx += lam[k] * PA[sa, IA[k], 0]
+            rx += lam[k] * PB[sb, IB[k], 0]
+            qy += lam[k] * PA[sa, IA[k], 1]
+            ry += lam[k] * PB[sb, IB[k], 1]
+            qz += lam[k] * PA[sa, IA[k], 2]
+            rz += lam[k] * PB[sb, IB[k], 2]
+        if status == _OVERLAP:
+            dist[p] = 0.0
+            # one common point: the two barycentric sums agree to round-off; report their mean on both sides
+            qx = 0.5 * (qx + rx)
+            qy = 0.5 * (qy + ry)
+            qz = 0.5 * (qz + rz)
+            rx, ry, rz = qx, qy, qz
+        else:
+            dist[p] = math.sqrt(vv)
+        closest_a[p, 0] = qx
+        closest_a[p, 1] = qy
+        closest_a[p, 2] = qz
+        closest_b[p, 0] = rx
+        closest_b[p, 1] = ry
+        closest_b[p, 2] = rz
+        status_out[p] = status
+    return status, n
 
 
 @njit
@@ -303,154 +506,33 @@ def _gjk(pa, pb, max_iter, W, IA, IB, lam, out, work_i, work_f):
     """GJK (Ericson 9.5) between hull(pa) and hull(pb), (n, 3) and (m, 3).
 
     Fills ``out[0:3]`` with the closest point on A, ``out[3:6]`` on B, ``out[6]`` with the distance, and leaves
-    the final simplex (support points W, their vertex indices IA, IB, weights λ) for EPA. ``work_i`` (12,) int
-    and ``work_f`` (13,) float are scratch space, allocated once by the caller. Returns (status, simplex size).
+    the final simplex (support points W, their vertex indices IA, IB, weights λ) for EPA. ``work_i`` (>= 1,) int
+    receives the status; ``work_f`` is kept for callers' compatibility. Returns (status, simplex size).
     """
-    # start from a support point of M (so that every simplex vertex lies on M's boundary, as EPA assumes), in
-    # the direction of M's centroid: the first support point is then already close to the answer
-    dx = 0.0
-    dy = 0.0
-    dz = 0.0
-    for i in range(pa.shape[0]):
-        dx += pa[i, 0]
-        dy += pa[i, 1]
-        dz += pa[i, 2]
-    dx /= pa.shape[0]
-    dy /= pa.shape[0]
-    dz /= pa.shape[0]
-    ex = 0.0
-    ey = 0.0
-    ez = 0.0
-    for i in range(pb.shape[0]):
-        ex += pb[i, 0]
-        ey += pb[i, 1]
-        ez += pb[i, 2]
-    dx -= ex / pb.shape[0]
-    dy -= ey / pb.shape[0]
-    dz -= ez / pb.shape[0]
-    if dx == 0.0 and dy == 0.0 and dz == 0.0:
-        dx = 1.0
-    ia = _support(pa, -dx, -dy, -dz)
-    ib = _support(pb, dx, dy, dz)
-    W[0, 0] = pa[ia, 0] - pb[ib, 0]
-    W[0, 1] = pa[ia, 1] - pb[ib, 1]
-    W[0, 2] = pa[ia, 2] - pb[ib, 2]
-    IA[0] = ia
-    IB[0] = ib
-    lam[0] = 1.0
-    n = 1
-    vx, vy, vz = W[0, 0], W[0, 1], W[0, 2]
-    vv = vx * vx + vy * vy + vz * vz
-    size2 = vv
-    status = _NOT_CONVERGED
-    for _ in range(max_iter):
-        if vv <= (OVERLAP_TOL * OVERLAP_TOL) * size2:
-            status = _OVERLAP
-            break
-        ia = _support(pa, -vx, -vy, -vz)
-        ib = _support(pb, vx, vy, vz)
-        wx = pa[ia, 0] - pb[ib, 0]
-        wy = pa[ia, 1] - pb[ib, 1]
-        wz = pa[ia, 2] - pb[ib, 2]
-        ww = wx * wx + wy * wy + wz * wz
-        if ww > size2:
-            size2 = ww
-        vw = vx * wx + vy * wy + vz * wz
-        # stopping test: w is no closer to the origin along v than v itself (to round-off)
-        if vv - vw <= REL_TOL * vv + 1e-15 * size2:
-            status = _SEPARATED
-            break
-        duplicate = False
-        for k in range(n):
-            if IA[k] == ia and IB[k] == ib:
-                duplicate = True
-        if duplicate:
-            status = _SEPARATED
-            break
-        W[n, 0] = wx
-        W[n, 1] = wy
-        W[n, 2] = wz
-        IA[n] = ia
-        IB[n] = ib
-        n += 1
-        n = _solve_simplex(W, IA, IB, lam, n, work_i, work_f)
-        if n == 4:
-            status = _OVERLAP
-            break
-        nx = 0.0
-        ny = 0.0
-        nz = 0.0
-        for k in range(n):
-            nx += lam[k] * W[k, 0]
-            ny += lam[k] * W[k, 1]
-            nz += lam[k] * W[k, 2]
-        nvv = nx * nx + ny * ny + nz * nz
-        if nvv >= vv:
-            # no progress: round-off has the last word; v is as close as this simplex gets
-            vx, vy, vz, vv = nx, ny, nz, nvv
-            status = _SEPARATED
-            break
-        vx, vy, vz, vv = nx, ny, nz, nvv
-    if status == _NOT_CONVERGED and vv <= (OVERLAP_TOL * OVERLAP_TOL) * size2:
-        status = _OVERLAP
-    # closest points from the barycentric weights of the final simplex
-    for c in range(6):
-        out[c] = 0.0
-    for k in range(n):
-        for c in range(3):
-            out[c] += lam[k] * pa[IA[k], c]
-            out[3 + c] += lam[k] * pb[IB[k], c]
-    if status == _OVERLAP:
-        out[6] = 0.0
-        # one common point: the two barycentric sums agree to round-off; report their mean on both sides
-        for c in range(3):
-            m = 0.5 * (out[c] + out[3 + c])
-            out[c] = m
-            out[3 + c] = m
-    else:
-        out[6] = math.sqrt(vv)
-    return status, n
+    return _gjk_loop(pa[np.newaxis], pb[np.newaxis], _NO_PAIRS, _NO_PAIRS[0], 1, max_iter, W, IA, IB, lam,
+                     out[6:7], out[np.newaxis, 0:3], out[np.newaxis, 3:6], work_i)
 
 
 @njit
 def _gjk_pairs(points, offsets, pairs, max_iter, dist, closest_a, closest_b, status):
-    """One compiled loop over k pairs of packed shapes (shape s = points[offsets[s]:offsets[s+1]])."""
+    """One compiled loop over k pairs of packed shapes (shape s = rows offsets[s]:offsets[s+1] of points)."""
     W = np.empty((4, 3))
     IA = np.empty(4, np.int64)
     IB = np.empty(4, np.int64)
     lam = np.empty(4)
-    out = np.empty(7)
-    work_i = np.empty(12, np.int64)
-    work_f = np.empty(13)
-    for p in range(pairs.shape[0]):
-        i = pairs[p, 0]
-        j = pairs[p, 1]
-        pa = points[offsets[i]:offsets[i + 1]]
-        pb = points[offsets[j]:offsets[j + 1]]
-        st, _ = _gjk(pa, pb, max_iter, W, IA, IB, lam, out, work_i, work_f)
-        status[p] = st
-        for c in range(3):
-            closest_a[p, c] = out[c]
-            closest_b[p, c] = out[3 + c]
-        dist[p] = out[6]
+    P = points[np.newaxis]  # (1, N, 3): one view for the whole loop, shapes addressed by row offsets
+    _gjk_loop(P, P, pairs, offsets, pairs.shape[0], max_iter, W, IA, IB, lam, dist, closest_a, closest_b, status)
 
 
 @njit
 def _gjk_batch(points_a, points_b, max_iter, dist, closest_a, closest_b, status):
+    """One compiled loop over k aligned pairs (points_a[p], points_b[p]), addressed by index, not by view."""
     W = np.empty((4, 3))
     IA = np.empty(4, np.int64)
     IB = np.empty(4, np.int64)
     lam = np.empty(4)
-    out = np.empty(7)
-    work_i = np.empty(12, np.int64)
-    work_f = np.empty(13)
-    for p in range(points_a.shape[0]):
-        st, _ = _gjk(points_a[p], points_b[p], max_iter, W, IA, IB, lam, out, work_i, work_f)
-        status[p] = st
-        for c in range(3):
-            closest_a[p, c] = out[c]
-            closest_b[p, c] = out[3 + c]
-        dist[p] = out[6]
+    _gjk_loop(points_a, points_b, _NO_PAIRS, _NO_PAIRS[0], points_a.shape[0], max_iter, W, IA, IB, lam, dist,
+              closest_a, closest_b, status)
 
 
 # ---------------------------------------------------------------------------------------------------------------
