@@ -105,4 +105,10 @@ def dynamics_section(out, info, quick=False):
              "bisection's iteration bound")]
 
 
-SECTIONS = [("dynamics", dynamics_section)]
+def _gas_section(out, info, quick=False):
+    from bench.validation_gas import gas_section
+
+    return gas_section(out, info, quick=quick)
+
+
+SECTIONS = [("dynamics", dynamics_section), ("gas", _gas_section)]
