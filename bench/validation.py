@@ -11,6 +11,7 @@ import math
 import numpy as np
 import pandas as pd
 
+from bench.validation_gas import gas_section
 from properties.oracles import free_fall_impacts, reference_impacts
 
 
@@ -105,10 +106,4 @@ def dynamics_section(out, info, quick=False):
              "bisection's iteration bound")]
 
 
-def _gas_section(out, info, quick=False):
-    from bench.validation_gas import gas_section
-
-    return gas_section(out, info, quick=quick)
-
-
-SECTIONS = [("dynamics", dynamics_section), ("gas", _gas_section)]
+SECTIONS = [("dynamics", dynamics_section), ("gas", gas_section)]
