@@ -51,6 +51,10 @@ def _fit_to_zero(dts, zs, errs):
     return float(coef[0]), float(math.sqrt(cov[0, 0])), float(coef[1])
 
 
+def _in_errors(row):
+    return (row["z_virial"] - row["z_wall"]) / math.hypot(row["z_virial_err"], row["z_wall_err"])
+
+
 def gas_section(out: pathlib.Path, info: dict, quick: bool = False) -> list[tuple[str, str]]:
     out = pathlib.Path(out)
     started = time.perf_counter()
@@ -125,9 +129,8 @@ def gas_section(out: pathlib.Path, info: dict, quick: bool = False) -> list[tupl
     walls_ev = [r_ for r_ in eos if r_["boundary"] == "walls" and r_["method"] == "events"]
     per_ev = [r_ for r_ in eos if r_["boundary"] == "periodic" and r_["method"] == "events"]
     lines += ["",
-              "Z virial against Z wall (walls, events): " + ", ".join(
-                  f"η = {r_['eta']:.1f}: {(r_['z_virial'] - r_['z_wall']) / math.hypot(r_['z_virial_err'], r_['z_wall_err']):+.1f} σ"
-                  for r_ in walls_ev) + ".",
+              "Z virial against Z wall (walls, events), in combined standard errors: " + ", ".join(
+                  f"η = {r_['eta']:.1f}: {_in_errors(r_):+.1f}" for r_ in walls_ev) + ".",
               "Periodic Z against Carnahan–Starling (events): " + ", ".join(
                   f"η = {r_['eta']:.1f}: {100 * (r_['z_virial'] / r_['carnahan_starling'] - 1):+.2f} %"
                   for r_ in per_ev) + "; walled box: " + ", ".join(

@@ -14,8 +14,14 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 from engine.broadphase import BROAD_PHASES
-from engine.gas import EventDrivenGas, SteppedGas, maxwell_boltzmann_test, radius_for_packing, simulate_gas
-from engine.gas import speed_moment_ratio
+from engine.gas import (
+    EventDrivenGas,
+    SteppedGas,
+    maxwell_boltzmann_test,
+    radius_for_packing,
+    simulate_gas,
+    speed_moment_ratio,
+)
 from engine.gas.initial import draw_velocities, place_spheres
 from properties.strategies.gas import gas_scenes
 
@@ -270,6 +276,7 @@ def test_speeds_relax_to_maxwell_boltzmann():
     (dict(n=1, radius=0.1, boundary="periodic"), "n >= 2"),
     (dict(n=2, radius=0.5, positions=[[0, 0, 0], [0.5, 0, 0]]), "overlap"),
     (dict(n=2, radius=0.5, positions=[[0, 0, 0], [4.9, 0, 0]]), "positions"),
+    (dict(n=2, radius=0.5, boundary="periodic", positions=[[4.9, 0, 0], [-4.8, 0, 0]]), "overlap"),
     (dict(n=3, radius=[0.1, 0.2], mass=1.0), "radius"),
     (dict(n=3, radius=0.1, mass=[1.0, 0.0, 2.0]), r"mass\[1\]"),
 ])

@@ -64,13 +64,15 @@ def run_gas_command(n=2000, eta=0.2, method="events", boundary="walls", t_measur
     what = "event-driven" if method == "events" else f"stepped, dt = {dt:g}, broad phase {broad_phase}"
     lines = [
         f"confined gas: N = {n}, eta = {eta:g}, sigma = {res.sigma:.5g}, box = 10, {boundary}, {what}",
-        f"  measured over t = {res.t_measure:g} after t = {t_equilibrate:g} of equilibration, kT = {res.temperature:.6g}",
+        f"  measured over t = {res.t_measure:g} after t = {t_equilibrate:g} of equilibration, "
+        f"kT = {res.temperature:.6g}",
         f"  Z (collision virial)  = {res.z_virial:.4f} +- {res.z_virial_err:.4f}",
     ]
     if boundary == "walls":
         lines.append(f"  Z (wall impulses)     = {res.z_wall:.4f} +- {res.z_wall_err:.4f}")
     else:
-        lines.append(f"  Z (Carnahan-Starling) = {carnahan_starling(res.packing_fraction):.4f}  (bulk equation of state)")
+        lines.append(f"  Z (Carnahan-Starling) = {carnahan_starling(res.packing_fraction):.4f}  "
+                     "(bulk equation of state)")
     lines += [
         f"  Z = 1 + Gamma sigma sqrt(pi m/kT)/6 = {res.z_collision_rate:.4f}",
         f"  Gamma (collisions per particle per unit time) = {res.collision_rate:.4f} +- {res.collision_rate_err:.4f}",
