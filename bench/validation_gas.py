@@ -90,8 +90,11 @@ def gas_section(out: pathlib.Path, info: dict, quick: bool = False) -> list[tupl
                            t_measure=t_b, blocks=20, seed=2)
         rows.append(_row(res, table="bias", vrms_dt_over_sigma=ratio))
         bias.append((ratio, res))
-    z0, z0_err, slope = _fit_to_zero([b[1].dt for b in bias], [b[1].z_virial for b in bias],
-                                     [b[1].z_virial_err for b in bias])
+    # the bias is linear in Δt only for small steps: at v_rms·Δt/σ = 0.4 a sphere meets several others per
+    # frame and Z collapses; the fit uses the steps with v_rms·Δt/σ <= 0.2
+    fit = [b for b in bias if b[0] <= 0.2]
+    z0, z0_err, slope = _fit_to_zero([b[1].dt for b in fit], [b[1].z_virial for b in fit],
+                                     [b[1].z_virial_err for b in fit])
     agree = abs(z0 - ev.z_virial) <= 3.0 * math.hypot(z0_err, ev.z_virial_err)
 
     df = pd.DataFrame(rows)
@@ -137,8 +140,11 @@ def gas_section(out: pathlib.Path, info: dict, quick: bool = False) -> list[tupl
                   f"η = {r_['eta']:.1f}: {100 * (r_['z_virial'] / r_['carnahan_starling'] - 1):+.1f} %"
                   for r_ in walls_ev) + ".", "",
               "## The stepped method's bias against Δt", "",
-              f"N = {n_b}, η = 0.2, walls, t_measure = {t_b:g}. Linear weighted fit Z(Δt) = Z0 + aΔt, "
-              f"extrapolated to Δt → 0.", "",
+              f"N = {n_b}, η = 0.2, walls, t_measure = {t_b:g}. Linear weighted fit Z(Δt) = Z0 + aΔt over the "
+              f"steps with v_rms·Δt/σ <= 0.2 (beyond, a sphere meets several others per frame and the bias is no "
+              f"longer linear), extrapolated to Δt → 0. Each contact is answered at its own contact instant "
+              f"(backtracked inside the frame), so the bias comes from contacts missed or answered in the wrong "
+              f"order within a frame.", "",
               "| v_rms·Δt/σ | Δt | Z virial | Z wall | Γ | Z − Z(events) |", "|---:|---:|---:|---:|---:|---:|"]
     for ratio, res in bias:
         lines.append(f"| {ratio:g} | {res.dt:.3e} | {pm(res.z_virial, res.z_virial_err)} | "
