@@ -88,7 +88,9 @@ def _not_left_turn(o, a, b):
     vx = b[0] - o[0]
     vy = b[1] - o[1]
     cross = ux * vy - uy * vx
-    return cross <= FLAT_ANGLE * math.sqrt((ux * ux + uy * uy) * (vx * vx + vy * vy))
+    if cross <= 0.0:
+        return True
+    return cross * cross <= FLAT_ANGLE * FLAT_ANGLE * ((ux * ux + uy * uy) * (vx * vx + vy * vy))
 
 
 @njit
@@ -122,7 +124,10 @@ def _hull_2d(pts: np.ndarray) -> ConvexHull:
     n = pts.shape[0]
     if n < 3:
         raise ValueError(f"points: a 2-D hull needs at least 3 points, got {n}")
-    order = np.lexsort((pts[:, 1], pts[:, 0])).astype(np.int64)
+    order = np.argsort(pts[:, 0])  # lexicographic (x, then y) order; ties in x need the second key
+    if (np.diff(pts[order, 0]) == 0).any():
+        order = np.lexsort((pts[:, 1], pts[:, 0]))
+    order = order.astype(np.int64)
     verts = _monotone_chain_kernel(pts, order)
     if verts.shape[0] < 3:
         what = "coincide" if np.ptp(pts, axis=0).max() == 0 else "are collinear"
