@@ -185,3 +185,21 @@ def test_sweep_intervals_validation():
         sweep_intervals([0.0, 2.0], [1.0, 1.0])
     with pytest.raises(ValueError, match="end"):
         sweep_intervals([0.0, 1.0], [1.0, np.inf])
+
+
+@pytest.mark.parametrize("method", METHODS)
+@settings(max_examples=40)
+@given(data=st.data())
+def test_work_counts_are_consistent(method, data):
+    """The work count of find_pairs(return_tests=True): brute force makes exactly (n² − n)/2 box tests; every
+    method tests each pair it reports at least once; the sweep never tests more pairs than brute force (it tests
+    the pairs overlapping on its axis)."""
+    lo, hi = data.draw(box_scenes(d=3))
+    n = lo.shape[0]
+    pairs, tests = find_pairs(lo, hi, method, return_tests=True)
+    np.testing.assert_array_equal(pairs, find_pairs(lo, hi, "brute"))
+    assert tests >= len(pairs)
+    if method == "brute":
+        assert tests == n * (n - 1) // 2
+    elif method == "sap":
+        assert tests <= n * (n - 1) // 2

@@ -177,6 +177,6 @@ def test_tree_query_skips_free_slots():
     child2 = np.concatenate([tree._child2, [-1, -1]])
     obj_of = np.concatenate([tree._obj_of, [10**9, -5]])  # garbage in the extra slots
     got = _tree_pairs_kernel(tree._root, node_lo, node_hi, child1, child2, obj_of, tree._obj_lo, tree._obj_hi,
-                             tree._obj_node, 30)
+                             tree._obj_node, 30)[0]
     assert extra > 0
     np.testing.assert_array_equal(got, find_pairs(lo, hi, "brute"))

@@ -1,5 +1,6 @@
 """The CI gate for algorithm changes (run by `tox -e gate`, which CI runs): deterministic agreement of every
-broad phase on the benchmark workloads, and speed ratios measured interleaved in one process.
+broad phase on the benchmark workloads, deterministic work counts (box tests made, against brute force's), and
+speed ratios measured interleaved in one process.
 
 Thresholds: each ratio must stay above about a third of what this machine measures (2-core AMD EPYC, numbers
 in the comments), so ordinary noise on a shared 2-core machine (up to ~2-3x on one measurement) passes while a
@@ -19,6 +20,14 @@ from engine.broadphase import BROAD_PHASES, find_pairs, sphere_pairs
 N_GATE = 5_000
 ROUNDS = 7
 
+#: box tests made, as a fraction of brute force's (n² − n)/2, at N = 5,000 (deterministic: fixed seeds).
+#: Measured: W1 sap 0.00114, grid 0.0040, tree 0.0176, octree 0.0189; W2 (eta 0.2) sap 0.0028, grid 0.0060,
+#: tree 0.0207, octree 0.0210. Bounds at about 2.5x those: a method that stops pruning as well fails.
+MAX_TEST_FRACTION = {
+    "W1": {"sap": 0.003, "grid": 0.010, "tree": 0.045, "octree": 0.045},
+    "W2": {"sap": 0.007, "grid": 0.015, "tree": 0.050, "octree": 0.050},
+}
+
 #: minimum "times faster than brute force" on W1 at N = 5,000 (measured: sap ~170, grid ~170, octree ~26, tree ~20)
 FASTER_THAN_BRUTE = {"sap": 50.0, "grid": 50.0, "octree": 7.0, "tree": 7.0}
 #: minimum "times faster than scipy cKDTree" for sphere_pairs(grid) on W2, N = 1e5, eta = 0.05 (measured 3.7-10)
@@ -37,17 +46,34 @@ def interleaved_min_times(funcs: dict, rounds: int = ROUNDS) -> dict:
     return best
 
 
+def _workload(name):
+    if name == "W1":
+        return w1_boxes(N_GATE)
+    c, r = w2_spheres(N_GATE, 0.2)
+    return c - r, c + r
+
+
 @pytest.mark.parametrize("workload", ["W1", "W2"])
 def test_every_method_returns_the_brute_force_pairs(workload):
-    if workload == "W1":
-        lo, hi = w1_boxes(N_GATE)
-    else:
-        c, r = w2_spheres(N_GATE, 0.2)
-        lo, hi = c - r, c + r
+    lo, hi = _workload(workload)
     reference = find_pairs(lo, hi, "brute")
     assert len(reference) > 100
     for method in BROAD_PHASES:
         np.testing.assert_array_equal(find_pairs(lo, hi, method), reference, err_msg=method)
+
+
+@pytest.mark.parametrize("workload", ["W1", "W2"])
+def test_broad_phases_prune_as_much_as_they_did(workload):
+    lo, hi = _workload(workload)
+    brute_tests = N_GATE * (N_GATE - 1) // 2
+    assert find_pairs(lo, hi, "brute", return_tests=True)[1] == brute_tests
+    over = {}
+    for method, bound in MAX_TEST_FRACTION[workload].items():
+        fraction = find_pairs(lo, hi, method, return_tests=True)[1] / brute_tests
+        print(f"{workload} {method}: {fraction:.5f} of brute force's tests (bound {bound})")
+        if fraction > bound:
+            over[method] = fraction
+    assert not over, f"{workload}: more box tests than the gate allows: {over}"
 
 
 def test_sphere_pairs_equal_ckdtree_on_w2():

@@ -21,7 +21,7 @@ import numpy as np
 
 from engine._config import njit
 from engine._validate import as_float_array, as_nonnegative
-from engine.broadphase.pairs import _canonical_pairs_kernel, _grow, as_boxes, as_boxes_3d, empty_pairs
+from engine.broadphase.pairs import _canonical_pairs_kernel, _grow, as_boxes, as_boxes_3d, empty_pairs, with_tests
 
 __all__ = ["DynamicAABBTree", "tree_pairs"]
 
@@ -204,8 +204,9 @@ def _tree_pairs_kernel(root, node_lo, node_hi, child1, child2, obj_of, obj_lo, o
     # box; at a leaf holding object j > i the exact boxes are compared.
     out = np.empty((max(n_objects, 16), 2), dtype=np.int64)
     count = 0
+    tests = 0
     if root == -1:
-        return out[:0].copy()
+        return out[:0].copy(), tests
     stack = np.empty(node_lo.shape[0] + 1, dtype=np.int64)
     for leaf in range(node_lo.shape[0]):
         # objects in node order (leaves of a subtree are close): consecutive queries share branches
@@ -219,6 +220,7 @@ def _tree_pairs_kernel(root, node_lo, node_hi, child1, child2, obj_of, obj_lo, o
         while top > 0:
             top -= 1
             node = stack[top]
+            tests += 1  # the object's box against the node's box
             if (obj_lo[i, 0] > node_hi[node, 0] or node_lo[node, 0] > obj_hi[i, 0]
                     or obj_lo[i, 1] > node_hi[node, 1] or node_lo[node, 1] > obj_hi[i, 1]
                     or obj_lo[i, 2] > node_hi[node, 2] or node_lo[node, 2] > obj_hi[i, 2]):
@@ -240,7 +242,7 @@ def _tree_pairs_kernel(root, node_lo, node_hi, child1, child2, obj_of, obj_lo, o
                 stack[top] = child1[node]
                 stack[top + 1] = child2[node]
                 top += 2
-    return _canonical_pairs_kernel(out, count, n_objects)
+    return _canonical_pairs_kernel(out, count, n_objects), tests
 
 
 @njit
@@ -464,7 +466,7 @@ class DynamicAABBTree:
         if self._root == -1:
             return empty_pairs()
         return _tree_pairs_kernel(self._root, self._node_lo, self._node_hi, self._child1, self._child2,
-                                  self._obj_of, self._obj_lo, self._obj_hi, self._obj_node, self._n_ids)
+                                  self._obj_of, self._obj_lo, self._obj_hi, self._obj_node, self._n_ids)[0]
 
     def query(self, lo_q, hi_q) -> np.ndarray:
         """Ids (ascending, int64) of the objects whose exact box overlaps the box [lo_q, hi_q] ((d,) each)."""
@@ -550,15 +552,17 @@ class DynamicAABBTree:
         assert sorted(seen) == live.tolist()
 
 
-def tree_pairs(lo, hi) -> np.ndarray:
+def tree_pairs(lo, hi, *, return_tests: bool = False):
     """All pairs of overlapping closed boxes with an AABB tree built in batch (top-down, exact leaf boxes).
 
-    lo, hi: (n, d), d in {1, 2, 3}, lo <= hi. Returns canonical pairs, int64 (k, 2).
+    lo, hi: (n, d), d in {1, 2, 3}, lo <= hi. Returns canonical pairs, int64 (k, 2); with
+    ``return_tests=True``, ``(pairs, tests)`` where tests counts the box–box tests of the traversal (the object's
+    box against each node box visited; a leaf's box is its object's box).
     """
     lo3, hi3 = as_boxes_3d(lo, hi)
     n = lo3.shape[0]
     if n < 2:
-        return empty_pairs()
+        return with_tests(empty_pairs(), 0, return_tests)
     capacity = 2 * n - 1  # exactly the nodes of a binary tree with n leaves: no uninitialised slot
     node_lo = np.empty((capacity, 3))
     node_hi = np.empty((capacity, 3))
@@ -569,4 +573,5 @@ def tree_pairs(lo, hi) -> np.ndarray:
     leaf_of = np.empty(n, dtype=np.int64)
     obj_of = np.full(capacity, -1, dtype=np.int64)
     _build_kernel(lo3, hi3, node_lo, node_hi, parent, child1, child2, height, leaf_of, obj_of)
-    return _tree_pairs_kernel(0, node_lo, node_hi, child1, child2, obj_of, lo3, hi3, leaf_of, n)
+    pairs, tests = _tree_pairs_kernel(0, node_lo, node_hi, child1, child2, obj_of, lo3, hi3, leaf_of, n)
+    return with_tests(pairs, tests, return_tests)

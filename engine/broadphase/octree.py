@@ -18,7 +18,14 @@ from __future__ import annotations
 import numpy as np
 
 from engine._config import njit
-from engine.broadphase.pairs import _canonical_pairs_kernel, _grow, as_boxes_3d, boxes_overlap, empty_pairs
+from engine.broadphase.pairs import (
+    _canonical_pairs_kernel,
+    _grow,
+    as_boxes_3d,
+    boxes_overlap,
+    empty_pairs,
+    with_tests,
+)
 
 __all__ = ["octree_pairs", "build_octree"]
 
@@ -111,6 +118,7 @@ def _octree_pairs_kernel(lo, hi, perm, node_lo, node_hi, first, last, child0, n_
     n = lo.shape[0]
     out = np.empty((max(n, 16), 2), dtype=np.int64)
     count = 0
+    tests = 0
     stack = np.empty(node_lo.shape[0] + 1, dtype=np.int64)
     for t in range(n):
         i = perm[t]  # leaf order: consecutive queries walk the same branches (cache-friendly)
@@ -119,6 +127,7 @@ def _octree_pairs_kernel(lo, hi, perm, node_lo, node_hi, first, last, child0, n_
         while top > 0:
             top -= 1
             node = stack[top]
+            tests += 1  # the object's box against the node's loose bounds
             if (lo[i, 0] > node_hi[node, 0] or node_lo[node, 0] > hi[i, 0]
                     or lo[i, 1] > node_hi[node, 1] or node_lo[node, 1] > hi[i, 1]
                     or lo[i, 2] > node_hi[node, 2] or node_lo[node, 2] > hi[i, 2]):
@@ -126,7 +135,10 @@ def _octree_pairs_kernel(lo, hi, perm, node_lo, node_hi, first, last, child0, n_
             if n_children[node] == 0:
                 for p in range(first[node], last[node]):
                     j = perm[p]
-                    if j > i and boxes_overlap(lo, hi, i, j):
+                    if j <= i:
+                        continue
+                    tests += 1
+                    if boxes_overlap(lo, hi, i, j):
                         if count == out.shape[0]:
                             out = _grow(out, count + 1)
                         out[count, 0] = i
@@ -136,7 +148,7 @@ def _octree_pairs_kernel(lo, hi, perm, node_lo, node_hi, first, last, child0, n_
                 for t in range(n_children[node]):
                     stack[top] = child0[node] + t
                     top += 1
-    return _canonical_pairs_kernel(out, count, n)
+    return _canonical_pairs_kernel(out, count, n), tests
 
 
 def build_octree(lo, hi, leaf_size: int = 8):
@@ -154,16 +166,18 @@ def build_octree(lo, hi, leaf_size: int = 8):
     return _build_octree_kernel(lo3, hi3, int(leaf_size))
 
 
-def octree_pairs(lo, hi, leaf_size: int = 8) -> np.ndarray:
+def octree_pairs(lo, hi, leaf_size: int = 8, *, return_tests: bool = False):
     """All pairs of overlapping closed boxes with a loose octree (see the module docstring).
 
     lo, hi: (n, d), d in {1, 2, 3}, lo <= hi; leaf_size: objects per leaf before a cut. Returns canonical
-    pairs, int64 (k, 2).
+    pairs, int64 (k, 2); with ``return_tests=True``, ``(pairs, tests)`` where tests counts the box–box tests
+    of the traversal: the object against each node's loose bounds, and against the objects of the leaves.
     """
     if isinstance(leaf_size, bool) or not isinstance(leaf_size, int | np.integer) or leaf_size < 1:
         raise ValueError(f"leaf_size must be an int >= 1, got {leaf_size!r}")
     lo3, hi3 = as_boxes_3d(lo, hi)
     if lo3.shape[0] < 2:
-        return empty_pairs()
+        return with_tests(empty_pairs(), 0, return_tests)
     tree = _build_octree_kernel(lo3, hi3, int(leaf_size))
-    return _octree_pairs_kernel(lo3, hi3, *tree)
+    pairs, tests = _octree_pairs_kernel(lo3, hi3, *tree)
+    return with_tests(pairs, tests, return_tests)

@@ -16,12 +16,17 @@ import numpy as np
 from engine._config import njit
 from engine._validate import as_float_array
 
-__all__ = ["canonical_pairs", "empty_pairs", "as_boxes", "as_boxes_3d", "boxes_overlap"]
+__all__ = ["canonical_pairs", "empty_pairs", "as_boxes", "as_boxes_3d", "boxes_overlap", "with_tests"]
 
 
 def empty_pairs() -> np.ndarray:
     """The empty pair array, shape (0, 2), int64."""
     return np.zeros((0, 2), dtype=np.int64)
+
+
+def with_tests(pairs: np.ndarray, tests: int, return_tests: bool):
+    """What a broad phase returns: ``pairs``, or ``(pairs, tests)`` when the caller asked for the work count."""
+    return (pairs, int(tests)) if return_tests else pairs
 
 
 @njit

@@ -22,7 +22,7 @@ import numpy as np
 
 from engine._config import njit
 from engine._validate import as_float_array
-from engine.broadphase.pairs import _canonical_pairs_kernel, _grow, as_boxes, as_boxes_3d, empty_pairs
+from engine.broadphase.pairs import _canonical_pairs_kernel, _grow, as_boxes, as_boxes_3d, empty_pairs, with_tests
 
 __all__ = ["sweep_intervals", "sap_pairs", "sap_example_trace", "IncrementalSAP", "SLIDE_EXAMPLE"]
 
@@ -255,6 +255,7 @@ def _sweep_sorted_kernel(order, lo, hi, axis, n_objects):
     # --- the sweep, column by column
     out = np.empty((max(m, 16), 2), dtype=np.int64)
     count = 0
+    tests = 0  # box tests on the two other axes: the pairs whose intervals overlap on the sweep axis
     for c1 in range(k1):
         for c2 in range(k2):
             cell = c1 * k2 + c2
@@ -267,6 +268,7 @@ def _sweep_sorted_kernel(order, lo, hi, axis, n_objects):
                 hi2 = e2[p]
                 q = p + 1
                 while q < end and b0[q] <= end0:
+                    tests += 1
                     if (b1[q] <= hi1) & (lo1 <= e1[q]) & (b2[q] <= hi2) & (lo2 <= e2[q]):
                         # report in the column of the overlap's lower corner only
                         if (_cell_of(max(lo1, b1[q]), o1, inv1, k1) == c1
@@ -277,7 +279,7 @@ def _sweep_sorted_kernel(order, lo, hi, axis, n_objects):
                             out[count, 1] = ident[q]
                             count += 1
                     q += 1
-    return _canonical_pairs_kernel(out, count, n_objects)
+    return _canonical_pairs_kernel(out, count, n_objects), tests
 
 
 def _widest_axis(lo, hi) -> int:
@@ -304,11 +306,12 @@ def _centre_variance(lo, hi):
     return var
 
 
-def sap_pairs(lo, hi, axis: int | None = None) -> np.ndarray:
+def sap_pairs(lo, hi, axis: int | None = None, *, return_tests: bool = False):
     """All pairs of overlapping closed boxes by sweep-and-prune.
 
     lo, hi: (n, d), d in {1, 2, 3}, lo <= hi. axis: the sweep axis (default: the axis of largest spread of the
-    box centres). Returns canonical pairs, int64 (k, 2).
+    box centres). Returns canonical pairs, int64 (k, 2); with ``return_tests=True``, ``(pairs, tests)`` where
+    tests counts the box tests made (pairs overlapping on the sweep axis within a column).
     """
     lo3, hi3 = as_boxes_3d(lo, hi)
     d = np.shape(lo)[1]
@@ -319,10 +322,11 @@ def sap_pairs(lo, hi, axis: int | None = None) -> np.ndarray:
             raise ValueError(f"axis must be in [0, {d}), got {axis}")
     n = lo3.shape[0]
     if n < 2:
-        return empty_pairs()
+        return with_tests(empty_pairs(), 0, return_tests)
     axis = _widest_axis(lo3, hi3) if axis is None else int(axis)
     order = np.argsort(lo3[:, axis], kind="stable")
-    return _sweep_sorted_kernel(order, lo3, hi3, axis, n)
+    pairs, tests = _sweep_sorted_kernel(order, lo3, hi3, axis, n)
+    return with_tests(pairs, tests, return_tests)
 
 
 # ---------------------------------------------------------------------------------------------------------
@@ -475,4 +479,4 @@ class IncrementalSAP:
         if self._order.shape[0] < 2:
             return empty_pairs()
         self.last_swaps = int(_insertion_sort_order(self._order, self._lo, self.axis))
-        return _sweep_sorted_kernel(self._order, self._lo, self._hi, self.axis, self._size)
+        return _sweep_sorted_kernel(self._order, self._lo, self._hi, self.axis, self._size)[0]

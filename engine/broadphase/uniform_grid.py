@@ -20,7 +20,7 @@ import numpy as np
 
 from engine._config import njit
 from engine._validate import as_positive
-from engine.broadphase.pairs import _canonical_pairs_kernel, _grow, as_boxes_3d, boxes_overlap, empty_pairs
+from engine.broadphase.pairs import _canonical_pairs_kernel, _grow, as_boxes_3d, boxes_overlap, empty_pairs, with_tests
 
 __all__ = ["grid_pairs", "default_cell_size"]
 
@@ -142,6 +142,7 @@ def _grid_pairs_kernel(lo, hi, cell_size):
     start[n_cells] = entries
     out = np.empty((max(n, 16), 2), dtype=np.int64)
     count = 0
+    tests = 0
     # boxes sharing a cell; report in the cell of the lower corner of the overlap only
     for cx in range(dims[0]):
         for cy in range(dims[1]):
@@ -149,6 +150,7 @@ def _grid_pairs_kernel(lo, hi, cell_size):
                 c = (cx * dims[1] + cy) * dims[2] + cz
                 for p in range(start[c], start[c + 1]):
                     for q in range(p + 1, start[c + 1]):
+                        tests += 1
                         if boxes_overlap(elo, ehi, p, q):
                             if (_cell(max(elo[p, 0], elo[q, 0]), origin[0], inv, dims[0]) == cx
                                     and _cell(max(elo[p, 1], elo[q, 1]), origin[1], inv, dims[1]) == cy
@@ -166,13 +168,14 @@ def _grid_pairs_kernel(lo, hi, cell_size):
             for j in range(n):
                 if j == i or (large[j] and j < i):
                     continue
+                tests += 1
                 if boxes_overlap(lo, hi, i, j):
                     if count == out.shape[0]:
                         out = _grow(out, count + 1)
                     out[count, 0] = i
                     out[count, 1] = j
                     count += 1
-    return _canonical_pairs_kernel(out, count, n)
+    return _canonical_pairs_kernel(out, count, n), tests
 
 
 @njit
@@ -206,16 +209,18 @@ def default_cell_size(lo, hi) -> float:
     return float(_default_cell_size(lo3, hi3))
 
 
-def grid_pairs(lo, hi, cell_size: float | None = None) -> np.ndarray:
+def grid_pairs(lo, hi, cell_size: float | None = None, *, return_tests: bool = False):
     """All pairs of overlapping closed boxes with a uniform grid.
 
     lo, hi: (n, d), d in {1, 2, 3}, lo <= hi. cell_size: the cell side (> 0; default from the box sizes, see the
-    module docstring). Returns canonical pairs, int64 (k, 2).
+    module docstring). Returns canonical pairs, int64 (k, 2); with ``return_tests=True``, ``(pairs, tests)``
+    where tests counts the box–box overlap tests made (boxes sharing a cell, and the too-large boxes' tests).
     """
     lo3, hi3 = as_boxes_3d(lo, hi)
     size = None if cell_size is None else as_positive(cell_size, "cell_size")
     if lo3.shape[0] < 2:
-        return empty_pairs()
+        return with_tests(empty_pairs(), 0, return_tests)
     if size is None:
         size = float(_default_cell_size(lo3, hi3))
-    return _grid_pairs_kernel(lo3, hi3, size)
+    pairs, tests = _grid_pairs_kernel(lo3, hi3, size)
+    return with_tests(pairs, tests, return_tests)
