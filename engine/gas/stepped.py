@@ -24,8 +24,8 @@ import math
 import numpy as np
 
 from engine._config import njit
-from engine.broadphase import DynamicAABBTree, IncrementalSAP, find_pairs
-from engine.broadphase.pairs import canonical_pairs, empty_pairs
+from engine.broadphase import IncrementalSAP, find_pairs
+from engine.broadphase.pairs import canonical_pairs
 from engine.gas.elastic import _pair_impulse
 from engine.gas.events import _kinetic_energy_kernel
 
@@ -176,17 +176,6 @@ def _respond(pairs, pos, vel, rad, mass, half, periodic, dt, acc, counters):
     return remaining
 
 
-def _box_pairs(lo, hi, method):
-    """find_pairs(lo, hi, method), except "tree", which builds the same top-down tree through
-    ``DynamicAABBTree.from_boxes(..., margin=0)``: ``tree_pairs`` reads an uninitialised node slot (its arrays
-    come from np.empty with one slot more than the 2n − 1 nodes built) and can crash; reported to the lead."""
-    if method == "tree":
-        if lo.shape[0] < 2:
-            return empty_pairs()
-        return DynamicAABBTree.from_boxes(lo, hi, margin=0.0).pairs()
-    return find_pairs(lo, hi, method=method)
-
-
 class SteppedGas:
     """The chapter's fixed-step gas: positions/velocities (n, 3), radii/masses (n,), box side L, Δt.
 
@@ -227,7 +216,7 @@ class SteppedGas:
                 self._sap = IncrementalSAP(lo, hi)
                 return self._sap.pairs()
             return self._sap.update(lo, hi)
-        return _box_pairs(lo, hi, self.broad_phase)
+        return find_pairs(lo, hi, method=self.broad_phase)
 
     def candidate_pairs(self) -> np.ndarray:
         """Canonical pairs whose (slightly widened) boxes overlap, periodic images included."""
@@ -262,7 +251,7 @@ class SteppedGas:
         owner = np.concatenate(ids)
         p_all = np.concatenate(shifted)
         r_all = reach[owner]
-        extra = _box_pairs(p_all - r_all[:, None], p_all + r_all[:, None], self.broad_phase)
+        extra = find_pairs(p_all - r_all[:, None], p_all + r_all[:, None], method=self.broad_phase)
         a, b = owner[extra[:, 0]], owner[extra[:, 1]]
         cross = (extra[:, 1] >= border.shape[0]) & (a != b)  # at least one member is an image
         cross_pairs = np.stack([np.minimum(a[cross], b[cross]), np.maximum(a[cross], b[cross])], axis=1)
