@@ -21,6 +21,9 @@ from pathlib import Path
 
 import pandas as pd
 
+from bench.report_broadphase import broadphase_section
+from bench.report_narrowphase import narrowphase_section
+
 ROOT = Path(__file__).resolve().parents[1]
 
 
@@ -146,9 +149,8 @@ def main(quick: bool = False, out: Path | str = "reports") -> int:
     df = benchmark_table(json_path, info)
     df.to_csv(out / "benchmarks.csv", index=False)
     (out / "benchmarks.md").write_text(benchmark_markdown(df, info))
-    from bench.report_broadphase import broadphase_section
-
     sections += broadphase_section(json_path, out, info, quick)
+    sections += narrowphase_section(json_path, out, info, quick)
     write_index(out, sections, info)
     print(f"[report] wrote {out}", flush=True)
     return 0
