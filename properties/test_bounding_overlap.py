@@ -253,6 +253,12 @@ def test_batched_kdop_overlap_equals_one_at_a_time():
     lambda: overlap_aabb_aabb([0, 0, 2], [1, 1, 1], [0, 0, 0], [1, 1, 1]),
     lambda: overlap_kdop_kdop(np.zeros(7), np.ones(7), np.zeros(7), np.ones(7), 18),
     lambda: overlap_kdop_kdop(np.zeros(9), np.ones(9), np.ones(9), np.zeros(9), 18),
+    # the same faults in plain float64 arrays, which take the compiled (copy-free) check
+    lambda: overlap_spheres(np.zeros((2, 3)), np.array([1.0, -1.0]), np.zeros((2, 3)), np.ones(2)),
+    lambda: overlap_spheres(np.zeros((2, 3)), np.ones(2), np.array([[0, 0, 0], [0, np.inf, 0.0]]), np.ones(2)),
+    lambda: overlap_aabbs(np.zeros((2, 3)), np.array([[1, 1, 1], [1, -1, 1.0]]), np.zeros((2, 3)), np.ones((2, 3))),
+    lambda: overlap_aabbs(np.zeros((2, 3)), np.ones((2, 3)), np.array([[0, 0, 0], [np.nan, 0, 0]]),
+                          np.ones((2, 3))),
 ])
 def test_bad_overlap_arguments_raise_value_error(call):
     with pytest.raises(ValueError):

@@ -10,6 +10,8 @@ rotations in 2-D or 3-D).
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from .._config import njit
@@ -139,6 +141,26 @@ def _transform_aabbs_kernel(lo, hi, rotation, translation, new_lo, new_hi):
             new_hi[b, i] = c + e
 
 
+@njit
+def _boxes_valid_kernel(lo, hi):
+    """Compiled check of batched boxes: all finite and lo <= hi (the slow path then names the culprit)."""
+    n, d = lo.shape
+    for i in range(n):
+        for k in range(d):
+            a = lo[i, k]
+            b = hi[i, k]
+            if not (math.isfinite(a) and math.isfinite(b) and a <= b):
+                return False
+    return True
+
+
+def _is_plain_batch(*arrays) -> bool:
+    """All arrays are C-contiguous float64 (n, d) of one shape, d in (2, 3): no copy is needed to read them."""
+    first = arrays[0]
+    return all(isinstance(a, np.ndarray) and a.dtype == np.float64 and a.ndim == 2 and a.flags.c_contiguous
+               and a.shape == first.shape for a in arrays) and first.shape[1] in (2, 3)
+
+
 # ---------------------------------------------------------------------------------------------------------
 # public functions
 # ---------------------------------------------------------------------------------------------------------
@@ -164,6 +186,12 @@ def fit_aabbs(clouds) -> tuple[np.ndarray, np.ndarray]:
 
 def overlap_aabbs(lo_a, hi_a, lo_b, hi_b) -> np.ndarray:
     """Row-wise overlap of boxes: (n, d) arrays (or (d,)) -> bool (n,): box a_i meets box b_i (closed)."""
+    if _is_plain_batch(lo_a, hi_a, lo_b, hi_b) and _boxes_valid_kernel(lo_a, hi_a) \
+            and _boxes_valid_kernel(lo_b, hi_b):
+        # fast path: the arrays are read, never written, so the checked inputs are used without a copy
+        out = np.empty(lo_a.shape[0], dtype=np.bool_)
+        _overlap_aabbs_kernel(lo_a, hi_a, lo_b, hi_b, out)
+        return out
     lo_a, hi_a = as_box(lo_a, hi_a, names=("lo_a", "hi_a"))
     lo_b, hi_b = as_box(lo_b, hi_b, names=("lo_b", "hi_b"))
     if lo_a.shape != lo_b.shape:

@@ -322,6 +322,11 @@ def min_bounding_sphere(points, *, seed: int = 0) -> tuple[np.ndarray, float]:
 
 def overlap_spheres(centers_a, radii_a, centers_b, radii_b) -> np.ndarray:
     """Row-wise sphere overlap: centres (n, d), radii (n,) -> bool (n,): |c_a - c_b| <= r_a + r_b."""
+    if _is_plain_spheres(centers_a, radii_a, centers_b, radii_b):
+        # fast path: checked in a compiled loop and read without a copy (the kernel never writes its inputs)
+        out = np.empty(centers_a.shape[0], dtype=np.bool_)
+        _overlap_spheres_kernel(centers_a, radii_a, centers_b, radii_b, out)
+        return out
     ca = as_float_array(centers_a, "centers_a", ndim=2)
     cb = as_float_array(centers_b, "centers_b", shape=ca.shape)
     ra = as_float_array(radii_a, "radii_a", shape=(ca.shape[0],))
@@ -333,6 +338,25 @@ def overlap_spheres(centers_a, radii_a, centers_b, radii_b) -> np.ndarray:
     out = np.empty(ca.shape[0], dtype=np.bool_)
     _overlap_spheres_kernel(ca, ra, cb, rb, out)
     return out
+
+
+@njit
+def _spheres_valid_kernel(centers, radii):
+    n, d = centers.shape
+    for i in range(n):
+        if not (math.isfinite(radii[i]) and radii[i] >= 0.0):
+            return False
+        for m in range(d):
+            if not math.isfinite(centers[i, m]):
+                return False
+    return True
+
+
+def _is_plain_spheres(ca, ra, cb, rb) -> bool:
+    plain = all(isinstance(a, np.ndarray) and a.dtype == np.float64 and a.flags.c_contiguous
+                for a in (ca, ra, cb, rb))
+    return (plain and ca.ndim == 2 and cb.shape == ca.shape and ra.shape == (ca.shape[0],)
+            and rb.shape == ra.shape and _spheres_valid_kernel(ca, ra) and _spheres_valid_kernel(cb, rb))
 
 
 def overlap_sphere_sphere(center_a, radius_a, center_b, radius_b) -> bool:
