@@ -254,26 +254,47 @@ def _gjk_loop(PA, PB, pairs, offsets, k_pairs, max_iter, W, IA, IB, lam, dist, c
         # the direction of M's centroid: the first support point is then already close to the answer
         na = a1 - a0
         nb = b1 - b0
+        # (sums over even and odd rows: two short addition chains instead of one long one)
         dx = 0.0
         dy = 0.0
         dz = 0.0
-        for i in range(a0, a1):
+        dx2 = 0.0
+        dy2 = 0.0
+        dz2 = 0.0
+        for i in range(a0, a1 - 1, 2):
             dx += PA[sa, i, 0]
             dy += PA[sa, i, 1]
             dz += PA[sa, i, 2]
-        dx /= na
-        dy /= na
-        dz /= na
+            dx2 += PA[sa, i + 1, 0]
+            dy2 += PA[sa, i + 1, 1]
+            dz2 += PA[sa, i + 1, 2]
+        if na % 2 == 1:
+            dx += PA[sa, a1 - 1, 0]
+            dy += PA[sa, a1 - 1, 1]
+            dz += PA[sa, a1 - 1, 2]
+        dx = (dx + dx2) / na
+        dy = (dy + dy2) / na
+        dz = (dz + dz2) / na
         ex = 0.0
         ey = 0.0
         ez = 0.0
-        for i in range(b0, b1):
+        ex2 = 0.0
+        ey2 = 0.0
+        ez2 = 0.0
+        for i in range(b0, b1 - 1, 2):
             ex += PB[sb, i, 0]
             ey += PB[sb, i, 1]
             ez += PB[sb, i, 2]
-        dx -= ex / nb
-        dy -= ey / nb
-        dz -= ez / nb
+            ex2 += PB[sb, i + 1, 0]
+            ey2 += PB[sb, i + 1, 1]
+            ez2 += PB[sb, i + 1, 2]
+        if nb % 2 == 1:
+            ex += PB[sb, b1 - 1, 0]
+            ey += PB[sb, b1 - 1, 1]
+            ez += PB[sb, b1 - 1, 2]
+        dx -= (ex + ex2) / nb
+        dy -= (ey + ey2) / nb
+        dz -= (ez + ez2) / nb
         if dx == 0.0 and dy == 0.0 and dz == 0.0:
             dx = 1.0
         vx, vy, vz = dx, dy, dz
