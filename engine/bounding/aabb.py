@@ -98,17 +98,22 @@ def _fit_aabbs_kernel(clouds, lo, hi):
 
 
 @njit
+def aabbs_touch(lo_a, hi_a, lo_b, hi_b):
+    """Whether the closed boxes [lo_a, hi_a] and [lo_b, hi_b] ((d,) each) overlap: the engine's one AABB test.
+
+    Ericson 4.2.1 (slide "tester le recouvrement des projections"): two boxes overlap iff their projections
+    overlap on every axis; closed intervals, so touching counts.
+    """
+    for k in range(lo_a.shape[0]):
+        if hi_a[k] < lo_b[k] or hi_b[k] < lo_a[k]:
+            return False
+    return True
+
+
+@njit
 def _overlap_aabbs_kernel(lo_a, hi_a, lo_b, hi_b, out):
-    # Ericson 4.2.1 (slide "tester le recouvrement des projections"): two boxes overlap iff their
-    # projections overlap on every axis; closed intervals, so touching counts
-    n, d = lo_a.shape
-    for i in range(n):
-        hit = True
-        for k in range(d):
-            if hi_a[i, k] < lo_b[i, k] or hi_b[i, k] < lo_a[i, k]:
-                hit = False
-                break
-        out[i] = hit
+    for i in range(lo_a.shape[0]):
+        out[i] = aabbs_touch(lo_a[i], hi_a[i], lo_b[i], hi_b[i])
 
 
 @njit
@@ -185,15 +190,16 @@ def fit_aabbs(clouds) -> tuple[np.ndarray, np.ndarray]:
 
 
 def overlap_aabbs(lo_a, hi_a, lo_b, hi_b) -> np.ndarray:
-    """Row-wise overlap of boxes: (n, d) arrays (or (d,)) -> bool (n,): box a_i meets box b_i (closed)."""
+    """Row-wise overlap of boxes: (n, d) arrays (or (d,)), d = 1, 2 or 3 -> bool (n,): box a_i meets box b_i
+    (closed)."""
     if _is_plain_batch(lo_a, hi_a, lo_b, hi_b) and _boxes_valid_kernel(lo_a, hi_a) \
             and _boxes_valid_kernel(lo_b, hi_b):
         # fast path: the arrays are read, never written, so the checked inputs are used without a copy
         out = np.empty(lo_a.shape[0], dtype=np.bool_)
         _overlap_aabbs_kernel(lo_a, hi_a, lo_b, hi_b, out)
         return out
-    lo_a, hi_a = as_box(lo_a, hi_a, names=("lo_a", "hi_a"))
-    lo_b, hi_b = as_box(lo_b, hi_b, names=("lo_b", "hi_b"))
+    lo_a, hi_a = as_box(lo_a, hi_a, names=("lo_a", "hi_a"), dims=(1, 2, 3))
+    lo_b, hi_b = as_box(lo_b, hi_b, names=("lo_b", "hi_b"), dims=(1, 2, 3))
     if lo_a.shape != lo_b.shape:
         raise ValueError(f"lo_b must have the shape of lo_a {lo_a.shape}, got {lo_b.shape}")
     out = np.empty(lo_a.reshape(-1, lo_a.shape[-1]).shape[0], dtype=np.bool_)
@@ -203,8 +209,9 @@ def overlap_aabbs(lo_a, hi_a, lo_b, hi_b) -> np.ndarray:
 
 
 def overlap_aabb_aabb(lo_a, hi_a, lo_b, hi_b) -> bool:
-    """Whether the closed boxes [lo_a, hi_a] and [lo_b, hi_b] (each (d,)) overlap (touching counts)."""
-    lo_a, hi_a = as_box(lo_a, hi_a, names=("lo_a", "hi_a"))
+    """Whether the closed boxes [lo_a, hi_a] and [lo_b, hi_b] (each (d,), d = 1, 2 or 3) overlap (touching
+    counts)."""
+    lo_a, hi_a = as_box(lo_a, hi_a, names=("lo_a", "hi_a"), dims=(1, 2, 3))
     if lo_a.ndim != 1:
         raise ValueError(f"lo_a must have shape (d,), got {lo_a.shape}; use overlap_aabbs for batches")
     return bool(overlap_aabbs(lo_a, hi_a, lo_b, hi_b)[0])

@@ -262,17 +262,36 @@ def _max_dist(points, c):
 # overlap, containment
 # ---------------------------------------------------------------------------------------------------------
 @njit
+def spheres_touch(ca, ra, cb, rb):
+    """Whether the closed spheres (ca (d,), ra) and (cb (d,), rb) overlap: the engine's one sphere–sphere test.
+
+    Slide "Bounding sphere — tester: collision ssi d < r_A + r_B" (closed here: touching counts), the square
+    root avoided: |c_a - c_b|² <= (r_a + r_b)² — in 3-D 3 subtractions, 3 products, 3 additions, 1 addition,
+    1 product and 1 comparison: the slide's ~11 operations. Squares of magnitudes below ~1e-154 underflow and
+    above ~1e154 overflow, so when the largest of |c_a - c_b|'s components and r_a + r_b lies outside
+    [1e-150, 1e150] the same test is made on values divided by that largest magnitude.
+    """
+    s = ra + rb
+    dist2 = 0.0
+    big = s
+    for m in range(ca.shape[0]):
+        dx = ca[m] - cb[m]
+        dist2 += dx * dx
+        big = max(big, abs(dx))
+    if big == 0.0 or 1e-150 < big < 1e150:
+        return dist2 <= s * s
+    scaled = 0.0
+    for m in range(ca.shape[0]):
+        dx = (ca[m] - cb[m]) / big
+        scaled += dx * dx
+    t = s / big
+    return scaled <= t * t
+
+
+@njit
 def _overlap_spheres_kernel(ca, ra, cb, rb, out):
-    # slide "Bounding sphere — tester: collision ssi d < r_A + r_B" (closed here: touching counts), with the
-    # square root avoided: |c_a - c_b|^2 <= (r_a + r_b)^2 — 3 subtractions, 3 products, 3 additions (dist^2),
-    # 1 addition and 1 product (radius sum squared), 1 comparison: the slide's ~11 operations
-    n, d = ca.shape
-    for i in range(n):
-        dist2 = 0.0
-        for m in range(d):
-            dist2 += (ca[i, m] - cb[i, m]) ** 2
-        s = ra[i] + rb[i]
-        out[i] = dist2 <= s * s
+    for i in range(ca.shape[0]):
+        out[i] = spheres_touch(ca[i], ra[i], cb[i], rb[i])
 
 
 # ---------------------------------------------------------------------------------------------------------

@@ -26,6 +26,7 @@ import numpy as np
 
 from engine._config import njit
 from engine._validate import as_choice, as_float_array, as_nonnegative
+from engine.bounding.sphere import spheres_touch
 from engine.broadphase.pairs import _canonical_pairs_kernel, _grow, empty_pairs
 
 __all__ = ["sphere_pairs", "spheres_overlap_pairs"]
@@ -39,12 +40,8 @@ _DIRECT_SORT_CELLS = 1 << 19
 
 @njit
 def _spheres_touch(c, r, i, j):
-    """|c_i − c_j|² <= (r_i + r_j)² in double precision (closed: touching counts)."""
-    dx = c[i, 0] - c[j, 0]
-    dy = c[i, 1] - c[j, 1]
-    dz = c[i, 2] - c[j, 2]
-    s = r[i] + r[j]
-    return dx * dx + dy * dy + dz * dz <= s * s and abs(dx) <= s and abs(dy) <= s and abs(dz) <= s
+    """Spheres i and j of (c (n, 3), r (n,)) touch or overlap: the engine's one sphere test (bounding.sphere)."""
+    return spheres_touch(c[i], r[i], c[j], r[j])
 
 
 @njit

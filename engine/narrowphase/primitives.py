@@ -24,7 +24,9 @@ import numpy as np
 
 from .._config import njit
 from .._validate import as_float, as_float_array, as_nonnegative
+from ..bounding.aabb import aabbs_touch, overlap_aabb_aabb
 from ..bounding.obb import OBB, ORTHONORMAL_TOL
+from ..bounding.sphere import overlap_sphere_sphere, spheres_touch
 from .sat import _orthonormal_errors, pair_indices
 
 __all__ = [
@@ -47,34 +49,15 @@ UP = 1  # the y axis, "up" on the chapter's slides
 # ---------------------------------------------------------------------------------------------------------------
 
 @njit
-def _overlap_sphere_sphere(ca, ra, cb, rb):
-    """Slide "Bounding sphere": collision iff d <= rA + rB, squared — 11 primitive operations."""
-    dx = ca[0] - cb[0]
-    dy = ca[1] - cb[1]
-    dz = ca[2] - cb[2]
-    s = ra + rb
-    return dx * dx + dy * dy + dz * dz <= s * s
-
-
-@njit
 def _overlap_sphere_sphere_batch(ca, ra, cb, rb, ia, ib, out):
     for p in range(out.shape[0]):
-        out[p] = _overlap_sphere_sphere(ca[ia[p]], ra[ia[p]], cb[ib[p]], rb[ib[p]])
-
-
-@njit
-def _overlap_aabb_aabb(lo_a, hi_a, lo_b, hi_b):
-    """Slide "AABB": the boxes overlap iff their projections overlap on every axis (Ericson 4.2.1)."""
-    for k in range(lo_a.shape[0]):
-        if hi_a[k] < lo_b[k] or hi_b[k] < lo_a[k]:
-            return False
-    return True
+        out[p] = spheres_touch(ca[ia[p]], ra[ia[p]], cb[ib[p]], rb[ib[p]])
 
 
 @njit
 def _overlap_aabb_aabb_batch(lo_a, hi_a, lo_b, hi_b, ia, ib, out):
     for p in range(out.shape[0]):
-        out[p] = _overlap_aabb_aabb(lo_a[ia[p]], hi_a[ia[p]], lo_b[ib[p]], hi_b[ib[p]])
+        out[p] = aabbs_touch(lo_a[ia[p]], hi_a[ia[p]], lo_b[ib[p]], hi_b[ib[p]])
 
 
 @njit
@@ -235,13 +218,6 @@ def overlap_sphere_sphere_batch(centers_a, radii_a, centers_b, radii_b, index_a=
     return out
 
 
-def overlap_sphere_sphere(center_a, radius_a, center_b, radius_b) -> bool:
-    """Two spheres (centres (3,), radii >= 0) touch or overlap: |c_a − c_b| <= r_a + r_b."""
-    return bool(overlap_sphere_sphere_batch(_one(center_a, "center_a", 3), [as_nonnegative(radius_a, "radius_a")],
-                                            _one(center_b, "center_b", 3),
-                                            [as_nonnegative(radius_b, "radius_b")])[0])
-
-
 def overlap_aabb_aabb_batch(lo_a, hi_a, lo_b, hi_b, index_a=None, index_b=None):
     """Closed boxes [lo_a, hi_a] (n, d) against [lo_b, hi_b] (m, d), d = 1, 2 or 3; bool (k,)."""
     la, ha = _boxes(lo_a, hi_a, "lo_a", "hi_a")
@@ -252,12 +228,6 @@ def overlap_aabb_aabb_batch(lo_a, hi_a, lo_b, hi_b, index_a=None, index_b=None):
     out = np.empty(ia.shape[0], np.bool_)
     _overlap_aabb_aabb_batch(la, ha, lb, hb, ia, ib, out)
     return out
-
-
-def overlap_aabb_aabb(lo_a, hi_a, lo_b, hi_b) -> bool:
-    """Two closed boxes, corners (d,) each: True when they overlap or touch."""
-    return bool(overlap_aabb_aabb_batch(_one(lo_a, "lo_a"), _one(hi_a, "hi_a"), _one(lo_b, "lo_b"),
-                                        _one(hi_b, "hi_b"))[0])
 
 
 def overlap_sphere_aabb_batch(centers, radii, lo, hi, index_a=None, index_b=None):
