@@ -3,6 +3,7 @@
     collide fall --height 10 --restitution 0.8 [--drag 0.2] [--cube]
     collide sap-example
     collide contact A.json B.json
+    collide bound POINTS.csv | collide hull POINTS.csv | collide decompose POLYGON.csv
     collide gas --n 2000 --eta 0.2 --method events
     collide report [--quick]
 """
@@ -104,6 +105,46 @@ def cmd_gas(args) -> int:
                            dt=args.dt, broad_phase=args.broad_phase, t_equilibrate=args.t_equilibrate)
 
 
+def _read_points(path: str):
+    import numpy as np
+
+    try:
+        return np.loadtxt(path, delimiter=",", ndmin=2)
+    except (OSError, ValueError) as exc:
+        raise ValueError(f"{path}: cannot read a CSV of points, one point per line ({exc})") from None
+
+
+def cmd_bound(args) -> int:
+    """Fit bounding volumes to a CSV of points and print them (JSON)."""
+    import json
+
+    from .bounding import describe_bounding_volumes
+
+    kinds = args.kinds.split(",") if args.kinds else None
+    print(json.dumps(describe_bounding_volumes(_read_points(args.points), kinds=kinds), indent=2))
+    return 0
+
+
+def cmd_hull(args) -> int:
+    """The convex hull of a CSV of points (JSON)."""
+    import json
+
+    from .bounding import describe_hull
+
+    print(json.dumps(describe_hull(_read_points(args.points)), indent=2))
+    return 0
+
+
+def cmd_decompose(args) -> int:
+    """A simple polygon (CSV, one vertex per line, boundary order) split into convex pieces (JSON)."""
+    import json
+
+    from .bounding import describe_decomposition
+
+    print(json.dumps(describe_decomposition(_read_points(args.polygon)), indent=2))
+    return 0
+
+
 def cmd_report(args) -> int:
     root = Path(__file__).resolve().parents[1]
     if not (root / "bench" / "report.py").is_file():
@@ -143,6 +184,23 @@ def build_parser() -> argparse.ArgumentParser:
                          description="Sorted list of all b_i and e_i, swept with a list of active intervals "
                                      "(slide \"Algorithmes de balayage et de tri\").")
     sap.set_defaults(func=cmd_sap_example)
+
+    from .bounding import BOUNDING_KINDS
+
+    bound = sub.add_parser("bound", help="fit bounding volumes (sphere, AABB, OBB, k-DOPs) to a CSV of points",
+                           description="Each volume with its parameters and its measure (area or volume).")
+    bound.add_argument("points", help="CSV file, one point (x,y[,z]) per line")
+    bound.add_argument("--kinds", help=f"comma-separated subset of {','.join(BOUNDING_KINDS)}")
+    bound.set_defaults(func=cmd_bound)
+
+    hull = sub.add_parser("hull", help="the convex hull of a CSV of points (quickhull / monotone chain)")
+    hull.add_argument("points", help="CSV file, one point (x,y[,z]) per line")
+    hull.set_defaults(func=cmd_hull)
+
+    decompose = sub.add_parser("decompose", help="split a simple polygon (CSV) into convex pieces",
+                               description="Ear-clipping triangulation, then Hertel-Mehlhorn.")
+    decompose.add_argument("polygon", help="CSV file, one vertex (x,y) per line, in boundary order")
+    decompose.set_defaults(func=cmd_decompose)
 
     contact = sub.add_parser("contact", help="whether, where and when two shapes (JSON files) collide",
                              description="Shapes, poses and velocities in the JSON format documented in "
