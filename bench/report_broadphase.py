@@ -73,27 +73,31 @@ def broadphase_markdown(df: pd.DataFrame, info: dict, quick: bool) -> str:
              "of W2 spheres at η = 0.05. Times are the minimum over rounds; `× brute` and `× cKDTree` say how many "
              "times faster than those, measured in the same run (> 1 is faster). Brute force is run only up to "
              "N = 1e4 on W1 and 3e4 on the scaling workload (beyond, it would take over a minute per round); "
-             "python-fcl and coal up to 1e5 (their per-object Python registration dominates beyond).", ""]
+             "python-fcl and coal up to 1e5 (their per-object Python registration dominates beyond). `box tests` is "
+             "the number of box–box overlap tests the method made (`find_pairs(..., return_tests=True)`; brute "
+             "force: (n² − n)/2), the deterministic measure of how much it prunes.", ""]
     for workload, d in df.groupby("workload", sort=False):
         d = d.copy()
         d["x_brute"] = _ratio_table(d, "brute")
         d["x_ckdtree"] = _ratio_table(d, "ckdtree")
         lines += [f"## {workload}", ""]
-        header = "| method | η | N | time (ms) | ns / object | pairs | × brute | × cKDTree |"
+        header = "| method | η | N | time (ms) | ns / object | pairs | box tests | × brute | × cKDTree |"
         if workload == "W1":
-            header = "| method | N | time (ms) | ns / box | cycles / box | pairs | × brute |"
+            header = "| method | N | time (ms) | ns / box | cycles / box | pairs | box tests | × brute |"
         lines += [header, "|" + "---|" * (header.count("|") - 1)]
         for _, r in d.iterrows():
             pairs = "" if pd.isna(r["pairs"]) else f"{int(r['pairs']):,}"
+            tests = "" if pd.isna(r["candidates"]) else f"{int(r['candidates']):,}"
             xb = "" if pd.isna(r["x_brute"]) else f"{r['x_brute']:.1f}"
             xk = "" if pd.isna(r["x_ckdtree"]) else f"{r['x_ckdtree']:.2f}"
             if workload == "W1":
                 cyc = "" if pd.isna(r["cycles_per_box"]) else f"{r['cycles_per_box']:,.0f}"
                 lines.append(f"| {r['method']} | {r['n']:,} | {r['seconds_min'] * 1e3:,.2f} | "
-                             f"{r['ns_per_object']:,.1f} | {cyc} | {pairs} | {xb} |")
+                             f"{r['ns_per_object']:,.1f} | {cyc} | {pairs} | {tests} | {xb} |")
             else:
                 lines.append(f"| {r['method']} | {r['packing_fraction']:g} | {r['n']:,} | "
-                             f"{r['seconds_min'] * 1e3:,.2f} | {r['ns_per_object']:,.1f} | {pairs} | {xb} | {xk} |")
+                             f"{r['seconds_min'] * 1e3:,.2f} | {r['ns_per_object']:,.1f} | {pairs} | {tests} | {xb} | "
+                             f"{xk} |")
         lines.append("")
         if workload != "W1":
             lines += ["Fitted log-log slope of time against N (1.0 is linear, 2.0 is brute force's n²):", "",
