@@ -27,6 +27,7 @@ import numpy as np
 from engine._config import njit
 from engine._validate import as_choice, as_float_array, as_nonnegative
 from engine.bounding.sphere import spheres_touch
+from engine.broadphase.counting_sort import radix_split, sort_within_buckets
 from engine.broadphase.pairs import _canonical_pairs_kernel, _grow, empty_pairs
 
 __all__ = ["sphere_pairs", "spheres_overlap_pairs"]
@@ -115,10 +116,7 @@ def _sphere_grid_sort(c, r, large, origin, inv, nx, ny, nz, cell, start, sx, sy,
         return n_small
     # larger grids: two-pass (MSD radix) counting sort, so the counters of each pass stay in cache: first on
     # the high bits of the cell number (at most 2048 buckets), then each bucket on its low bits
-    shift = 0
-    while ((n_cells - 1) >> shift) >= 2048:
-        shift += 1
-    n_buckets = ((n_cells - 1) >> shift) + 1
+    shift, n_buckets = radix_split(n_cells)
     bucket_start = np.zeros(n_buckets + 1, dtype=np.int64)
     for i in range(n):
         if cell[i] >= 0:
@@ -140,27 +138,14 @@ def _sphere_grid_sort(c, r, large, origin, inv, nx, ny, nz, cell, start, sx, sy,
             b_r[q] = r[i]
             b_id[q] = i
     # pass 2 sorts each bucket on the low bits of the cell number, within a cache-sized window
-    width = 1 << shift
-    local = np.zeros(width + 1, dtype=np.int64)
-    for b in range(n_buckets):
-        first_cell = b << shift
-        m = min(n_cells, first_cell + width) - first_cell
-        local[: m + 1] = 0
-        for t in range(bucket_start[b], bucket_start[b + 1]):
-            local[b_cell[t] - first_cell + 1] += 1
-        local[0] = bucket_start[b]
-        for u in range(m):
-            local[u + 1] += local[u]
-            start[first_cell + u] = local[u]
-        for t in range(bucket_start[b], bucket_start[b + 1]):
-            u = b_cell[t] - first_cell
-            p = local[u]
-            local[u] = p + 1
-            sx[p] = b_x[t]
-            sy[p] = b_y[t]
-            sz[p] = b_z[t]
-            sr[p] = b_r[t]
-            sid[p] = b_id[t]
+    dest = sort_within_buckets(b_cell[:n_small], bucket_start, shift, n_cells, start)
+    for t in range(n_small):
+        p = dest[t]
+        sx[p] = b_x[t]
+        sy[p] = b_y[t]
+        sz[p] = b_z[t]
+        sr[p] = b_r[t]
+        sid[p] = b_id[t]
     start[n_cells] = n_small
     return n_small
 

@@ -20,6 +20,7 @@ import numpy as np
 
 from engine._config import njit
 from engine._validate import as_positive
+from engine.broadphase.counting_sort import radix_split, sort_within_buckets
 from engine.broadphase.pairs import _canonical_pairs_kernel, _grow, as_boxes_3d, boxes_overlap, empty_pairs, with_tests
 
 __all__ = ["grid_pairs", "default_cell_size"]
@@ -80,10 +81,7 @@ def _grid_pairs_kernel(lo, hi, cell_size):
     # of each pass stay in cache: first on the high bits of the cell number (<= 2048 buckets), then each bucket
     # on its low bits; the entries carry their boxes along, so each cell's boxes end up contiguous.
     n_cells = dims[0] * dims[1] * dims[2]
-    shift = 0
-    while ((n_cells - 1) >> shift) >= 2048:
-        shift += 1
-    n_buckets = ((n_cells - 1) >> shift) + 1
+    shift, n_buckets = radix_split(n_cells)
     bucket_start = np.zeros(n_buckets + 1, dtype=np.int64)
     for i in range(n):
         if large[i]:
@@ -119,26 +117,13 @@ def _grid_pairs_kernel(lo, hi, cell_size):
     member = np.empty(entries, dtype=np.int64)
     elo = np.empty((entries, 3))  # the members' boxes, contiguous cell by cell
     ehi = np.empty((entries, 3))
-    width = 1 << shift
-    local = np.zeros(width + 1, dtype=np.int64)
-    for b in range(n_buckets):
-        first_cell = b << shift
-        m = min(n_cells, first_cell + width) - first_cell
-        local[: m + 1] = 0
-        for t in range(bucket_start[b], bucket_start[b + 1]):
-            local[b_key[t] - first_cell + 1] += 1
-        local[0] = bucket_start[b]
-        for u in range(m):
-            local[u + 1] += local[u]
-            start[first_cell + u] = local[u]
-        for t in range(bucket_start[b], bucket_start[b + 1]):
-            u = b_key[t] - first_cell
-            q = local[u]
-            local[u] = q + 1
-            member[q] = b_id[t]
-            for k in range(3):
-                elo[q, k] = b_lo[t, k]
-                ehi[q, k] = b_hi[t, k]
+    dest = sort_within_buckets(b_key, bucket_start, shift, n_cells, start)
+    for t in range(entries):
+        q = dest[t]
+        member[q] = b_id[t]
+        for k in range(3):
+            elo[q, k] = b_lo[t, k]
+            ehi[q, k] = b_hi[t, k]
     start[n_cells] = entries
     out = np.empty((max(n, 16), 2), dtype=np.int64)
     count = 0

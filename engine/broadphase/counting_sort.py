@@ -1,0 +1,53 @@
+"""The two-pass (MSD radix) counting sort by cell number shared by the uniform grids (Ericson 7.1.6).
+
+Entries (boxes entering cells, or sphere centres) are sorted by their cell number so that each cell's entries
+end up contiguous. One counting sort over millions of cells would thrash the cache with its counters, so the
+sort runs in two passes whose counters both stay in cache: first on the high bits of the cell number (at most
+2048 buckets, ``radix_split``), the payload moved bucket by bucket by the caller, then each bucket on its low
+bits (``sort_within_buckets``), which gives every entry its final slot.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from engine._config import njit
+
+#: most buckets of the first pass (their counters fit in cache)
+MAX_BUCKETS = 2048
+
+
+@njit
+def radix_split(n_cells):
+    """(shift, n_buckets): the bucket of cell number c is c >> shift, with at most MAX_BUCKETS buckets."""
+    shift = 0
+    while ((n_cells - 1) >> shift) >= MAX_BUCKETS:
+        shift += 1
+    return shift, ((n_cells - 1) >> shift) + 1
+
+
+@njit
+def sort_within_buckets(keys, bucket_start, shift, n_cells, start):
+    """Second pass: the final slot of each entry, and the first slot of each cell.
+
+    keys: cell numbers of the entries already grouped by bucket (bucket b holds entries bucket_start[b] ..
+    bucket_start[b + 1] - 1); writes start[c] for every cell c < n_cells; returns dest (len(keys),) int64 with
+    dest[t] the sorted position of entry t (stable within a cell).
+    """
+    dest = np.empty(keys.shape[0], dtype=np.int64)
+    width = 1 << shift
+    local = np.zeros(width + 1, dtype=np.int64)
+    for b in range(bucket_start.shape[0] - 1):
+        first_cell = b << shift
+        m = min(n_cells, first_cell + width) - first_cell
+        local[: m + 1] = 0
+        for t in range(bucket_start[b], bucket_start[b + 1]):
+            local[keys[t] - first_cell + 1] += 1
+        local[0] = bucket_start[b]
+        for u in range(m):
+            local[u + 1] += local[u]
+            start[first_cell + u] = local[u]
+        for t in range(bucket_start[b], bucket_start[b + 1]):
+            u = keys[t] - first_cell
+            dest[t] = local[u]
+            local[u] += 1
+    return dest
