@@ -182,6 +182,26 @@ def _distance(points, i, normal, offset):
 
 
 @njit
+def _assign_outside_point(points, i, candidates, n_candidates, fn, fd, eps, head, nxt, far, far_d):
+    """Quickhull's conflict lists: put point i on the list of the candidate face it lies farthest outside of
+    (by more than eps), and keep each face's farthest point; a point inside every candidate is dropped."""
+    best = eps
+    bf = -1
+    for t in range(n_candidates):
+        f = candidates[t]
+        d = _distance(points, i, fn[f], fd[f])
+        if d > best:
+            best = d
+            bf = f
+    if bf >= 0:
+        nxt[i] = head[bf]
+        head[bf] = i
+        if best > far_d[bf]:
+            far_d[bf] = best
+            far[bf] = i
+
+
+@njit
 def _initial_simplex(points, eps):
     """Four affinely independent extreme points, or a status 1/2/3 when the input is 0/1/2-dimensional."""
     n = points.shape[0]
@@ -292,22 +312,11 @@ def _quickhull_kernel(points, eps, capacity):
     nfaces = 4
 
     # every other point goes to the conflict list of the face it lies farthest outside of
+    first_faces = np.arange(4)
     for i in range(n):
         if i == simplex[0] or i == simplex[1] or i == simplex[2] or i == simplex[3]:
             continue
-        best = eps
-        bf = -1
-        for f in range(4):
-            d = _distance(points, i, fn[f], fd[f])
-            if d > best:
-                best = d
-                bf = f
-        if bf >= 0:
-            nxt[i] = head[bf]
-            head[bf] = i
-            if best > far_d[bf]:
-                far_d[bf] = best
-                far[bf] = i
+        _assign_outside_point(points, i, first_faces, 4, fn, fd, eps, head, nxt, far, far_d)
 
     visible = np.empty(capacity, dtype=np.int64)
     stack = np.empty(capacity, dtype=np.int64)
@@ -410,20 +419,7 @@ def _quickhull_kernel(points, eps, capacity):
             while i != -1:
                 following = nxt[i]
                 if i != p:
-                    best = eps
-                    bf = -1
-                    for t in range(nhor):
-                        nf = new_faces[t]
-                        d = _distance(points, i, fn[nf], fd[nf])
-                        if d > best:
-                            best = d
-                            bf = nf
-                    if bf >= 0:
-                        nxt[i] = head[bf]
-                        head[bf] = i
-                        if best > far_d[bf]:
-                            far_d[bf] = best
-                            far[bf] = i
+                    _assign_outside_point(points, i, new_faces, nhor, fn, fd, eps, head, nxt, far, far_d)
                 i = following
             head[g] = -1
         f += 1
