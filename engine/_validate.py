@@ -12,13 +12,25 @@ import numbers
 import numpy as np
 
 __all__ = [
+    "MAX_MAGNITUDE",
+    "MAX_STEPS",
     "as_float",
     "as_positive",
     "as_nonnegative",
     "as_fraction",
     "as_float_array",
     "as_choice",
+    "as_count",
 ]
+
+
+#: the largest magnitude any input value may have: squared distances and products of two inputs stay finite
+#: (1e150² = 1e300 < 1.8e308), so no overflow can turn into inf − inf = NaN inside a kernel
+MAX_MAGNITUDE = 1e150
+
+
+#: the most time steps (t_end / dt) a public call may ask for: a typo in dt gets an error, not a hang
+MAX_STEPS = 10**9
 
 
 def _reject_non_real(value, name: str):
@@ -40,6 +52,8 @@ def as_float(value, name: str) -> float:
     out = float(value)
     if not math.isfinite(out):
         raise ValueError(f"{name} must be finite, got {out!r}")
+    if abs(out) > MAX_MAGNITUDE:
+        raise ValueError(f"{name} must have magnitude <= {MAX_MAGNITUDE:g}, got {out!r}")
     return out
 
 
@@ -71,7 +85,10 @@ def as_float_array(value, name: str, *, ndim: int | None = None, shape: tuple | 
 
     ``shape`` may hold ``None`` for a free dimension, e.g. ``(None, 3)``.
     """
-    arr = np.asarray(value)
+    try:
+        arr = np.asarray(value)
+    except (ValueError, TypeError) as exc:  # ragged nested lists
+        raise ValueError(f"{name} must be a rectangular numeric array: {exc}") from None
     if arr.dtype == object or arr.dtype.kind not in "biuf":
         if arr.dtype.kind == "c":
             raise TypeError(f"{name} must hold real numbers, got complex dtype {arr.dtype}")
@@ -89,12 +106,26 @@ def as_float_array(value, name: str, *, ndim: int | None = None, shape: tuple | 
     if arr.ndim >= 1 and arr.shape[0] < min_rows:
         raise ValueError(f"{name} needs at least {min_rows} row(s), got {arr.shape[0]}")
     out = np.array(arr, dtype=np.float64, order="C", copy=True)
-    bad = ~np.isfinite(out)
+    bad = ~(np.abs(out) <= MAX_MAGNITUDE)  # one pass catches NaN, ±inf and overflow-prone magnitudes
     if bad.any():
         index = tuple(int(i) for i in np.argwhere(bad)[0])
-        where = index[0] if len(index) == 1 else index
-        raise ValueError(f"{name} must be finite: {name}[{where}] = {out[index]!r}")
+        value = out[index]
+        where = f"{name}[{', '.join(str(i) for i in index)}] = {float(value)!r}" if index else repr(float(value))
+        if not math.isfinite(value):
+            raise ValueError(f"{name} must be finite: {where}")
+        raise ValueError(f"{name} must have magnitude <= {MAX_MAGNITUDE:g}: {where}")
     return out
+
+
+def as_count(value, name: str, minimum: int = 0, maximum: int | None = None) -> int:
+    """An integer (Python or numpy int, not a bool, not a float) in [minimum, maximum]."""
+    if isinstance(value, bool | np.bool_) or not isinstance(value, numbers.Integral):
+        raise TypeError(f"{name} must be an int, got {type(value).__name__}")
+    if value < minimum:
+        raise ValueError(f"{name} must be >= {minimum}, got {value}")
+    if maximum is not None and value > maximum:
+        raise ValueError(f"{name} must be <= {maximum}, got {value}")
+    return int(value)
 
 
 def as_choice(value, name: str, choices) -> str:

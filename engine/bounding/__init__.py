@@ -10,6 +10,7 @@ hull (exact for convex objects, the narrow phase's input) — a convex decomposi
 """
 import numpy as np
 
+from .._validate import as_float_array
 from .aabb import (
     aabb_contains,
     fit_aabb,
@@ -114,7 +115,7 @@ def describe_hull(points) -> dict:
 
 def describe_decomposition(polygon) -> dict:
     """A simple polygon (n, 2) split into convex pieces (index lists), with its triangulation and counts."""
-    poly = np.asarray(polygon, dtype=float)
+    poly = as_float_array(polygon, "polygon", shape=(None, 2), min_rows=3)
     pieces = decompose_polygon(poly)
     triangles = triangulate_polygon(poly)
     return {"vertices": int(len(poly)), "convex": is_convex(poly), "triangles": triangles.tolist(),

@@ -341,13 +341,15 @@ class DynamicAABBTree:
         self._height[node] = 0
         self._free_nodes.append(node)
 
-    def _one_box(self, lo_i, hi_i):
-        lo_i = as_float_array(lo_i, "lo", shape=(self._d,))
-        hi_i = as_float_array(hi_i, "hi", shape=(self._d,))
+    def _one_box(self, lo_i, hi_i, names=("lo_i", "hi_i")):
+        lo_name, hi_name = names
+        lo_i = as_float_array(lo_i, lo_name, shape=(self._d,))
+        hi_i = as_float_array(hi_i, hi_name, shape=(self._d,))
         bad = np.flatnonzero(lo_i > hi_i)
         if bad.size:
             k = int(bad[0])
-            raise ValueError(f"lo must not exceed hi: lo[{k}] = {lo_i[k]!r} > hi[{k}] = {hi_i[k]!r}")
+            raise ValueError(f"{lo_name} must not exceed {hi_name}: {lo_name}[{k}] = {lo_i[k]!r} > "
+                             f"{hi_name}[{k}] = {hi_i[k]!r}")
         lo3 = np.zeros(3)
         hi3 = np.zeros(3)
         lo3[: self._d] = lo_i
@@ -470,7 +472,7 @@ class DynamicAABBTree:
 
     def query(self, lo_q, hi_q) -> np.ndarray:
         """Ids (ascending, int64) of the objects whose exact box overlaps the box [lo_q, hi_q] ((d,) each)."""
-        q_lo, q_hi = self._one_box(lo_q, hi_q)
+        q_lo, q_hi = self._one_box(lo_q, hi_q, ("lo_q", "hi_q"))
         return _query_box_kernel(self._root, self._node_lo, self._node_hi, self._child1, self._child2,
                                  self._obj_of, self._obj_lo, self._obj_hi, q_lo, q_hi)
 

@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from engine._config import njit
-from engine._validate import as_float_array
+from engine._validate import as_count, as_float_array
 
 __all__ = ["canonical_pairs", "empty_pairs", "as_boxes", "as_boxes_3d", "boxes_overlap", "with_tests"]
 
@@ -92,9 +92,11 @@ def canonical_pairs(pairs, n: int | None = None) -> np.ndarray:
     ``pairs`` is any integer array of shape (m, 2); rows (i, j) and (j, i) are the same pair and rows (i, i)
     are dropped. ``n`` (optional) is the number of objects; indices must lie in [0, n).
     """
+    if n is not None:
+        n = as_count(n, "n", 0)
     arr = np.asarray(pairs)
     if arr.dtype.kind not in "iu":
-        if arr.size == 0:
+        if arr.size == 0 and arr.dtype.kind == "f":  # np.array([]) and np.empty((0, 2)) mean "no pairs"
             arr = arr.astype(np.int64)
         else:
             raise TypeError(f"pairs must be an integer array, got dtype {arr.dtype}")
@@ -111,7 +113,7 @@ def canonical_pairs(pairs, n: int | None = None) -> np.ndarray:
     top = int(arr.max()) + 1
     if n is None:
         n = top
-    elif top > n:
+    if top > n:
         bad = int(np.flatnonzero((arr >= n).any(axis=1))[0])
         raise ValueError(f"pairs[{bad}] = {arr[bad].tolist()} indexes past n = {n}")
     return _canonical_pairs_kernel(arr, arr.shape[0], int(n))

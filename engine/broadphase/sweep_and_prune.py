@@ -416,13 +416,15 @@ class IncrementalSAP:
             raise ValueError(f"id {obj_id} is not a live object")
         return int(obj_id)
 
-    def _one_box(self, lo_i, hi_i):
-        lo_i = as_float_array(lo_i, "lo", shape=(self._d,))
-        hi_i = as_float_array(hi_i, "hi", shape=(self._d,))
+    def _one_box(self, lo_i, hi_i, names=("lo_i", "hi_i")):
+        lo_name, hi_name = names
+        lo_i = as_float_array(lo_i, lo_name, shape=(self._d,))
+        hi_i = as_float_array(hi_i, hi_name, shape=(self._d,))
         bad = np.flatnonzero(lo_i > hi_i)
         if bad.size:
             k = int(bad[0])
-            raise ValueError(f"lo must not exceed hi: lo[{k}] = {lo_i[k]!r} > hi[{k}] = {hi_i[k]!r}")
+            raise ValueError(f"{lo_name} must not exceed {hi_name}: {lo_name}[{k}] = {lo_i[k]!r} > "
+                             f"{hi_name}[{k}] = {hi_i[k]!r}")
         return lo_i, hi_i
 
     # -- objects ----------------------------------------------------------------------------------------

@@ -22,9 +22,9 @@ def state_vector(position, velocity) -> np.ndarray:
 
 
 def split_state(y) -> tuple[np.ndarray, np.ndarray]:
-    """The inverse of ``state_vector``: (position (d,), velocity (d,)) views of Y (2d,)."""
-    y = np.asarray(y)
-    if y.ndim != 1 or y.shape[0] % 2:
+    """The inverse of ``state_vector``: (position (d,), velocity (d,)), copies of the halves of Y (2d,)."""
+    y = as_float_array(y, "y", ndim=1)
+    if y.shape[0] % 2:
         raise ValueError(f"y must be a flat state vector of even length, got shape {y.shape}")
     d = y.shape[0] // 2
     return y[:d], y[d:]

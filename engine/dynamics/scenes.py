@@ -11,7 +11,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .._config import DEFAULT_TIME_TOL
-from .._validate import as_fraction, as_nonnegative, as_positive
+from .._validate import MAX_STEPS, as_fraction, as_nonnegative, as_positive
 from . import response as R
 from .events import I_RESTS, I_T, I_V_AFTER, I_V_BEFORE, S_CONTACT_FORCE, S_T, S_V, S_Y, simulate_fall
 
@@ -84,6 +84,9 @@ def _check_common(height, mass, drag, quadratic_drag, gravity, dt, t_end, tol):
     tol = as_positive(tol, "tol")
     if tol >= dt:
         raise ValueError(f"tol must be smaller than dt, got tol = {tol!r} >= dt = {dt!r}")
+    if t_end / dt > MAX_STEPS:
+        raise ValueError(f"dt = {dt!r} asks for {t_end / dt:.3g} RK4 steps up to t_end = {t_end!r}; "
+                         f"at most MAX_STEPS = {MAX_STEPS}")
     return height, mass, drag, quadratic_drag, gravity, dt, t_end, tol
 
 
