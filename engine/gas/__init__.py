@@ -23,7 +23,7 @@ from engine.gas.observables import (
     scaled_speeds,
     speed_moment_ratio,
 )
-from engine.gas.simulate import GAS_BOUNDARIES, GAS_METHODS, GasResult, simulate_gas
+from engine.gas.simulate import GAS_BOUNDARIES, GAS_METHODS, MAX_STEPS, GasEventCapReached, GasResult, simulate_gas
 from engine.gas.stepped import SteppedGas
 
 __all__ = [
@@ -31,6 +31,8 @@ __all__ = [
     "GasResult",
     "GAS_METHODS",
     "GAS_BOUNDARIES",
+    "GasEventCapReached",
+    "MAX_STEPS",
     "collide_elastic",
     "reflect_off_wall",
     "EventDrivenGas",

@@ -22,7 +22,9 @@ import math
 import numpy as np
 
 from engine._config import njit
+from engine._validate import as_count, as_float
 from engine.gas.elastic import _pair_impulse
+from engine.gas.initial import check_gas_state
 
 __all__ = ["EventDrivenGas"]
 
@@ -440,7 +442,7 @@ class EventDrivenGas:
     ``run(t_stop)`` processes every event up to ``t_stop`` and brings all spheres to that time; the counters
     (``collisions``, ``events``, ``wall_hits``, ``crossings``, ``stale``) and the sums ``wall_impulse``
     (Σ 2 m |v⊥|) and ``virial`` (Σ m_i Δv_i · r_ij) accumulate until ``reset_sums()``. Positions are wrapped
-    into [−L/2, L/2) when periodic. Arguments are validated by ``simulate_gas``; this class trusts them.
+    into [−L/2, L/2) when periodic. The constructor validates its arguments (``check_gas_state``).
 
     Internally a sphere is one row of the packed state ``st`` (n, 8) = x, y, z, vx, vy, vz, local time, radius
     (one 64-byte cache line per neighbour visited), and spheres are renumbered in cell order; ``positions`` and
@@ -448,6 +450,8 @@ class EventDrivenGas:
     """
 
     def __init__(self, positions, velocities, radii, masses, box, periodic):
+        positions, velocities, radii, masses, box, periodic = check_gas_state(positions, velocities, radii, masses,
+                                                                              box, periodic)
         n = positions.shape[0]
         self.n = n
         self.box = float(box)
@@ -476,6 +480,7 @@ class EventDrivenGas:
         self.st[:, 7] = np.asarray(radii, dtype=np.float64)[self.order]
         self.mass = np.ascontiguousarray(np.asarray(masses, dtype=np.float64)[self.order])
         self.time = 0.0
+        self.processed = 0  # events processed by run() since construction (for the caller's event cap)
         self.cidx = np.zeros((n, 3), dtype=np.int64)
         self.head = np.empty(ncell**3, dtype=np.int64)
         self.nxt = -np.ones(n, dtype=np.int64)
@@ -501,10 +506,15 @@ class EventDrivenGas:
         """Process the events up to time t_stop and synchronise every sphere to it; returns the event count.
 
         When ``max_events`` is reached first, the run stops there (spheres stay at their own local times)."""
-        done = _run_kernel(float(t_stop), int(max_events), self.st, self.mass, self.cidx, self.head, self.nxt,
+        t_stop = as_float(t_stop, "t_stop")
+        if t_stop < self.time:
+            raise ValueError(f"t_stop must be >= the gas time {self.time!r}, got {t_stop!r}")
+        max_events = as_count(max_events, "max_events", 1)
+        done = _run_kernel(t_stop, max_events, self.st, self.mass, self.cidx, self.head, self.nxt,
                            self.prv, self.count, self.pc_time, self.pc_other, self.pc_count, self.ev_time,
                            self.ev_type, self.ev_other, self.ev_count, self.hkey, self.hid, self.where, self.geom,
                            self.ncell, self.periodic, self.counters, self.acc)
+        self.processed += int(done)
         if done < max_events:
             _sync_kernel(self.st, float(t_stop))
             self.time = float(t_stop)

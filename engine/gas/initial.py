@@ -16,6 +16,7 @@ import math
 import numpy as np
 
 from engine._config import njit
+from engine._validate import as_choice, as_count, as_float_array, as_positive
 
 __all__ = ["reachable_side", "packing_fraction", "radius_for_packing", "place_spheres", "draw_velocities",
            "MAX_PACKING"]
@@ -33,7 +34,14 @@ def reachable_side(box: float, radius: float, boundary: str) -> float:
 
 def packing_fraction(radii, box: float, boundary: str = "walls") -> float:
     """η = Σ π σ_i³/6 / V' (σ = 2 r_i; V' = (L − 2 r̄)³ with walls, r̄ the mean radius; L³ when periodic)."""
-    r = np.asarray(radii, dtype=float)
+    boundary = as_choice(boundary, "boundary", ("walls", "periodic"))
+    box = as_positive(box, "box")
+    r = np.atleast_1d(as_float_array(radii, "radii"))
+    if r.ndim != 1 or r.shape[0] == 0:
+        raise ValueError(f"radii must be a positive scalar or a non-empty (n,) array, got shape {np.shape(radii)}")
+    bad = np.flatnonzero(r <= 0.0)
+    if bad.size:
+        raise ValueError(f"radii must be > 0: radii[{bad[0]}] = {r[bad[0]]!r}")
     side = reachable_side(box, float(r.mean()), boundary)
     if side <= 0.0:
         return math.inf
@@ -43,6 +51,12 @@ def packing_fraction(radii, box: float, boundary: str = "walls") -> float:
 def radius_for_packing(n: int, eta: float, box: float = 10.0, boundary: str = "walls") -> float:
     """The common radius r of n spheres at packing fraction η: σ = cL/(1 + c) with walls, σ = cL periodic,
     where c = (6η/(nπ))^(1/3)."""
+    n = as_count(n, "n", 1)
+    eta = as_positive(eta, "eta")
+    if eta >= 1.0:
+        raise ValueError(f"eta must be < 1, got {eta!r}")
+    box = as_positive(box, "box")
+    boundary = as_choice(boundary, "boundary", ("walls", "periodic"))
     c = (6.0 * eta / (n * math.pi)) ** (1.0 / 3.0)
     sigma = c * box / (1.0 + c) if boundary == "walls" else c * box
     return sigma / 2.0
@@ -194,3 +208,71 @@ def draw_velocities(masses: np.ndarray, temperature: float, boundary: str, rng: 
     if kinetic > 0.0:
         v *= math.sqrt(1.5 * n * temperature / kinetic)
     return v
+
+
+def per_sphere(value, name, n):
+    """A positive scalar or (n,) array as a fresh (n,) float64 array."""
+    arr = np.asarray(value)
+    if arr.ndim == 0:
+        return np.full(n, as_positive(value, name))
+    out = as_float_array(value, name, shape=(n,))
+    bad = np.flatnonzero(out <= 0.0)
+    if bad.size:
+        raise ValueError(f"{name} must be > 0: {name}[{bad[0]}] = {out[bad[0]]!r}")
+    return out
+
+
+def check_start_positions(positions, radii, box, periodic):
+    """Validated start positions (n, 3): inside the reachable box (walls) or wrapped (periodic), no overlap."""
+    from engine.broadphase import sphere_pairs
+
+    n = radii.shape[0]
+    p = as_float_array(positions, "positions", shape=(n, 3))
+    if not periodic:
+        half = box / 2.0
+        outside = (p < -half + radii[:, None]) | (p > half - radii[:, None])
+        if outside.any():
+            i, k = (int(x) for x in np.argwhere(outside)[0])
+            raise ValueError(f"positions[{i}] is outside the reachable box: coordinate {k} = {p[i, k]!r}, "
+                             f"limit ±{half - radii[i]!r}")
+    else:
+        p = p - box * np.floor((p + box / 2.0) / box)
+    if periodic:
+        # the pairs closer than the largest contact distance under minimum images (scipy's periodic k-d tree)
+        from scipy.spatial import cKDTree
+
+        tree = cKDTree(np.clip(p + box / 2.0, 0.0, np.nextafter(box, 0.0)), boxsize=box)
+        for i, j in sorted(tree.query_pairs(2.0 * float(radii.max()))):
+            d = p[i] - p[j]
+            d -= box * np.round(d / box)
+            if float(d @ d) < (radii[i] + radii[j]) ** 2:
+                raise ValueError(f"positions overlap: spheres {i} and {j} are closer than r_{i} + r_{j}")
+        return p
+    pairs = sphere_pairs(p, radii)
+    for i, j in pairs:
+        d = p[i] - p[j]
+        if float(d @ d) < (radii[i] + radii[j]) ** 2:
+            raise ValueError(f"positions overlap: spheres {i} and {j} are closer than r_{i} + r_{j}")
+    return p
+
+
+def check_gas_state(positions, velocities, radii, masses, box, periodic):
+    """Validate a gas state for ``EventDrivenGas`` / ``SteppedGas``; returns fresh arrays
+    (positions (n, 3), velocities (n, 3), radii (n,), masses (n,)), box and periodic.
+
+    radii and masses: positive scalars or (n,) arrays; box > 0; periodic a bool; the spheres must fit (2 r < box
+    with walls, 6 r <= box periodic), lie inside the reachable box and not overlap (DESIGN.md section 6)."""
+    box = as_positive(box, "box")
+    if not isinstance(periodic, bool | np.bool_):
+        raise TypeError(f"periodic must be a bool, got {type(periodic).__name__}")
+    p = as_float_array(positions, "positions", shape=(None, 3), min_rows=1)
+    n = p.shape[0]
+    r = per_sphere(radii, "radii", n)
+    m = per_sphere(masses, "masses", n)
+    v = as_float_array(velocities, "velocities", shape=(n, 3))
+    rmax = float(r.max())
+    if not periodic and 2.0 * rmax >= box:
+        raise ValueError(f"radii must be < box/2: radius {rmax!r}, box {box!r}")
+    if periodic and 6.0 * rmax > box:
+        raise ValueError(f"a periodic box must be at least 3 diameters wide: radius {rmax!r}, box {box!r}")
+    return check_start_positions(p, r, box, bool(periodic)), v, r, m, box, bool(periodic)

@@ -14,7 +14,7 @@ import math
 
 import numpy as np
 
-from engine._validate import as_float_array, as_fraction, as_nonnegative, as_positive
+from engine._validate import as_count, as_float, as_float_array, as_fraction, as_nonnegative, as_positive
 
 __all__ = [
     "compressibility_from_walls",
@@ -37,7 +37,7 @@ def compressibility_from_walls(wall_impulse, n, temperature, side, t) -> float:
     wall_impulse: Σ 2m|v⊥| over the wall hits of the window; side: L' (reachable side); t: window length.
     """
     impulse = as_nonnegative(wall_impulse, "wall_impulse")
-    n = as_positive(n, "n")
+    n = as_count(n, "n", 1)
     kt = as_positive(temperature, "temperature")
     side = as_positive(side, "side")
     t = as_positive(t, "t")
@@ -47,7 +47,7 @@ def compressibility_from_walls(wall_impulse, n, temperature, side, t) -> float:
 def compressibility_from_virial(virial, n, temperature, t) -> float:
     """Z = 1 + Σ m Δv_i · r_ij / (3 t N kT) (the collision virial over a window of length t)."""
     w = as_nonnegative(virial, "virial")
-    n = as_positive(n, "n")
+    n = as_count(n, "n", 1)
     kt = as_positive(temperature, "temperature")
     t = as_positive(t, "t")
     return 1.0 + w / (3.0 * t * n * kt)
@@ -55,8 +55,8 @@ def compressibility_from_virial(virial, n, temperature, t) -> float:
 
 def collision_rate(collisions, n, t) -> float:
     """Γ = 2·collisions/(N t): collisions per particle per unit time."""
-    c = as_nonnegative(collisions, "collisions")
-    n = as_positive(n, "n")
+    c = as_count(collisions, "collisions", 0)
+    n = as_count(n, "n", 1)
     t = as_positive(t, "t")
     return 2.0 * c / (n * t)
 
@@ -79,10 +79,10 @@ def carnahan_starling(eta) -> float:
 
 
 def _masses(masses, n):
-    m = np.asarray(masses, dtype=float)
-    if m.ndim == 0:
-        m = np.full(n, float(m))
-    m = as_float_array(m, "masses", shape=(n,))
+    if np.ndim(masses) == 0:
+        m = np.full(n, as_float(masses, "masses"))
+    else:
+        m = as_float_array(masses, "masses", shape=(n,))
     bad = np.flatnonzero(m <= 0.0)
     if bad.size:
         raise ValueError(f"masses must be > 0: masses[{bad[0]}] = {m[bad[0]]!r}")
@@ -104,19 +104,27 @@ def scaled_speeds(velocities, masses=1.0, temperature=1.0) -> np.ndarray:
     return np.sqrt((v * v).sum(axis=1) * m / kt)
 
 
+def _speeds(speeds) -> np.ndarray:
+    u = as_float_array(speeds, "speeds", shape=(None,), min_rows=1)
+    bad = np.flatnonzero(u < 0.0)
+    if bad.size:
+        raise ValueError(f"speeds must be >= 0: speeds[{bad[0]}] = {u[bad[0]]!r}")
+    return u
+
+
 def maxwell_boltzmann_test(speeds) -> tuple[float, float]:
     """Kolmogorov–Smirnov test of scaled speeds (n,) (see ``scaled_speeds``) against scipy.stats.maxwell
     (unit scale). Returns (statistic, p-value)."""
     from scipy import stats
 
-    u = as_float_array(speeds, "speeds", shape=(None,), min_rows=1)
+    u = _speeds(speeds)
     res = stats.kstest(u, stats.maxwell.cdf)
     return float(res.statistic), float(res.pvalue)
 
 
 def speed_moment_ratio(speeds) -> float:
     """⟨v⁴⟩/⟨v²⟩², 5/3 for a Maxwell–Boltzmann gas (1 when every speed is equal)."""
-    u = as_float_array(speeds, "speeds", shape=(None,), min_rows=1)
+    u = _speeds(speeds)
     u2 = float(np.mean(u * u))
     if u2 == 0.0:
         raise ValueError("speeds are all zero: the ratio is undefined")
@@ -137,7 +145,7 @@ def plot_speed_histogram(speeds, path, title: str = "") -> None:
     import matplotlib.pyplot as plt
     from scipy import stats
 
-    u = as_float_array(speeds, "speeds", shape=(None,), min_rows=1)
+    u = _speeds(speeds)
     fig, ax = plt.subplots(figsize=(6, 4))
     ax.hist(u, bins=60, density=True, alpha=0.6, label=f"simulation ({u.shape[0]} speeds)")
     x = np.linspace(0.0, max(4.5, float(u.max())), 400)

@@ -10,19 +10,28 @@ mean of its block values, with the standard error of that mean.
 from __future__ import annotations
 
 import math
-import numbers
 import time
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from engine._validate import as_choice, as_float_array, as_nonnegative, as_positive
+from engine._validate import MAX_STEPS, as_choice, as_count, as_float_array, as_nonnegative, as_positive
 from engine.gas import observables as obs
 from engine.gas.events import EventDrivenGas
-from engine.gas.initial import draw_velocities, packing_fraction, place_spheres, reachable_side
+from engine.gas.initial import (
+    check_start_positions,
+    draw_velocities,
+    packing_fraction,
+    per_sphere,
+    place_spheres,
+    reachable_side,
+)
 from engine.gas.stepped import SteppedGas
 
-__all__ = ["simulate_gas", "GasResult", "GAS_METHODS", "GAS_BOUNDARIES"]
+__all__ = ["simulate_gas", "GasResult", "GAS_METHODS", "GAS_BOUNDARIES", "GasEventCapReached", "MAX_STEPS"]
+
+class GasEventCapReached(RuntimeError):
+    """The event-driven loop processed ``max_events`` events before reaching the end of the run."""
 
 GAS_METHODS = ("events", "stepped")
 GAS_BOUNDARIES = ("walls", "periodic")
@@ -70,62 +79,16 @@ class GasResult:
     block_collision_rate: np.ndarray = field(repr=False)
 
 
-def _as_count(value, name, minimum):
-    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
-        raise TypeError(f"{name} must be an int, got {type(value).__name__}")
-    if value < minimum:
-        raise ValueError(f"{name} must be >= {minimum}, got {value}")
-    return int(value)
-
-
-def _per_sphere(value, name, n):
-    """A positive scalar or (n,) array as a fresh (n,) float64 array."""
-    arr = np.asarray(value)
-    if arr.ndim == 0:
-        return np.full(n, as_positive(value, name))
-    out = as_float_array(value, name, shape=(n,))
-    bad = np.flatnonzero(out <= 0.0)
-    if bad.size:
-        raise ValueError(f"{name} must be > 0: {name}[{bad[0]}] = {out[bad[0]]!r}")
-    return out
-
-
-def _check_start(positions, radii, box, periodic):
-    from engine.broadphase import sphere_pairs
-
-    n = radii.shape[0]
-    p = as_float_array(positions, "positions", shape=(n, 3))
-    if not periodic:
-        half = box / 2.0
-        outside = (p < -half + radii[:, None]) | (p > half - radii[:, None])
-        if outside.any():
-            i, k = (int(x) for x in np.argwhere(outside)[0])
-            raise ValueError(f"positions[{i}] is outside the reachable box: coordinate {k} = {p[i, k]!r}, "
-                             f"limit ±{half - radii[i]!r}")
-    else:
-        p = p - box * np.floor((p + box / 2.0) / box)
-    if periodic:
-        # the pairs closer than the largest contact distance under minimum images (scipy's periodic k-d tree)
-        from scipy.spatial import cKDTree
-
-        tree = cKDTree(np.clip(p + box / 2.0, 0.0, np.nextafter(box, 0.0)), boxsize=box)
-        for i, j in sorted(tree.query_pairs(2.0 * float(radii.max()))):
-            d = p[i] - p[j]
-            d -= box * np.round(d / box)
-            if float(d @ d) < (radii[i] + radii[j]) ** 2:
-                raise ValueError(f"positions overlap: spheres {i} and {j} are closer than r_{i} + r_{j}")
-        return p
-    pairs = sphere_pairs(p, radii)
-    for i, j in pairs:
-        d = p[i] - p[j]
-        if float(d @ d) < (radii[i] + radii[j]) ** 2:
-            raise ValueError(f"positions overlap: spheres {i} and {j} are closer than r_{i} + r_{j}")
-    return p
+def _run_events(gas: EventDrivenGas, t_stop: float, max_events: int) -> None:
+    """Advance the event-driven gas to t_stop under the run's event cap (counted over the whole run)."""
+    left = max_events - gas.processed
+    if left <= 0 or gas.run(t_stop, max_events=left) >= left and gas.time < t_stop:
+        raise GasEventCapReached(f"the event loop reached max_events = {max_events} before t = {t_stop!r}")
 
 
 def simulate_gas(n, *, radius, mass=1.0, box=10.0, temperature=1.0, t_equilibrate=5.0, t_measure=20.0, dt=1e-3,
                  method="events", broad_phase="sap", boundary="walls", seed=0, initial="auto", blocks=10,
-                 positions=None, velocities=None, progress=None) -> GasResult:
+                 positions=None, velocities=None, progress=None, max_events=10**10) -> GasResult:
     """Simulate n hard spheres in a cube of side ``box`` (walls at ±box/2, or periodic) and measure Z, Γ, drift.
 
     n: number of spheres; radius, mass: positive scalars or (n,) arrays; temperature kT > 0 (velocities drawn
@@ -135,11 +98,13 @@ def simulate_gas(n, *, radius, mass=1.0, box=10.0, temperature=1.0, t_equilibrat
     initial: "auto", "random" or "lattice" (a melting FCC lattice; dense fluids up to η = 0.45); or give
     ``positions`` (n, 3) (non-overlapping, inside the box) and ``velocities`` (n, 3) to start from a given
     state. blocks >= 2 measurement blocks. progress: an optional callable receiving the fraction done in [0, 1].
-    Raises ValueError for an impossible packing or bad arguments.
+    Raises ValueError for an impossible packing or bad arguments. Iteration caps: the stepped method refuses more
+    than ``MAX_STEPS`` frames (ValueError naming dt); the event loop stops after ``max_events`` events and raises
+    ``GasEventCapReached``.
     """
     from engine.broadphase import BROAD_PHASES
 
-    n = _as_count(n, "n", 1)
+    n = as_count(n, "n", 1)
     method = as_choice(method, "method", GAS_METHODS)
     boundary = as_choice(boundary, "boundary", GAS_BOUNDARIES)
     broad_phase = as_choice(broad_phase, "broad_phase", BROAD_PHASES)
@@ -147,15 +112,19 @@ def simulate_gas(n, *, radius, mass=1.0, box=10.0, temperature=1.0, t_equilibrat
     periodic = boundary == "periodic"
     if periodic and n < 2:
         raise ValueError("a periodic gas needs n >= 2 (zero total momentum leaves one sphere at rest)")
-    radii = _per_sphere(radius, "radius", n)
-    masses = _per_sphere(mass, "mass", n)
+    radii = per_sphere(radius, "radius", n)
+    masses = per_sphere(mass, "mass", n)
     box = as_positive(box, "box")
     kt = as_positive(temperature, "temperature")
     t_eq = as_nonnegative(t_equilibrate, "t_equilibrate")
     t_meas = as_positive(t_measure, "t_measure")
     dt = as_positive(dt, "dt")
-    seed = _as_count(seed, "seed", 0)
-    blocks = _as_count(blocks, "blocks", 2)
+    seed = as_count(seed, "seed", 0)
+    blocks = as_count(blocks, "blocks", 2)
+    max_events = as_count(max_events, "max_events", 1)
+    if method == "stepped" and (t_eq + t_meas) / dt > MAX_STEPS:
+        raise ValueError(f"dt = {dt!r} asks for {(t_eq + t_meas) / dt:.3g} frames over t_equilibrate + t_measure "
+                         f"= {t_eq + t_meas!r}; the stepped method is capped at MAX_STEPS = {MAX_STEPS}")
     if progress is not None and not callable(progress):
         raise TypeError("progress must be a callable or None")
     rmax = float(radii.max())
@@ -168,7 +137,7 @@ def simulate_gas(n, *, radius, mass=1.0, box=10.0, temperature=1.0, t_equilibrat
     if positions is None:
         pos = place_spheres(n, radii, box, boundary, rng, initial)
     else:
-        pos = _check_start(positions, radii, box, periodic)
+        pos = check_start_positions(positions, radii, box, periodic)
     if velocities is None:
         vel = draw_velocities(masses, kt, boundary, rng)
     else:
@@ -207,7 +176,7 @@ def simulate_gas(n, *, radius, mass=1.0, box=10.0, temperature=1.0, t_equilibrat
     else:
         t_block = t_meas / blocks
         for k in range(1, 11):
-            gas.run(t_eq * k / 10.0)
+            _run_events(gas, t_eq * k / 10.0, max_events)
             drift = max(drift, abs(gas.kinetic_energy() - e0) / e0)
             if progress is not None and t_eq > 0.0:
                 progress(t_eq * k / 10.0 / total)
@@ -221,7 +190,7 @@ def simulate_gas(n, *, radius, mass=1.0, box=10.0, temperature=1.0, t_equilibrat
         if method == "stepped":
             gas.run(block_steps)
         else:
-            gas.run(t_eq + (b + 1) * t_block)
+            _run_events(gas, t_eq + (b + 1) * t_block, max_events)
             events += gas.events
         e = gas.kinetic_energy()
         drift = max(drift, abs(e - e0) / e0)

@@ -24,10 +24,12 @@ import math
 import numpy as np
 
 from engine._config import njit
+from engine._validate import as_choice, as_count, as_positive
 from engine.broadphase import IncrementalSAP, find_pairs
 from engine.broadphase.pairs import canonical_pairs
 from engine.gas.elastic import _pair_impulse
 from engine.gas.events import _kinetic_energy_kernel
+from engine.gas.initial import check_gas_state
 
 __all__ = ["SteppedGas"]
 
@@ -182,10 +184,16 @@ class SteppedGas:
     ``run(steps)`` advances ``steps`` frames of ``dt``; counters ``collisions``, ``wall_hits`` and the sums
     ``wall_impulse`` (Σ 2 m |v⊥|), ``virial`` (Σ m_i Δv_i · r_ij at contact) accumulate until ``reset_sums()``.
     ``broad_phase`` is a name of ``BROAD_PHASES``; "sap" uses ``IncrementalSAP`` (sorted order kept between
-    frames). Arguments are validated by ``simulate_gas``; this class trusts them.
+    frames). The constructor validates its arguments (``check_gas_state``, dt, broad_phase).
     """
 
     def __init__(self, positions, velocities, radii, masses, box, periodic, dt, broad_phase="sap"):
+        from engine.broadphase import BROAD_PHASES
+
+        positions, velocities, radii, masses, box, periodic = check_gas_state(positions, velocities, radii, masses,
+                                                                              box, periodic)
+        dt = as_positive(dt, "dt")
+        broad_phase = as_choice(broad_phase, "broad_phase", BROAD_PHASES)
         self.n = positions.shape[0]
         self.box = float(box)
         self.half = self.box / 2.0
@@ -262,7 +270,7 @@ class SteppedGas:
     # -- the frame loop ---------------------------------------------------------------------------------------
     def run(self, steps: int) -> None:
         """Advance ``steps`` frames: move, walls, pairs (broad phase + exact test), response."""
-        for _ in range(int(steps)):
+        for _ in range(as_count(steps, "steps", 0)):
             _move_and_walls(self.pos, self.vel, self.rad, self.mass, self.half, self.periodic, self.dt, self.acc,
                             self.counters)
             pairs = self.candidate_pairs()
