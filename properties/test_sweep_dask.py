@@ -177,19 +177,25 @@ def test_killing_a_worker_loses_no_completed_row(client, tmp_path):
     configs = [dict(i=i, sleep=0.3) for i in range(16)]
     sweep = Sweep("kill", slow_row, configs, ("i",))
     store = RowStore(tmp_path / "kill.jsonl")
-    snapshot = {}
+    snapshot, reported = {}, []
     pids = client.run(os.getpid)
     assert len(pids) == 2
+    killed = []
 
     def kill_one(row):
-        if snapshot:
+        if killed:
+            return
+        reported.append(row)
+        if len(reported) < 2:
             return
         # the rows reported so far must already be on disk when the worker dies
         snapshot.update({sweep.key(r): r for r in store.read()})
         os.kill(sorted(pids.values())[0], signal.SIGKILL)
+        killed.append(row)
 
     result = run_sweep(sweep, store, client, on_row=kill_one)
-    assert snapshot, "the kill never happened"
+    assert killed, "the kill never happened"
+    assert {sweep.key(r) for r in reported} <= set(snapshot)  # reported rows were durable before the kill
     assert result.complete, result.failures
     assert [r["i"] for r in result.rows] == list(range(16))
     assert all(r["square"] == r["i"] ** 2 for r in result.rows)
