@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import contextlib
 import datetime as _dt
+import inspect
 import json
 import os
 import platform
@@ -171,11 +172,13 @@ def main(quick: bool = False, out: Path | str = "reports", scheduler: str | None
     out.mkdir(parents=True, exist_ok=True)
     info = stamp()
     sections = []
-    for name, section in validation.SECTIONS:
-        print(f"[report] validation: {name}", flush=True)
-        sections += section(out, info, quick=quick)
-    print("[report] equation of state (physics sweep)", flush=True)
     with _sweep_client(scheduler, "physics") as (client, where):
+        for name, section in validation.SECTIONS:
+            print(f"[report] validation: {name}", flush=True)
+            # sections whose runs are sweep points (e.g. gas) take the client; the others run here
+            takes_client = "client" in inspect.signature(section).parameters
+            sections += section(out, info, quick=quick, **({"client": client} if takes_client else {}))
+        print("[report] equation of state (physics sweep)", flush=True)
         sections += eos_section(out, info, quick, client, where)
     print("[report] benchmarks", flush=True)
     json_path = run_benchmarks(out, quick)

@@ -58,6 +58,9 @@ TIMING_RESOURCE = "timing"
 class Sweep:
     """A named sweep: ``function(config) -> row`` over ``configs``, a configuration identified by ``key_fields``.
 
+    Each stored row is the function's row plus the configuration's key fields (which win over row fields of the
+    same name: the key is what resume compares).
+
     kind: "physics" (may fill every core) or "timing" (one task per worker process, one thread: see the module).
     retries: how many times the scheduler reruns a task that raised before it is reported as failed.
     version: rows stored under another version (e.g. another commit) are not reused on resume.
@@ -204,7 +207,7 @@ def run_sweep(sweep: Sweep, store: RowStore, client=None, *, on_row: Callable[[d
     progress = _Progress(sweep.name, len(sweep.configs), len(resumed), stream)
 
     def keep(cfg, row):
-        row = {**{f: cfg[f] for f in sweep.key_fields}, **row}
+        row = {**row, **{f: cfg[f] for f in sweep.key_fields}}  # the configuration's key identifies the row
         store.append(row, sweep.version)
         stored[sweep.key(cfg)] = {**row, "_version": sweep.version}
         result.computed.append(sweep.key(cfg))
