@@ -134,7 +134,8 @@ def write_index(out: Path, sections: list[tuple[str, str]], info: dict) -> None:
               "the largest error next to the tolerance the property suite enforces; `ok` means within it.",
               "- Benchmark ratios are measured in one run, on one machine: compare ratios, not absolute times, "
               "across machines.",
-              "- eos and broadphase_matrix are distributed sweeps (bench/sweep.py, one task per configuration): "
+              "- gas, eos and broadphase_matrix are distributed sweeps (bench/sweep.py, one task per "
+              "configuration, on `--scheduler` / $COLLIDE_SCHEDULER or an embedded LocalCluster): "
               "an interrupted report keeps their completed rows in `.sweeps/` and resumes from them on the next "
               "run; a configuration that still fails after two retries is listed in `<name>.failures.csv`.", ""]
     (out / "README.md").write_text("\n".join(lines))

@@ -130,7 +130,10 @@ class RowStore:
             os.fsync(f.fileno())
 
     def clear(self) -> None:
+        """Forget the rows (a finished sweep): the file goes, and its folder too when that leaves it empty."""
         self.path.unlink(missing_ok=True)
+        with contextlib.suppress(OSError):
+            self.path.parent.rmdir()
 
 
 def _jsonable(value):

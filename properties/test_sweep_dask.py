@@ -19,7 +19,7 @@ from hypothesis import strategies as st
 
 pytest.importorskip("distributed")
 
-from bench.sweep import RowStore, Sweep, run_sweep, sweep_client  # noqa: E402
+from bench.sweep import SCHEDULER_ENV, RowStore, Sweep, run_sweep, scheduler_address, sweep_client  # noqa: E402
 
 # ----------------------------------------------------------------------------------------------------------
 # task functions: module level, so that workers import them by reference (PYTHONPATH holds the repository)
@@ -161,6 +161,14 @@ def test_resume_runs_exactly_the_missing_configs(tmp_path_factory, stored, torn,
     assert sorted(result.resumed) == sorted(sweep.key({"i": i}) for i in stored)
     assert sorted(result.computed) == sorted(sweep.key({"i": i}) for i in set(range(10)) - stored)
     assert result.rows == [{"i": i, **square_row({"i": i})} for i in range(10)]
+
+
+def test_scheduler_comes_from_the_option_then_the_environment(monkeypatch):
+    monkeypatch.delenv(SCHEDULER_ENV, raising=False)
+    assert scheduler_address(None) is None  # embedded LocalCluster
+    monkeypatch.setenv(SCHEDULER_ENV, "tcp://cluster:8786")
+    assert scheduler_address(None) == "tcp://cluster:8786"
+    assert scheduler_address("tcp://other:8786") == "tcp://other:8786"  # --scheduler wins
 
 
 def test_sweep_rejects_duplicate_keys_and_missing_fields():
