@@ -161,6 +161,9 @@ def test_resume_runs_exactly_the_missing_configs(tmp_path_factory, stored, torn,
     assert sorted(result.resumed) == sorted(sweep.key({"i": i}) for i in stored)
     assert sorted(result.computed) == sorted(sweep.key({"i": i}) for i in set(range(10)) - stored)
     assert result.rows == [{"i": i, **square_row({"i": i})} for i in range(10)]
+    # what the next resume sees: every row, once, from the file (a torn line must not swallow the next row)
+    again = sorted((r for r in store.read("v2")), key=lambda r: r["i"])
+    assert [{k: v for k, v in r.items() if k != "_version"} for r in again] == result.rows
 
 
 def test_scheduler_comes_from_the_option_then_the_environment(monkeypatch):
