@@ -7,11 +7,16 @@ Writes, in the output folder:
   benchmarks.md (one table per group, with each entry's ratio to the fastest of its group);
 - one validation section per area of the chapter (dynamics.md/.csv/.png, ...), each checking the engine
   against its oracle on fixed cases;
+- eos.csv/.md/.png, the hard-sphere equation of state, and broadphase_matrix.csv/.md, a timing matrix of the
+  broad phases, both computed by distributed sweeps (bench/sweep.py): on the Dask scheduler given by
+  ``--scheduler`` or $COLLIDE_SCHEDULER, else on an embedded LocalCluster of this machine;
 - README.md, the index that says how to read them.
 """
 from __future__ import annotations
 
+import contextlib
 import datetime as _dt
+import inspect
 import json
 import os
 import platform
@@ -128,12 +133,39 @@ def write_index(out: Path, sections: list[tuple[str, str]], info: dict) -> None:
               "- A validation report compares the engine with an independent oracle on fixed cases and prints "
               "the largest error next to the tolerance the property suite enforces; `ok` means within it.",
               "- Benchmark ratios are measured in one run, on one machine: compare ratios, not absolute times, "
-              "across machines.", ""]
+              "across machines.",
+              "- gas, eos and broadphase_matrix are distributed sweeps (bench/sweep.py, one task per "
+              "configuration, on `--scheduler` / $COLLIDE_SCHEDULER or an embedded LocalCluster): "
+              "an interrupted report keeps their completed rows in `.sweeps/` and resumes from them on the next "
+              "run; a configuration that still fails after two retries is listed in `<name>.failures.csv`.", ""]
     (out / "README.md").write_text("\n".join(lines))
 
 
-def main(quick: bool = False, out: Path | str = "reports") -> int:
+@contextlib.contextmanager
+def _sweep_client(scheduler: str | None, kind: str):
+    """(client, where) for the report's sweeps; (None, "serial") when dask.distributed is not installed."""
+    try:
+        import distributed  # noqa: F401
+    except ImportError:
+        print("[report] dask.distributed is not installed (pip install 'engine[sweep]'): sweeps run serially",
+              flush=True)
+        yield None, "serial, in the report's process"
+        return
+    from bench.sweep import embedded_workers, scheduler_address, sweep_client
+
+    address = scheduler_address(scheduler)
+    with sweep_client(address, kind) as client:
+        n = len(client.scheduler_info().get("workers", {}))
+        where = (f"Dask scheduler {address}, {n} workers" if address else
+                 f"embedded Dask LocalCluster, {embedded_workers(kind)} {kind} worker process(es) of one thread")
+        yield client, where
+
+
+def main(quick: bool = False, out: Path | str = "reports", scheduler: str | None = None) -> int:
+    """scheduler: address of a Dask scheduler for the sweeps (else $COLLIDE_SCHEDULER, else a LocalCluster)."""
     from bench import validation
+    from bench.eos import eos_section
+    from bench.report_broadphase import broadphase_matrix_section
 
     out = Path(out)
     if not out.is_absolute():
@@ -141,15 +173,23 @@ def main(quick: bool = False, out: Path | str = "reports") -> int:
     out.mkdir(parents=True, exist_ok=True)
     info = stamp()
     sections = []
-    for name, section in validation.SECTIONS:
-        print(f"[report] validation: {name}", flush=True)
-        sections += section(out, info, quick=quick)
+    with _sweep_client(scheduler, "physics") as (client, where):
+        for name, section in validation.SECTIONS:
+            print(f"[report] validation: {name}", flush=True)
+            # sections whose runs are sweep points (e.g. gas) take the client; the others run here
+            takes_client = "client" in inspect.signature(section).parameters
+            sections += section(out, info, quick=quick, **({"client": client} if takes_client else {}))
+        print("[report] equation of state (physics sweep)", flush=True)
+        sections += eos_section(out, info, quick, client, where)
     print("[report] benchmarks", flush=True)
     json_path = run_benchmarks(out, quick)
     df = benchmark_table(json_path, info)
     df.to_csv(out / "benchmarks.csv", index=False)
     (out / "benchmarks.md").write_text(benchmark_markdown(df, info))
     sections += broadphase_section(json_path, out, info, quick)
+    print("[report] broad-phase timing matrix (timing sweep)", flush=True)
+    with _sweep_client(scheduler, "timing") as (client, where):
+        sections += broadphase_matrix_section(out, info, quick, client, where)
     sections += narrowphase_section(json_path, out, info, quick)
     write_index(out, sections, info)
     print(f"[report] wrote {out}", flush=True)

@@ -164,3 +164,94 @@ def broadphase_section(json_path: Path, out: Path, info: dict, quick: bool):
     return [("[broadphase.md](broadphase.md), [broadphase.csv](broadphase.csv), [broadphase.png](broadphase.png)",
              "broad phase: time against N per method (W1 boxes, W2 spheres, scaling), ratios against brute force "
              "and cKDTree, fitted log-log slopes, O(n)/O(n log n)/O(n²) guides")]
+
+
+# ----------------------------------------------------------------------------------------------------------
+# The timing matrix: broad-phase method × N × packing fraction × seed, one timing task per configuration
+# ----------------------------------------------------------------------------------------------------------
+MATRIX_KEY = ("method", "n", "packing_fraction", "seed", "repeats")
+MATRIX_METHODS = ("brute", "sap", "grid", "octree", "tree")
+BRUTE_MAX_N = 1_000  # brute force beyond: (n² − n)/2 tests, over a second per call (broadphase.md has it to 3e4)
+
+
+def matrix_configs(quick: bool = False) -> list[dict]:
+    """Full: N = 1e3, 1e4, 1e5 (brute at 1e3 only), η = 0.05 and 0.2, seeds 1-3, 3 timed calls each.
+    Quick: N = 1e3 and 1e4, seeds 1-2, 3 timed calls. About a minute in full mode on 2 cores."""
+    sizes, seeds, repeats = ((1_000, 10_000), (1, 2), 3) if quick else ((1_000, 10_000, 100_000), (1, 2, 3), 3)
+    return [dict(method=m, n=n, packing_fraction=eta, seed=seed, repeats=repeats)
+            for m in MATRIX_METHODS for n in sizes for eta in (0.05, 0.2) for seed in seeds
+            if m != "brute" or n <= BRUTE_MAX_N]
+
+
+def time_find_pairs(cfg: dict) -> dict:
+    """One timing task: ``find_pairs`` on the bounding boxes of W2 spheres (DESIGN.md §7), seeded; a warm-up
+    call (compilation, caches), then ``repeats`` timed calls (perf_counter; minimum and median)."""
+    import time
+
+    from bench.test_bench_broadphase import w2_spheres
+    from engine.broadphase import find_pairs
+
+    centres, radius = w2_spheres(cfg["n"], cfg["packing_fraction"], seed=cfg["seed"])
+    lo, hi = centres - radius, centres + radius
+    pairs = find_pairs(lo, hi, cfg["method"])
+    tests = (cfg["n"] * (cfg["n"] - 1) // 2 if cfg["method"] == "brute"
+             else int(find_pairs(lo, hi, cfg["method"], return_tests=True)[1]))
+    times = []
+    for _ in range(cfg["repeats"]):
+        t0 = time.perf_counter()
+        find_pairs(lo, hi, cfg["method"])
+        times.append(time.perf_counter() - t0)
+    return dict(seconds_min=min(times), seconds_median=float(np.median(times)),
+                ns_per_object=min(times) * 1e9 / cfg["n"], pairs=int(pairs.shape[0]), box_tests=tests)
+
+
+def matrix_markdown(df: pd.DataFrame, info: dict, quick: bool, where: str, failures: list) -> str:
+    lines = ["# Broad phase: timing matrix (method × N × η × seed)", "",
+             f"{info['date']} · commit `{info['commit']}` · {info['machine']}" + (" · **quick mode**" if quick else ""),
+             "",
+             "`find_pairs(lo, hi, method)` on the bounding boxes of N equal spheres uniform in a cube at packing "
+             "fraction η (DESIGN.md §7, W2), one seeded scene per seed. Each configuration is one task of a "
+             f"distributed timing sweep ({where}): a warm-up call, then the minimum of the timed calls; a timing "
+             "worker runs one task at a time on one thread, so no sibling task disturbs it. Below, per (method, N, "
+             "η): the median over the seeds of the minimum time, the spread (max/min) between seeds, and the "
+             "ratio to sweep-and-prune at the same N and η (> 1 is slower). Pairs and box tests are the same for "
+             "every timed call (deterministic).", "",
+             "| method | η | N | seeds | time (ms) | ns / object | seed spread | × sap | pairs | box tests |",
+             "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+    g = df.groupby(["packing_fraction", "n", "method"], sort=True)
+    agg = g.agg(seeds=("seed", "count"), t=("seconds_min", "median"), tmax=("seconds_min", "max"),
+                tmin=("seconds_min", "min"), pairs=("pairs", "median"), tests=("box_tests", "median")).reset_index()
+    sap = agg[agg["method"] == "sap"].set_index(["packing_fraction", "n"])["t"]
+    for _, r in agg.iterrows():
+        ref = sap.get((r["packing_fraction"], r["n"]), math.nan)
+        lines.append(f"| {r['method']} | {r['packing_fraction']:g} | {int(r['n']):,} | {r['seeds']} | "
+                     f"{r['t'] * 1e3:,.3f} | {r['t'] * 1e9 / r['n']:,.1f} | {r['tmax'] / r['tmin']:.2f} | "
+                     f"{r['t'] / ref:.2f} | {int(r['pairs']):,} | {int(r['tests']):,} |")
+    lines.append("")
+    if failures:
+        lines += ["**Failed configurations** (after retries; rerun to retry them only): "
+                  + "; ".join(f"{c['method']} N={c['n']} η={c['packing_fraction']} seed {c['seed']}: {e}"
+                              for c, e in failures), ""]
+    return "\n".join(lines)
+
+
+def broadphase_matrix_section(out: Path, info: dict, quick: bool, client=None, where: str = "serial"):
+    """The timing matrix as a distributed timing sweep: broadphase_matrix.csv and .md in ``out``."""
+    from bench.sweep import RowStore, Sweep, run_sweep
+
+    out = Path(out)
+    sweep = Sweep("broadphase_matrix", time_find_pairs, matrix_configs(quick), MATRIX_KEY, kind="timing",
+                  version=info["commit"])
+    store = RowStore(out / ".sweeps" / "broadphase_matrix.jsonl")
+    result = run_sweep(sweep, store, client, failures_path=out / "broadphase_matrix.failures.csv")
+    if not result.rows:
+        return []
+    df = pd.DataFrame(result.rows)
+    df["commit"], df["machine"] = info["commit"], info["machine"]
+    df.to_csv(out / "broadphase_matrix.csv", index=False)
+    (out / "broadphase_matrix.md").write_text(matrix_markdown(df, info, quick, where, result.failures))
+    if result.complete:
+        store.clear()
+    return [("[broadphase_matrix.md](broadphase_matrix.md), [broadphase_matrix.csv](broadphase_matrix.csv)",
+             "broad phase timing matrix: method × N × packing fraction × seed, one timing task per configuration "
+             "on dedicated one-thread workers (distributed sweep); median over seeds, seed spread, ratio to SAP")]

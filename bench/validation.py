@@ -1,6 +1,8 @@
 """Validation runs of the main job: the engine against its oracles on fixed, documented cases.
 
-Each section is a function ``(out, info, quick) -> [(link, what it shows)]`` that writes its files in ``out``.
+Each section is a function ``(out, info, quick) -> [(link, what it shows)]`` that writes its files in ``out``;
+a section whose runs are points of a distributed sweep (bench/sweep.py) also takes ``client=`` (the report's
+Dask client, None for a serial run), as the gas section does.
 The tolerances are the ones the property suite enforces (properties/), so a row marked ``FAIL`` here is a
 regression the CI would also catch on random cases.
 """

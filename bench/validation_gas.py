@@ -1,7 +1,8 @@
 """Validation section of the confined gas (reports/gas.md): kinetic theory against both simulation methods.
 
-``gas_section(out, info, quick)`` writes gas.md, gas.csv and gas_speeds.png into ``out`` and returns the index
-rows. The lead registers it in bench/validation.py's SECTIONS. Quick mode: smaller N and shorter windows.
+``gas_section(out, info, quick, client)`` writes gas.md, gas.csv and gas_speeds.png into ``out`` and returns the
+index rows. Its runs are the points of a physics sweep (bench/sweep.py: ``gas_point`` over ``gas_configs``), on
+the report's Dask client, or serially without one. Quick mode: smaller N and shorter windows.
 """
 from __future__ import annotations
 
@@ -55,41 +56,71 @@ def _in_errors(row):
     return (row["z_virial"] - row["z_wall"]) / math.hypot(row["z_virial_err"], row["z_wall_err"])
 
 
-def gas_section(out: pathlib.Path, info: dict, quick: bool = False) -> list[tuple[str, str]]:
-    out = pathlib.Path(out)
-    started = time.perf_counter()
+GAS_KEY = ("table", "eta_target", "boundary", "method", "vrms_dt_over_sigma", "n", "t_equilibrate", "t_measure",
+           "seed")
+
+
+def gas_configs(quick: bool = False) -> list[dict]:
+    """The runs of the section, one sweep point each: the EOS table (both methods, both boundaries, η = 0.1, 0.2,
+    0.3) and the stepped bias table (events, then stepped at decreasing v_rms·Δt/σ)."""
     # the same N for both methods, so that their rows compare the same box (wall effects depend on N)
     n_ev, t_ev = (400, 8.0) if quick else (2000, 40.0)
     n_st, t_st = (400, 4.0) if quick else (2000, 16.0)
     t_eq = 2.0 if quick else 5.0
-    rows = []
-    demo = None
+    configs = []
     for eta in ETAS:
         for boundary in ("walls", "periodic"):
-            r = radius_for_packing(n_ev, eta, L, boundary)
-            res = simulate_gas(n_ev, radius=r, boundary=boundary, t_equilibrate=t_eq, t_measure=t_ev, blocks=20,
-                               seed=1)
-            rows.append(_row(res, table="eos"))
-            if eta == 0.2 and boundary == "walls":
-                demo = res
-            r = radius_for_packing(n_st, eta, L, boundary)
-            dt = _dt_for(2.0 * r, 0.02)
-            res = simulate_gas(n_st, radius=r, boundary=boundary, method="stepped", dt=dt, t_equilibrate=t_eq,
-                               t_measure=t_st, blocks=20, seed=1)
-            rows.append(_row(res, table="eos"))
-
-    # the stepped method's bias against Δt, extrapolated to Δt → 0, against the event-driven Z
+            configs.append(dict(table="eos", eta_target=eta, boundary=boundary, method="events",
+                                vrms_dt_over_sigma=None, n=n_ev, t_equilibrate=t_eq, t_measure=t_ev, seed=1,
+                                keep_speeds=eta == 0.2 and boundary == "walls"))
+            configs.append(dict(table="eos", eta_target=eta, boundary=boundary, method="stepped",
+                                vrms_dt_over_sigma=0.02, n=n_st, t_equilibrate=t_eq, t_measure=t_st, seed=1))
     n_b, t_b = (200, 6.0) if quick else (500, 30.0)
-    bias = []
-    r = radius_for_packing(n_b, 0.2, L)
-    ev = simulate_gas(n_b, radius=r, t_equilibrate=t_eq, t_measure=t_b, blocks=20, seed=2)
-    rows.append(_row(ev, table="bias"))
     ratios = (0.4, 0.2, 0.1, 0.05) if quick else (0.4, 0.2, 0.1, 0.05, 0.025)
-    for ratio in ratios:
-        res = simulate_gas(n_b, radius=r, method="stepped", dt=_dt_for(2.0 * r, ratio), t_equilibrate=t_eq,
-                           t_measure=t_b, blocks=20, seed=2)
-        rows.append(_row(res, table="bias", vrms_dt_over_sigma=ratio))
-        bias.append((ratio, res))
+    for method, ratio in [("events", None)] + [("stepped", x) for x in ratios]:
+        configs.append(dict(table="bias", eta_target=0.2, boundary="walls", method=method, vrms_dt_over_sigma=ratio,
+                            n=n_b, t_equilibrate=t_eq, t_measure=t_b, seed=2))
+    return configs
+
+
+def gas_point(cfg: dict) -> dict:
+    """One run of the section (pure: the row depends only on cfg); the demo run also returns its speeds."""
+    r = radius_for_packing(cfg["n"], cfg["eta_target"], L, cfg["boundary"])
+    step = {}
+    if cfg["method"] == "stepped":
+        step = dict(method="stepped", dt=_dt_for(2.0 * r, cfg["vrms_dt_over_sigma"]))
+    res = simulate_gas(cfg["n"], radius=r, boundary=cfg["boundary"], t_equilibrate=cfg["t_equilibrate"],
+                       t_measure=cfg["t_measure"], blocks=20, seed=cfg["seed"], **step)
+    row = _row(res)
+    if cfg.get("keep_speeds"):
+        row["scaled_speeds"] = res.scaled_speeds.tolist()
+    return row
+
+
+def gas_section(out: pathlib.Path, info: dict, quick: bool = False, client=None) -> list[tuple[str, str]]:
+    """Runs the section's simulations as a physics sweep (bench/sweep.py) on ``client`` (serially when None)."""
+    from types import SimpleNamespace
+
+    from bench.sweep import RowStore, Sweep, run_sweep
+
+    out = pathlib.Path(out)
+    started = time.perf_counter()
+    sweep = Sweep("gas", gas_point, gas_configs(quick), GAS_KEY, kind="physics", version=info["commit"])
+    store = RowStore(out / ".sweeps" / "gas.jsonl")
+    result = run_sweep(sweep, store, client, failures_path=out / "gas.failures.csv")
+    if not result.complete:
+        print(f"  gas: {len(result.failures)} runs failed (see gas.failures.csv); rerun to retry them only",
+              flush=True)
+        return []
+    rows = result.rows
+    demo_row = next(r_ for r_ in rows if "scaled_speeds" in r_)  # eos table, η = 0.2, walls, events
+    demo = SimpleNamespace(n=demo_row["n"], scaled_speeds=np.asarray(demo_row["scaled_speeds"]))
+    for r_ in rows:
+        r_.pop("scaled_speeds", None)
+    n_b, t_b = rows[-1]["n"], rows[-1]["t_measure"]
+    ev = SimpleNamespace(**next(r_ for r_ in rows if r_["table"] == "bias" and r_["method"] == "events"))
+    bias = [(r_["vrms_dt_over_sigma"], SimpleNamespace(**r_)) for r_ in rows
+            if r_["table"] == "bias" and r_["method"] == "stepped"]
     # the bias is linear in Δt only for small steps: at v_rms·Δt/σ = 0.4 a sphere meets several others per
     # frame and Z collapses; the fit uses the steps with v_rms·Δt/σ <= 0.2
     fit = [b for b in bias if b[0] <= 0.2]
@@ -158,6 +189,7 @@ def gas_section(out: pathlib.Path, info: dict, quick: bool = False) -> list[tupl
               "![speed histogram](gas_speeds.png)", "",
               f"Section computed in {time.perf_counter() - started:.0f} s.", ""]
     (out / "gas.md").write_text("\n".join(lines))
+    store.clear()  # complete: the next report computes afresh
     print(f"  gas: {len(rows)} runs, stepped extrapolation {'agrees' if agree else 'DISAGREES'}", flush=True)
     return [("[gas.md](gas.md), [gas.csv](gas.csv), [gas_speeds.png](gas_speeds.png)",
              "confined gas: Z virial vs wall, Z vs collision rate, periodic Z vs Carnahan–Starling, "

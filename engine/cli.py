@@ -5,7 +5,7 @@
     collide contact A.json B.json
     collide bound POINTS.csv | collide hull POINTS.csv | collide decompose POLYGON.csv
     collide gas --n 2000 --eta 0.2 --method events
-    collide report [--quick]
+    collide report [--quick] [--scheduler tcp://HOST:8786]
 """
 from __future__ import annotations
 
@@ -154,7 +154,7 @@ def cmd_report(args) -> int:
     sys.path.insert(0, str(root))  # the report generator and its oracles live beside the package, not in it
     from bench.report import main as report_main
 
-    return report_main(quick=args.quick, out=Path(args.out))
+    return report_main(quick=args.quick, out=Path(args.out), scheduler=args.scheduler)
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -228,9 +228,21 @@ def build_parser() -> argparse.ArgumentParser:
     gas.add_argument("--no-progress", action="store_true", help="no progress bar")
     gas.set_defaults(func=cmd_gas)
 
-    report = sub.add_parser("report", help="the main job: run the benchmarks and validations, write reports/")
+    report = sub.add_parser(
+        "report", help="the main job: run the benchmarks and validations, write reports/",
+        description="Validation sections, the pytest-benchmark suites, and two distributed sweeps on Dask (the "
+                    "hard-sphere equation of state, eos.md; a broad-phase timing matrix, broadphase_matrix.md). "
+                    "Sweeps run on the Dask scheduler given by --scheduler or the environment variable "
+                    "COLLIDE_SCHEDULER, else on an embedded LocalCluster of this machine. Rows are stored as they "
+                    "complete: rerunning an interrupted report resumes its sweeps (see bench/sweep.py).",
+        formatter_class=argparse.ArgumentDefaultsHelpFormatter)
     report.add_argument("--quick", action="store_true", help="small sizes, a few minutes")
-    report.add_argument("--out", default="reports", help="output folder (default reports/)")
+    report.add_argument("--out", default="reports", help="output folder")
+    report.add_argument("--scheduler", metavar="ADDRESS", default=None,
+                        help="address of an existing Dask scheduler for the sweeps, e.g. tcp://HOST:8786 (overrides "
+                             "$COLLIDE_SCHEDULER; without either, an embedded LocalCluster). Its workers need this "
+                             "checkout importable (pip install -e '.[sweep]', repository root on PYTHONPATH); timing "
+                             "workers: dask worker tcp://HOST:8786 --nthreads 1 --resources timing=1")
     report.set_defaults(func=cmd_report)
     return parser
 
