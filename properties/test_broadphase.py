@@ -159,7 +159,7 @@ def test_validation(method):
     hi = np.ones((3, 2))
     bad = hi.copy()
     bad[1, 1] = np.nan
-    with pytest.raises(ValueError, match=r"hi\[\(1, 1\)\]"):
+    with pytest.raises(ValueError, match=r"hi\[1, 1\]"):
         find_pairs(lo, bad, method)
     inverted = hi.copy()
     inverted[2, 0] = -1.0

@@ -98,7 +98,7 @@ def test_sphere_validation():
         sphere_pairs(c, np.ones(2))
     bad = c.copy()
     bad[2, 1] = np.inf
-    with pytest.raises(ValueError, match=r"centers\[\(2, 1\)\]"):
+    with pytest.raises(ValueError, match=r"centers\[2, 1\]"):
         sphere_pairs(bad, 1.0)
     with pytest.raises(ValueError, match="method"):
         sphere_pairs(c, 1.0, method="kd")

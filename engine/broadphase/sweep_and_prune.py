@@ -199,17 +199,20 @@ def _sweep_sorted_kernel(order, lo, hi, axis, n_objects):
     kmax = max(1, int(np.sqrt(m / 8.0)))
     k1 = 1
     k2 = 1
-    if span1 > 0.0:
-        k1 = int(min(kmax, max(1.0, span1 / max(2.0 * ext1 / m, span1 * 1e-6))))
-    if span2 > 0.0:
-        k2 = int(min(kmax, max(1.0, span2 / max(2.0 * ext2 / m, span2 * 1e-6))))
+    # (a span so small that span·1e-6 underflows to 0, e.g. denormal coordinates, keeps one column)
+    size1 = max(2.0 * ext1 / m, span1 * 1e-6)
+    size2 = max(2.0 * ext2 / m, span2 * 1e-6)
+    if span1 > 0.0 and size1 > 0.0:
+        k1 = int(min(kmax, max(1.0, span1 / size1)))
+    if span2 > 0.0 and size2 > 0.0:
+        k2 = int(min(kmax, max(1.0, span2 / size2)))
     first1 = np.empty(m, dtype=np.int64)
     last1 = np.empty(m, dtype=np.int64)
     first2 = np.empty(m, dtype=np.int64)
     last2 = np.empty(m, dtype=np.int64)
     while True:
-        inv1 = k1 / span1 if span1 > 0.0 else 0.0
-        inv2 = k2 / span2 if span2 > 0.0 else 0.0
+        inv1 = k1 / span1 if k1 > 1 else 0.0  # one column: every box in column 0 (no 0·inf)
+        inv2 = k2 / span2 if k2 > 1 else 0.0
         entries = 0
         for p in range(m):
             o = order[p]

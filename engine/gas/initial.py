@@ -256,12 +256,13 @@ def check_start_positions(positions, radii, box, periodic):
     return p
 
 
-def check_gas_state(positions, velocities, radii, masses, box, periodic):
+def check_gas_state(positions, velocities, radii, masses, box, periodic, *, allow_overlap=False):
     """Validate a gas state for ``EventDrivenGas`` / ``SteppedGas``; returns fresh arrays
     (positions (n, 3), velocities (n, 3), radii (n,), masses (n,)), box and periodic.
 
     radii and masses: positive scalars or (n,) arrays; box > 0; periodic a bool; the spheres must fit (2 r < box
-    with walls, 6 r <= box periodic), lie inside the reachable box and not overlap (DESIGN.md section 6)."""
+    with walls, 6 r <= box periodic), lie inside the reachable box and not overlap (DESIGN.md section 6) —
+    unless ``allow_overlap``: the stepped method (the chapter's frame loop) starts from and resolves overlaps."""
     box = as_positive(box, "box")
     if not isinstance(periodic, bool | np.bool_):
         raise TypeError(f"periodic must be a bool, got {type(periodic).__name__}")
@@ -275,4 +276,15 @@ def check_gas_state(positions, velocities, radii, masses, box, periodic):
         raise ValueError(f"radii must be < box/2: radius {rmax!r}, box {box!r}")
     if periodic and 6.0 * rmax > box:
         raise ValueError(f"a periodic box must be at least 3 diameters wide: radius {rmax!r}, box {box!r}")
-    return check_start_positions(p, r, box, bool(periodic)), v, r, m, box, bool(periodic)
+    periodic = bool(periodic)
+    if allow_overlap:
+        p = check_start_positions(p, np.zeros(n), box, periodic)  # inside the box (walls) or wrapped, any overlap
+        if not periodic:
+            limit = box / 2.0 - r
+            outside = np.abs(p) > limit[:, None]
+            if outside.any():
+                i, k = (int(x) for x in np.argwhere(outside)[0])
+                raise ValueError(f"positions[{i}] is outside the reachable box: coordinate {k} = {p[i, k]!r}, "
+                                 f"limit ±{limit[i]!r}")
+        return p, v, r, m, box, periodic
+    return check_start_positions(p, r, box, periodic), v, r, m, box, periodic

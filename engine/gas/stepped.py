@@ -191,7 +191,7 @@ class SteppedGas:
         from engine.broadphase import BROAD_PHASES
 
         positions, velocities, radii, masses, box, periodic = check_gas_state(positions, velocities, radii, masses,
-                                                                              box, periodic)
+                                                                              box, periodic, allow_overlap=True)
         dt = as_positive(dt, "dt")
         broad_phase = as_choice(broad_phase, "broad_phase", BROAD_PHASES)
         self.n = positions.shape[0]
