@@ -310,45 +310,19 @@ def _gjk_loop(PA, PB, pairs, offsets, k_pairs, max_iter, W, IA, IB, lam, dist, c
             # w <- s_A(-v) - s_B(v): the first vertex of A with the least a·v and of B with the greatest b·v;
             # two interleaved scans (even / odd rows) halve the compare chain, the tie goes to the lower row
             ia = a0
-            lo = PA[sa, a0, 0] * vx + PA[sa, a0, 1] * vy + PA[sa, a0, 2] * vz
-            ja = a0
-            lo2 = np.inf
-            for i in range(a0 + 1, a1 - 1, 2):
+            lo = np.inf
+            for i in range(a0, a1):
                 d = PA[sa, i, 0] * vx + PA[sa, i, 1] * vy + PA[sa, i, 2] * vz
-                d2 = PA[sa, i + 1, 0] * vx + PA[sa, i + 1, 1] * vy + PA[sa, i + 1, 2] * vz
-                if d < lo2:
-                    lo2 = d
-                    ja = i
-                if d2 < lo:
-                    lo = d2
-                    ia = i + 1
-            if (a1 - a0) % 2 == 0:
-                d = PA[sa, a1 - 1, 0] * vx + PA[sa, a1 - 1, 1] * vy + PA[sa, a1 - 1, 2] * vz
-                if d < lo2:
-                    lo2 = d
-                    ja = a1 - 1
-            if lo2 < lo or (lo2 == lo and ja < ia):
-                ia = ja
+                if d < lo:
+                    lo = d
+                    ia = i
             ib = b0
-            hi = PB[sb, b0, 0] * vx + PB[sb, b0, 1] * vy + PB[sb, b0, 2] * vz
-            jb = b0
-            hi2 = -np.inf
-            for i in range(b0 + 1, b1 - 1, 2):
+            hi = -np.inf
+            for i in range(b0, b1):
                 d = PB[sb, i, 0] * vx + PB[sb, i, 1] * vy + PB[sb, i, 2] * vz
-                d2 = PB[sb, i + 1, 0] * vx + PB[sb, i + 1, 1] * vy + PB[sb, i + 1, 2] * vz
-                if d > hi2:
-                    hi2 = d
-                    jb = i
-                if d2 > hi:
-                    hi = d2
-                    ib = i + 1
-            if (b1 - b0) % 2 == 0:
-                d = PB[sb, b1 - 1, 0] * vx + PB[sb, b1 - 1, 1] * vy + PB[sb, b1 - 1, 2] * vz
-                if d > hi2:
-                    hi2 = d
-                    jb = b1 - 1
-            if hi2 > hi or (hi2 == hi and jb < ib):
-                ib = jb
+                if d > hi:
+                    hi = d
+                    ib = i
             wx = PA[sa, ia, 0] - PB[sb, ib, 0]
             wy = PA[sa, ia, 1] - PB[sb, ib, 1]
             wz = PA[sa, ia, 2] - PB[sb, ib, 2]
