@@ -216,8 +216,22 @@ def _triangle_any(ax, ay, az, bx, by, bz, cx, cy, cz):
     return best_n, b0, b1, 0, bl0, bl1, 0.0
 
 
+@njit(inline="always")
+def _face_sides(W, i, j, k, l):
+    """Signed volumes (times 6) of the origin and of vertex ``W[l]`` against the plane of face (W[i], W[j], W[k]):
+    ``(-(p · n), (W[l] − p) · n)`` with p = W[i], n = (W[j] − p) × (W[k] − p) (Ericson 5.1.6, PointOutsideOfPlane)."""
+    px, py, pz = W[i, 0], W[i, 1], W[i, 2]
+    e1x, e1y, e1z = W[j, 0] - px, W[j, 1] - py, W[j, 2] - pz
+    e2x, e2y, e2z = W[k, 0] - px, W[k, 1] - py, W[k, 2] - pz
+    nx = e1y * e2z - e1z * e2y
+    ny = e1z * e2x - e1x * e2z
+    nz = e1x * e2y - e1y * e2x
+    return -(px * nx + py * ny + pz * nz), (W[l, 0] - px) * nx + (W[l, 1] - py) * ny + (W[l, 2] - pz) * nz
+
+
 #: stands for "no pair list" in ``_gjk_loop`` (batch and single-pair calls address shapes by pair index)
 _NO_PAIRS = np.zeros((0, 2), np.int64)
+_NO_OFFSETS = np.zeros(1, np.int64)
 
 
 @njit
@@ -382,66 +396,62 @@ def _gjk_loop(PA, PB, pairs, offsets, k_pairs, max_iter, W, IA, IB, lam, dist, c
                 scale = max(abx * abx + aby * aby + abz * abz, acx * acx + acy * acy + acz * acz,
                             adx * adx + ady * ady + adz * adz)
                 flat = abs(det) <= 1e-12 * scale * math.sqrt(scale)
-                best_d = np.inf
-                m = -1
-                inside = True
-                bary0 = 0.0
-                bary1 = 0.0
-                bary2 = 0.0
-                bary3 = 0.0
-                for f in range(4):
-                    # face (i, j, k) opposite vertex l, with i < j < k
-                    if f == 0:
-                        i, j, k, l = 0, 1, 2, 3
-                    elif f == 1:
-                        i, j, k, l = 0, 1, 3, 2
-                    elif f == 2:
-                        i, j, k, l = 0, 2, 3, 1
-                    else:
-                        i, j, k, l = 1, 2, 3, 0
-                    px, py, pz = W[i, 0], W[i, 1], W[i, 2]
-                    qx, qy, qz = W[j, 0], W[j, 1], W[j, 2]
-                    rx, ry, rz = W[k, 0], W[k, 1], W[k, 2]
-                    e1x, e1y, e1z = qx - px, qy - py, qz - pz
-                    e2x, e2y, e2z = rx - px, ry - py, rz - pz
-                    nx = e1y * e2z - e1z * e2y
-                    ny = e1z * e2x - e1x * e2z
-                    nz = e1x * e2y - e1y * e2x
-                    sign_origin = -(px * nx + py * ny + pz * nz)
-                    sign_other = (W[l, 0] - px) * nx + (W[l, 1] - py) * ny + (W[l, 2] - pz) * nz
-                    if not flat:
-                        bary = sign_origin / sign_other
-                        if l == 0:
-                            bary0 = bary
-                        elif l == 1:
-                            bary1 = bary
-                        elif l == 2:
-                            bary2 = bary
-                        else:
-                            bary3 = bary
-                    if flat or sign_origin * sign_other < 0.0:
-                        inside = False
-                        fm, t0, t1, t2, w0, w1, w2 = _triangle_any(px, py, pz, qx, qy, qz, rx, ry, rz)
-                        d = _triangle_distance2(fm, t0, t1, t2, w0, w1, w2, px, py, pz, qx, qy, qz, rx, ry, rz)
-                        if d < best_d:
-                            best_d = d
-                            m = fm
-                            # face vertex 0 / 1 / 2 -> simplex vertex i / j / k (ascending stays ascending)
-                            s0 = _pick3(t0, i, j, k)
-                            s1 = _pick3(t1, i, j, k)
-                            s2 = _pick3(t2, i, j, k)
-                            l0 = w0
-                            l1 = w1
-                            l2 = w2
-                if inside:
-                    # origin inside (or on) the tetrahedron: barycentric coordinates by signed volumes
-                    lam[0] = bary0
-                    lam[1] = bary1
-                    lam[2] = bary2
-                    lam[3] = bary3
+                # signed volumes (times 6) of the origin and of the fourth vertex l against each face (i, j, k):
+                # the origin is outside face (i, j, k) when the two have opposite signs
+                so0, sl0 = _face_sides(W, 0, 1, 2, 3)
+                so1, sl1 = _face_sides(W, 0, 1, 3, 2)
+                so2, sl2 = _face_sides(W, 0, 2, 3, 1)
+                so3, sl3 = _face_sides(W, 1, 2, 3, 0)
+                out0 = flat or so0 * sl0 < 0.0
+                out1 = flat or so1 * sl1 < 0.0
+                out2 = flat or so2 * sl2 < 0.0
+                out3 = flat or so3 * sl3 < 0.0
+                if not (out0 or out1 or out2 or out3):
+                    # origin inside (or on) the tetrahedron: barycentric coordinates by signed volumes (the weight of
+                    # vertex l is the origin's volume over l's against the face opposite l)
+                    lam[0] = so3 / sl3
+                    lam[1] = so2 / sl2
+                    lam[2] = so1 / sl1
+                    lam[3] = so0 / sl0
                     n = 4
                     status = _OVERLAP
                     break
+                # otherwise the closest point lies on a face the origin is outside of: the best of those faces
+                best_d = np.inf
+                m = -1
+                for f in range(4):
+                    # face (i, j, k) opposite vertex l, with i < j < k
+                    if f == 0:
+                        if not out0:
+                            continue
+                        i, j, k = 0, 1, 2
+                    elif f == 1:
+                        if not out1:
+                            continue
+                        i, j, k = 0, 1, 3
+                    elif f == 2:
+                        if not out2:
+                            continue
+                        i, j, k = 0, 2, 3
+                    else:
+                        if not out3:
+                            continue
+                        i, j, k = 1, 2, 3
+                    px, py, pz = W[i, 0], W[i, 1], W[i, 2]
+                    qx, qy, qz = W[j, 0], W[j, 1], W[j, 2]
+                    rx, ry, rz = W[k, 0], W[k, 1], W[k, 2]
+                    fm, t0, t1, t2, w0, w1, w2 = _triangle_any(px, py, pz, qx, qy, qz, rx, ry, rz)
+                    d = _triangle_distance2(fm, t0, t1, t2, w0, w1, w2, px, py, pz, qx, qy, qz, rx, ry, rz)
+                    if d < best_d:
+                        best_d = d
+                        m = fm
+                        # face vertex 0 / 1 / 2 -> simplex vertex i / j / k (ascending stays ascending)
+                        s0 = _pick3(t0, i, j, k)
+                        s1 = _pick3(t1, i, j, k)
+                        s2 = _pick3(t2, i, j, k)
+                        l0 = w0
+                        l1 = w1
+                        l2 = w2
             # keep W[s0], W[s1], W[s2] (ascending, so copying forward in place never overwrites one still to read)
             if m >= 1:
                 W[0, 0] = W[s0, 0]
@@ -531,7 +541,7 @@ def _gjk(pa, pb, max_iter, W, IA, IB, lam, out, work_i, work_f):
     the final simplex (support points W, their vertex indices IA, IB, weights λ) for EPA. ``work_i`` (>= 1,) int
     receives the status; ``work_f`` is kept for callers' compatibility. Returns (status, simplex size).
     """
-    return _gjk_loop(pa[np.newaxis], pb[np.newaxis], _NO_PAIRS, _NO_PAIRS[0], 1, max_iter, W, IA, IB, lam,
+    return _gjk_loop(pa[np.newaxis], pb[np.newaxis], _NO_PAIRS, _NO_OFFSETS, 1, max_iter, W, IA, IB, lam,
                      out[6:7], out[np.newaxis, 0:3], out[np.newaxis, 3:6], work_i)
 
 
@@ -553,7 +563,7 @@ def _gjk_batch(points_a, points_b, max_iter, dist, closest_a, closest_b, status)
     IA = np.empty(4, np.int64)
     IB = np.empty(4, np.int64)
     lam = np.empty(4)
-    _gjk_loop(points_a, points_b, _NO_PAIRS, _NO_PAIRS[0], points_a.shape[0], max_iter, W, IA, IB, lam, dist,
+    _gjk_loop(points_a, points_b, _NO_PAIRS, _NO_OFFSETS, points_a.shape[0], max_iter, W, IA, IB, lam, dist,
               closest_a, closest_b, status)
 
 
