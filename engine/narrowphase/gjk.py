@@ -322,7 +322,8 @@ def _gjk_loop(PA, PB, pairs, offsets, k_pairs, max_iter, W, IA, IB, lam, dist, c
                 status = _OVERLAP
                 break
             # w <- s_A(-v) - s_B(v): the first vertex of A with the least a·v and of B with the greatest b·v;
-            # two interleaved scans (even / odd rows) halve the compare chain, the tie goes to the lower row
+            # one plain scan per shape, the tie going to the lower row (it compiles to a branch-free min/cmov loop;
+            # an even/odd two-chain scan measured slower)
             ia = a0
             lo = np.inf
             for i in range(a0, a1):
