@@ -246,13 +246,17 @@ gaps = st.one_of(st.just(0.0), st.floats(-1e-9, 1e-9, allow_nan=False), st.float
 @given(point_clouds(), point_clouds(), rotations(), gaps)
 def test_touching_hulls(a, b0, rot, gap):
     """B is moved so that its lowest vertex along a direction u sits on A's highest vertex along u, then by ``gap``
-    along u: the plane through that vertex separates the hulls, so the distance is exactly max(gap, 0) (touching
-    to round-off at gap = 0, overlapping when gap < 0)."""
+    along u. For gap >= 0 the plane through A's vertex separates the hulls and the two vertices are gap apart, so
+    the distance is exactly gap (touching to round-off at gap = 0); for gap < 0 the vertices are |gap| apart and
+    the hulls may or may not overlap, so only 0 <= distance <= |gap| is known."""
     u = rot[:, 0]
     b = b0 + (a[np.argmax(a @ u)] - b0[np.argmin(b0 @ u)]) + gap * u
     d, ca, cb = gjk_distance(a, b)
     scale = _scale(a, b)
-    assert abs(d - max(gap, 0.0)) <= 1e-9 * scale
+    if gap >= 0.0:
+        assert abs(d - gap) <= 1e-9 * scale
+    else:
+        assert d <= -gap + 1e-9 * scale
     assert abs(np.linalg.norm(ca - cb) - d) <= 1e-9 * scale
     assert hull_signed_distance(a, ca) <= 1e-9 * scale
     assert hull_signed_distance(b, cb) <= 1e-9 * scale
