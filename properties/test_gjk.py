@@ -262,6 +262,64 @@ def test_touching_hulls(a, b0, rot, gap):
     assert hull_signed_distance(b, cb) <= 1e-9 * scale
 
 
+def _closest_on_triangle_brute(a, b, c):
+    """Distance from the origin to triangle (a, b, c), degenerate ones included: the best of its three clamped
+    segment projections and, for a non-flat triangle, of the plane projection when it falls inside (least squares
+    for its barycentric coordinates). Independent of Ericson's Voronoi-region tests."""
+    best = np.inf
+    for p, q in ((a, b), (b, c), (a, c)):
+        e = q - p
+        t = 0.0 if e @ e == 0.0 else float(np.clip(-(p @ e) / (e @ e), 0.0, 1.0))
+        best = min(best, float(np.linalg.norm(p + t * e)))
+    e1, e2 = b - a, c - a
+    scale = max(e1 @ e1, e2 @ e2, 1e-300)
+    if np.linalg.norm(np.cross(e1, e2)) > 1e-9 * scale:
+        (s, t), *_ = np.linalg.lstsq(np.column_stack([e1, e2]), -a, rcond=None)
+        if s >= 0.0 and t >= 0.0 and s + t <= 1.0:
+            best = min(best, float(np.linalg.norm(a + s * e1 + t * e2)))
+    return best
+
+
+@st.composite
+def triangles(draw):
+    """(3, 3) triangles: general, collinear (c on line ab, inside or beyond), with two or three coincident
+    vertices, or needle-thin; vertex order shuffled."""
+    a, b, c = draw(vectors), draw(vectors), draw(vectors)
+    kind = draw(st.integers(0, 4))
+    t = draw(st.floats(-2.0, 3.0, allow_nan=False))
+    if kind == 1:
+        c = a + t * (b - a)
+    elif kind == 2:
+        b = a.copy()
+    elif kind == 3:
+        b = a.copy()
+        c = a.copy()
+    elif kind == 4:
+        c = a + t * (b - a) + draw(st.floats(1e-12, 1e-6)) * draw(vectors)
+    tri = np.array([a, b, c])
+    return tri[draw(st.permutations([0, 1, 2]))]
+
+
+@given(triangles())
+def test_triangle_subalgorithm_against_brute_force(tri):
+    """The simplex sub-algorithm's triangle case (``_triangle_any``), degenerate triangles included (GJK meets them
+    when round-off lets a support point nearly repeat): its m supporting vertices and weights give a point of the
+    triangle as close to the origin as the brute-force answer."""
+    from engine.narrowphase.gjk import _triangle_any
+
+    a, b, c = tri
+    m, s0, s1, s2, l0, l1, l2 = _triangle_any(*a, *b, *c)
+    assert m in (1, 2, 3)
+    idx = [s0, s1, s2][:m]
+    lam = np.array([l0, l1, l2][:m])
+    assert all(0 <= i <= 2 for i in idx) and idx == sorted(set(idx))
+    assert (lam >= -1e-12).all() and abs(lam.sum() - 1.0) <= 1e-12
+    point = lam @ tri[idx]
+    exact = _closest_on_triangle_brute(a, b, c)
+    scale = 1.0 + np.abs(tri).max()
+    assert abs(np.linalg.norm(point) - exact) <= 1e-9 * scale
+
+
 # --- EPA ------------------------------------------------------------------------------------------------------
 
 @settings(max_examples=100)

@@ -120,7 +120,8 @@ def _triangle(ax, ay, az, bx, by, bz, cx, cy, cz):
     if d3 >= 0.0 and d4 <= d3:  # vertex region B
         return 1, 1, 0, 0, 1.0, 0.0, 0.0
     vc = d1 * d4 - d3 * d2
-    if vc <= 0.0 and d1 >= 0.0 and d3 <= 0.0:  # edge region AB
+    # (each edge region also needs a non-zero-length edge: a zero-length one falls through to the degenerate case)
+    if vc <= 0.0 and d1 >= 0.0 and d3 <= 0.0 and d1 - d3 > 0.0:  # edge region AB
         v = d1 / (d1 - d3)
         return 2, 0, 1, 0, 1.0 - v, v, 0.0
     # cp = -c
@@ -129,11 +130,11 @@ def _triangle(ax, ay, az, bx, by, bz, cx, cy, cz):
     if d6 >= 0.0 and d5 <= d6:  # vertex region C
         return 1, 2, 0, 0, 1.0, 0.0, 0.0
     vb = d5 * d2 - d1 * d6
-    if vb <= 0.0 and d2 >= 0.0 and d6 <= 0.0:  # edge region AC
+    if vb <= 0.0 and d2 >= 0.0 and d6 <= 0.0 and d2 - d6 > 0.0:  # edge region AC
         w = d2 / (d2 - d6)
         return 2, 0, 2, 0, 1.0 - w, w, 0.0
     va = d3 * d6 - d5 * d4
-    if va <= 0.0 and (d4 - d3) >= 0.0 and (d5 - d6) >= 0.0:  # edge region BC
+    if va <= 0.0 and (d4 - d3) >= 0.0 and (d5 - d6) >= 0.0 and (d4 - d3) + (d5 - d6) > 0.0:  # edge region BC
         w = (d4 - d3) / ((d4 - d3) + (d5 - d6))
         return 2, 1, 2, 0, 1.0 - w, w, 0.0
     denom = va + vb + vc
