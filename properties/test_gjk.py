@@ -264,19 +264,18 @@ def test_touching_hulls(a, b0, rot, gap):
 
 def _closest_on_triangle_brute(a, b, c):
     """Distance from the origin to triangle (a, b, c), degenerate ones included: the best of its three clamped
-    segment projections and, for a non-flat triangle, of the plane projection when it falls inside (least squares
-    for its barycentric coordinates). Independent of Ericson's Voronoi-region tests."""
+    segment projections and of the least-squares projection onto its plane (or line) when the barycentric
+    coordinates of that projection put it inside (any such point is a point of the triangle, so it is always a
+    valid candidate). Independent of Ericson's Voronoi-region tests."""
     best = np.inf
     for p, q in ((a, b), (b, c), (a, c)):
         e = q - p
         t = 0.0 if e @ e == 0.0 else float(np.clip(-(p @ e) / (e @ e), 0.0, 1.0))
         best = min(best, float(np.linalg.norm(p + t * e)))
     e1, e2 = b - a, c - a
-    scale = max(e1 @ e1, e2 @ e2, 1e-300)
-    if np.linalg.norm(np.cross(e1, e2)) > 1e-9 * scale:
-        (s, t), *_ = np.linalg.lstsq(np.column_stack([e1, e2]), -a, rcond=None)
-        if s >= 0.0 and t >= 0.0 and s + t <= 1.0:
-            best = min(best, float(np.linalg.norm(a + s * e1 + t * e2)))
+    (s, t), *_ = np.linalg.lstsq(np.column_stack([e1, e2]), -a, rcond=None)
+    if s >= 0.0 and t >= 0.0 and s + t <= 1.0:
+        best = min(best, float(np.linalg.norm(a + s * e1 + t * e2)))
     return best
 
 

@@ -109,6 +109,15 @@ def _triangle(ax, ay, az, bx, by, bz, cx, cy, cz):
     """
     abx, aby, abz = bx - ax, by - ay, bz - az
     acx, acy, acz = cx - ax, cy - ay, cz - az
+    # a needle triangle (sin of the angle at a below 1e-10) is left to the edge fallback: the region tests below
+    # cancel catastrophically there, and its closest point is within 1e-10 × its size of one of its edges
+    nx = aby * acz - abz * acy
+    ny = abz * acx - abx * acz
+    nz = abx * acy - aby * acx
+    ab2 = abx * abx + aby * aby + abz * abz
+    ac2 = acx * acx + acy * acy + acz * acz
+    if not (nx * nx + ny * ny + nz * nz > 1e-20 * ab2 * ac2):
+        return -1, 0, 0, 0, 0.0, 0.0, 0.0
     # ap = -a
     d1 = -(abx * ax + aby * ay + abz * az)
     d2 = -(acx * ax + acy * ay + acz * az)
