@@ -22,6 +22,7 @@ from properties.strategies.narrow import (
     exact_penetration_depth,
     hull_signed_distance,
     point_clouds,
+    rotations,
     vectors,
 )
 
@@ -153,6 +154,169 @@ def test_batched_forms_equal_single_calls(clouds, data):
     dist2, _, _ = gjk_distance_batch(same[:-1], same[1:])
     for p in range(k - 1):
         assert dist2[p] == gjk_distance(same[p], same[p + 1])[0]
+
+
+# --- degenerate inputs: flat and collinear sets, duplicated vertices, touching shapes, large coordinates -------
+
+@st.composite
+def flat_sets(draw, height: float):
+    """(n, 3) points in the plane z = ``height``: a single (repeated) point, collinear points on the x axis or
+    coplanar points, every set holding (0, 0, height) so that the xy-projections of two such sets always meet;
+    rows are shuffled and some are duplicated (ties in the support mapping, zero-length simplex edges)."""
+    dim = draw(st.integers(0, 2))
+    n = draw(st.integers(1, 8))
+    seed = draw(st.integers(0, 2**32 - 1))
+    rng = np.random.default_rng(seed)
+    xy = rng.uniform(-2.0, 2.0, size=(n, 2))
+    if dim == 0:
+        xy[:] = 0.0
+    elif dim == 1:
+        xy[:, 1] = 0.0
+    pts = np.column_stack([xy, np.full(n, height)])
+    pts = np.vstack([pts, [0.0, 0.0, height]])
+    pts = pts[rng.integers(0, pts.shape[0], size=draw(st.integers(0, 4)))].reshape(-1, 3).tolist() + pts.tolist()
+    pts = np.array(pts)
+    return pts[rng.permutation(pts.shape[0])]
+
+
+heights = st.one_of(st.just(0.0), st.floats(-3.0, 3.0, allow_nan=False), st.floats(-1e-6, 1e-6, allow_nan=False))
+
+
+@given(heights, st.data(), rotations(), vectors)
+def test_flat_and_collinear_sets_in_parallel_planes_exact(h, data, rot, shift):
+    """Flat sets in the parallel planes z = 0 and z = h whose projections meet are exactly |h| apart, whatever
+    their dimension (point, segment, polygon): every GJK simplex of their Minkowski difference is degenerate
+    (zero-area triangles, flat tetrahedra); h = 0 makes the shapes touch or overlap in a plane."""
+    a0 = data.draw(flat_sets(0.0))
+    b0 = data.draw(flat_sets(h))
+    a = a0 @ rot.T + shift
+    b = b0 @ rot.T + shift
+    d, ca, cb = gjk_distance(a, b)
+    tol = 1e-9 * (1.0 + np.abs(np.concatenate([a, b])).max())
+    assert abs(d - abs(h)) <= tol
+    assert abs(np.linalg.norm(ca - cb) - d) <= tol
+    # the closest points lie in the two planes (back in the sets' own frame)
+    assert abs(((ca - shift) @ rot)[2]) <= tol
+    assert abs(((cb - shift) @ rot)[2] - h) <= tol
+    d2, _, _ = gjk_distance(b, a)
+    assert abs(d2 - d) <= tol
+
+
+@given(point_clouds(), point_clouds(spread=6.0), st.data())
+def test_duplicated_and_shuffled_vertices_change_nothing(a, b, data):
+    """The hull of a point set does not depend on the order of its rows nor on repeated rows: the distance is the
+    same to round-off (repeated rows tie in the support mapping and can enter the simplex twice)."""
+    d, _, _ = gjk_distance(a, b)
+    rng = np.random.default_rng(data.draw(st.integers(0, 2**32 - 1)))
+    a2 = np.vstack([a, a[rng.integers(0, a.shape[0], size=data.draw(st.integers(1, 6)))]])
+    b2 = np.vstack([b[rng.integers(0, b.shape[0], size=data.draw(st.integers(1, 6)))], b])
+    a2 = a2[rng.permutation(a2.shape[0])]
+    b2 = b2[rng.permutation(b2.shape[0])]
+    d2, ca, cb = gjk_distance(a2, b2)
+    scale = _scale(a, b)
+    assert abs(d2 - d) <= 1e-9 * scale
+    assert hull_signed_distance(a, ca) <= 1e-9 * scale
+    assert hull_signed_distance(b, cb) <= 1e-9 * scale
+
+
+far = st.floats(-1e8, 1e8, allow_nan=False).map(float)
+
+
+@given(point_clouds(spread=1.0), point_clouds(spread=3.0), st.tuples(far, far, far).map(np.array))
+def test_small_shapes_far_from_the_origin(a, b, offset):
+    """Shapes of size ~1 at coordinates up to 1e8: the answer moves by the rounding of the shifted coordinates
+    only (a few ulps of 1e8, ~1e-8), and GJK still converges."""
+    d, _, _ = gjk_distance(a, b)
+    a_far = a + offset
+    b_far = b + offset
+    d_far, ca, cb = gjk_distance(a_far, b_far)
+    # what the shift itself costs: the largest change it made to any coordinate
+    moved = max(np.abs((a_far - offset) - a).max(), np.abs((b_far - offset) - b).max())
+    tol = 4.0 * moved + 1e-9 * _scale(a, b)
+    assert abs(d_far - d) <= tol
+    assert abs(np.linalg.norm(ca - cb) - d_far) <= 1e-9 * np.abs(offset).max() + 1e-9 * _scale(a, b) + tol
+    # both points on their shapes (checked in the shapes' own frame, with the same allowance)
+    assert hull_signed_distance(a, ca - offset) <= tol + 1e-9 * (1.0 + np.abs(offset).max())
+    assert hull_signed_distance(b, cb - offset) <= tol + 1e-9 * (1.0 + np.abs(offset).max())
+
+
+gaps = st.one_of(st.just(0.0), st.floats(-1e-9, 1e-9, allow_nan=False), st.floats(-1e-3, 1e-3, allow_nan=False))
+
+
+@given(point_clouds(), point_clouds(), rotations(), gaps)
+def test_touching_hulls(a, b0, rot, gap):
+    """B is moved so that its lowest vertex along a direction u sits on A's highest vertex along u, then by ``gap``
+    along u. For gap >= 0 the plane through A's vertex separates the hulls and the two vertices are gap apart, so
+    the distance is exactly gap (touching to round-off at gap = 0); for gap < 0 the vertices are |gap| apart and
+    the hulls may or may not overlap, so only 0 <= distance <= |gap| is known."""
+    u = rot[:, 0]
+    b = b0 + (a[np.argmax(a @ u)] - b0[np.argmin(b0 @ u)]) + gap * u
+    d, ca, cb = gjk_distance(a, b)
+    scale = _scale(a, b)
+    if gap >= 0.0:
+        assert abs(d - gap) <= 1e-9 * scale
+    else:
+        assert d <= -gap + 1e-9 * scale
+    assert abs(np.linalg.norm(ca - cb) - d) <= 1e-9 * scale
+    assert hull_signed_distance(a, ca) <= 1e-9 * scale
+    assert hull_signed_distance(b, cb) <= 1e-9 * scale
+
+
+def _closest_on_triangle_brute(a, b, c):
+    """Distance from the origin to triangle (a, b, c), degenerate ones included: the best of its three clamped
+    segment projections and of the least-squares projection onto its plane (or line) when the barycentric
+    coordinates of that projection put it inside (any such point is a point of the triangle, so it is always a
+    valid candidate). Independent of Ericson's Voronoi-region tests."""
+    best = np.inf
+    for p, q in ((a, b), (b, c), (a, c)):
+        e = q - p
+        t = 0.0 if e @ e == 0.0 else float(np.clip(-(p @ e) / (e @ e), 0.0, 1.0))
+        best = min(best, float(np.linalg.norm(p + t * e)))
+    e1, e2 = b - a, c - a
+    (s, t), *_ = np.linalg.lstsq(np.column_stack([e1, e2]), -a, rcond=None)
+    if s >= 0.0 and t >= 0.0 and s + t <= 1.0:
+        best = min(best, float(np.linalg.norm(a + s * e1 + t * e2)))
+    return best
+
+
+@st.composite
+def triangles(draw):
+    """(3, 3) triangles: general, collinear (c on line ab, inside or beyond), with two or three coincident
+    vertices, or needle-thin; vertex order shuffled."""
+    a, b, c = draw(vectors), draw(vectors), draw(vectors)
+    kind = draw(st.integers(0, 4))
+    t = draw(st.floats(-2.0, 3.0, allow_nan=False))
+    if kind == 1:
+        c = a + t * (b - a)
+    elif kind == 2:
+        b = a.copy()
+    elif kind == 3:
+        b = a.copy()
+        c = a.copy()
+    elif kind == 4:
+        c = a + t * (b - a) + draw(st.floats(1e-12, 1e-6)) * draw(vectors)
+    tri = np.array([a, b, c])
+    return tri[draw(st.permutations([0, 1, 2]))]
+
+
+@given(triangles())
+def test_triangle_subalgorithm_against_brute_force(tri):
+    """The simplex sub-algorithm's triangle case (``_triangle_any``), degenerate triangles included (GJK meets them
+    when round-off lets a support point nearly repeat): its m supporting vertices and weights give a point of the
+    triangle as close to the origin as the brute-force answer."""
+    from engine.narrowphase.gjk import _triangle_any
+
+    a, b, c = tri
+    m, s0, s1, s2, l0, l1, l2 = _triangle_any(*a, *b, *c)
+    assert m in (1, 2, 3)
+    idx = [s0, s1, s2][:m]
+    lam = np.array([l0, l1, l2][:m])
+    assert all(0 <= i <= 2 for i in idx) and idx == sorted(set(idx))
+    assert (lam >= -1e-12).all() and abs(lam.sum() - 1.0) <= 1e-12
+    point = lam @ tri[idx]
+    exact = _closest_on_triangle_brute(a, b, c)
+    scale = 1.0 + np.abs(tri).max()
+    assert abs(np.linalg.norm(point) - exact) <= 1e-9 * scale
 
 
 # --- EPA ------------------------------------------------------------------------------------------------------

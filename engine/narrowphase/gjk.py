@@ -109,6 +109,15 @@ def _triangle(ax, ay, az, bx, by, bz, cx, cy, cz):
     """
     abx, aby, abz = bx - ax, by - ay, bz - az
     acx, acy, acz = cx - ax, cy - ay, cz - az
+    # a needle triangle (sin of the angle at a below 1e-10) is left to the edge fallback: the region tests below
+    # cancel catastrophically there, and its closest point is within 1e-10 × its size of one of its edges
+    nx = aby * acz - abz * acy
+    ny = abz * acx - abx * acz
+    nz = abx * acy - aby * acx
+    ab2 = abx * abx + aby * aby + abz * abz
+    ac2 = acx * acx + acy * acy + acz * acz
+    if not (nx * nx + ny * ny + nz * nz > 1e-20 * ab2 * ac2):
+        return -1, 0, 0, 0, 0.0, 0.0, 0.0
     # ap = -a
     d1 = -(abx * ax + aby * ay + abz * az)
     d2 = -(acx * ax + acy * ay + acz * az)
@@ -120,7 +129,8 @@ def _triangle(ax, ay, az, bx, by, bz, cx, cy, cz):
     if d3 >= 0.0 and d4 <= d3:  # vertex region B
         return 1, 1, 0, 0, 1.0, 0.0, 0.0
     vc = d1 * d4 - d3 * d2
-    if vc <= 0.0 and d1 >= 0.0 and d3 <= 0.0:  # edge region AB
+    # (each edge region also needs a non-zero-length edge: a zero-length one falls through to the degenerate case)
+    if vc <= 0.0 and d1 >= 0.0 and d3 <= 0.0 and d1 - d3 > 0.0:  # edge region AB
         v = d1 / (d1 - d3)
         return 2, 0, 1, 0, 1.0 - v, v, 0.0
     # cp = -c
@@ -129,11 +139,11 @@ def _triangle(ax, ay, az, bx, by, bz, cx, cy, cz):
     if d6 >= 0.0 and d5 <= d6:  # vertex region C
         return 1, 2, 0, 0, 1.0, 0.0, 0.0
     vb = d5 * d2 - d1 * d6
-    if vb <= 0.0 and d2 >= 0.0 and d6 <= 0.0:  # edge region AC
+    if vb <= 0.0 and d2 >= 0.0 and d6 <= 0.0 and d2 - d6 > 0.0:  # edge region AC
         w = d2 / (d2 - d6)
         return 2, 0, 2, 0, 1.0 - w, w, 0.0
     va = d3 * d6 - d5 * d4
-    if va <= 0.0 and (d4 - d3) >= 0.0 and (d5 - d6) >= 0.0:  # edge region BC
+    if va <= 0.0 and (d4 - d3) >= 0.0 and (d5 - d6) >= 0.0 and (d4 - d3) + (d5 - d6) > 0.0:  # edge region BC
         w = (d4 - d3) / ((d4 - d3) + (d5 - d6))
         return 2, 1, 2, 0, 1.0 - w, w, 0.0
     denom = va + vb + vc
@@ -216,8 +226,22 @@ def _triangle_any(ax, ay, az, bx, by, bz, cx, cy, cz):
     return best_n, b0, b1, 0, bl0, bl1, 0.0
 
 
+@njit(inline="always")
+def _face_sides(W, i, j, k, l):
+    """Signed volumes (times 6) of the origin and of vertex ``W[l]`` against the plane of face (W[i], W[j], W[k]):
+    ``(-(p · n), (W[l] − p) · n)`` with p = W[i], n = (W[j] − p) × (W[k] − p) (Ericson 5.1.6, PointOutsideOfPlane)."""
+    px, py, pz = W[i, 0], W[i, 1], W[i, 2]
+    e1x, e1y, e1z = W[j, 0] - px, W[j, 1] - py, W[j, 2] - pz
+    e2x, e2y, e2z = W[k, 0] - px, W[k, 1] - py, W[k, 2] - pz
+    nx = e1y * e2z - e1z * e2y
+    ny = e1z * e2x - e1x * e2z
+    nz = e1x * e2y - e1y * e2x
+    return -(px * nx + py * ny + pz * nz), (W[l, 0] - px) * nx + (W[l, 1] - py) * ny + (W[l, 2] - pz) * nz
+
+
 #: stands for "no pair list" in ``_gjk_loop`` (batch and single-pair calls address shapes by pair index)
 _NO_PAIRS = np.zeros((0, 2), np.int64)
+_NO_OFFSETS = np.zeros(1, np.int64)
 
 
 @njit
@@ -308,47 +332,22 @@ def _gjk_loop(PA, PB, pairs, offsets, k_pairs, max_iter, W, IA, IB, lam, dist, c
                 status = _OVERLAP
                 break
             # w <- s_A(-v) - s_B(v): the first vertex of A with the least a·v and of B with the greatest b·v;
-            # two interleaved scans (even / odd rows) halve the compare chain, the tie goes to the lower row
+            # one plain scan per shape, the tie going to the lower row (it compiles to a branch-free min/cmov loop;
+            # an even/odd two-chain scan measured slower)
             ia = a0
-            lo = PA[sa, a0, 0] * vx + PA[sa, a0, 1] * vy + PA[sa, a0, 2] * vz
-            ja = a0
-            lo2 = np.inf
-            for i in range(a0 + 1, a1 - 1, 2):
+            lo = np.inf
+            for i in range(a0, a1):
                 d = PA[sa, i, 0] * vx + PA[sa, i, 1] * vy + PA[sa, i, 2] * vz
-                d2 = PA[sa, i + 1, 0] * vx + PA[sa, i + 1, 1] * vy + PA[sa, i + 1, 2] * vz
-                if d < lo2:
-                    lo2 = d
-                    ja = i
-                if d2 < lo:
-                    lo = d2
-                    ia = i + 1
-            if (a1 - a0) % 2 == 0:
-                d = PA[sa, a1 - 1, 0] * vx + PA[sa, a1 - 1, 1] * vy + PA[sa, a1 - 1, 2] * vz
-                if d < lo2:
-                    lo2 = d
-                    ja = a1 - 1
-            if lo2 < lo or (lo2 == lo and ja < ia):
-                ia = ja
+                if d < lo:
+                    lo = d
+                    ia = i
             ib = b0
-            hi = PB[sb, b0, 0] * vx + PB[sb, b0, 1] * vy + PB[sb, b0, 2] * vz
-            jb = b0
-            hi2 = -np.inf
-            for i in range(b0 + 1, b1 - 1, 2):
+            hi = -np.inf
+            for i in range(b0, b1):
                 d = PB[sb, i, 0] * vx + PB[sb, i, 1] * vy + PB[sb, i, 2] * vz
-                d2 = PB[sb, i + 1, 0] * vx + PB[sb, i + 1, 1] * vy + PB[sb, i + 1, 2] * vz
-                if d > hi2:
-                    hi2 = d
-                    jb = i
-                if d2 > hi:
-                    hi = d2
-                    ib = i + 1
-            if (b1 - b0) % 2 == 0:
-                d = PB[sb, b1 - 1, 0] * vx + PB[sb, b1 - 1, 1] * vy + PB[sb, b1 - 1, 2] * vz
-                if d > hi2:
-                    hi2 = d
-                    jb = b1 - 1
-            if hi2 > hi or (hi2 == hi and jb < ib):
-                ib = jb
+                if d > hi:
+                    hi = d
+                    ib = i
             wx = PA[sa, ia, 0] - PB[sb, ib, 0]
             wy = PA[sa, ia, 1] - PB[sb, ib, 1]
             wz = PA[sa, ia, 2] - PB[sb, ib, 2]
@@ -408,66 +407,62 @@ def _gjk_loop(PA, PB, pairs, offsets, k_pairs, max_iter, W, IA, IB, lam, dist, c
                 scale = max(abx * abx + aby * aby + abz * abz, acx * acx + acy * acy + acz * acz,
                             adx * adx + ady * ady + adz * adz)
                 flat = abs(det) <= 1e-12 * scale * math.sqrt(scale)
-                best_d = np.inf
-                m = -1
-                inside = True
-                bary0 = 0.0
-                bary1 = 0.0
-                bary2 = 0.0
-                bary3 = 0.0
-                for f in range(4):
-                    # face (i, j, k) opposite vertex l, with i < j < k
-                    if f == 0:
-                        i, j, k, l = 0, 1, 2, 3
-                    elif f == 1:
-                        i, j, k, l = 0, 1, 3, 2
-                    elif f == 2:
-                        i, j, k, l = 0, 2, 3, 1
-                    else:
-                        i, j, k, l = 1, 2, 3, 0
-                    px, py, pz = W[i, 0], W[i, 1], W[i, 2]
-                    qx, qy, qz = W[j, 0], W[j, 1], W[j, 2]
-                    rx, ry, rz = W[k, 0], W[k, 1], W[k, 2]
-                    e1x, e1y, e1z = qx - px, qy - py, qz - pz
-                    e2x, e2y, e2z = rx - px, ry - py, rz - pz
-                    nx = e1y * e2z - e1z * e2y
-                    ny = e1z * e2x - e1x * e2z
-                    nz = e1x * e2y - e1y * e2x
-                    sign_origin = -(px * nx + py * ny + pz * nz)
-                    sign_other = (W[l, 0] - px) * nx + (W[l, 1] - py) * ny + (W[l, 2] - pz) * nz
-                    if not flat:
-                        bary = sign_origin / sign_other
-                        if l == 0:
-                            bary0 = bary
-                        elif l == 1:
-                            bary1 = bary
-                        elif l == 2:
-                            bary2 = bary
-                        else:
-                            bary3 = bary
-                    if flat or sign_origin * sign_other < 0.0:
-                        inside = False
-                        fm, t0, t1, t2, w0, w1, w2 = _triangle_any(px, py, pz, qx, qy, qz, rx, ry, rz)
-                        d = _triangle_distance2(fm, t0, t1, t2, w0, w1, w2, px, py, pz, qx, qy, qz, rx, ry, rz)
-                        if d < best_d:
-                            best_d = d
-                            m = fm
-                            # face vertex 0 / 1 / 2 -> simplex vertex i / j / k (ascending stays ascending)
-                            s0 = _pick3(t0, i, j, k)
-                            s1 = _pick3(t1, i, j, k)
-                            s2 = _pick3(t2, i, j, k)
-                            l0 = w0
-                            l1 = w1
-                            l2 = w2
-                if inside:
-                    # origin inside (or on) the tetrahedron: barycentric coordinates by signed volumes
-                    lam[0] = bary0
-                    lam[1] = bary1
-                    lam[2] = bary2
-                    lam[3] = bary3
+                # signed volumes (times 6) of the origin and of the fourth vertex l against each face (i, j, k):
+                # the origin is outside face (i, j, k) when the two have opposite signs
+                so0, sl0 = _face_sides(W, 0, 1, 2, 3)
+                so1, sl1 = _face_sides(W, 0, 1, 3, 2)
+                so2, sl2 = _face_sides(W, 0, 2, 3, 1)
+                so3, sl3 = _face_sides(W, 1, 2, 3, 0)
+                out0 = flat or so0 * sl0 < 0.0
+                out1 = flat or so1 * sl1 < 0.0
+                out2 = flat or so2 * sl2 < 0.0
+                out3 = flat or so3 * sl3 < 0.0
+                if not (out0 or out1 or out2 or out3):
+                    # origin inside (or on) the tetrahedron: barycentric coordinates by signed volumes (the weight of
+                    # vertex l is the origin's volume over l's against the face opposite l)
+                    lam[0] = so3 / sl3
+                    lam[1] = so2 / sl2
+                    lam[2] = so1 / sl1
+                    lam[3] = so0 / sl0
                     n = 4
                     status = _OVERLAP
                     break
+                # otherwise the closest point lies on a face the origin is outside of: the best of those faces
+                best_d = np.inf
+                m = -1
+                for f in range(4):
+                    # face (i, j, k) opposite vertex l, with i < j < k
+                    if f == 0:
+                        if not out0:
+                            continue
+                        i, j, k = 0, 1, 2
+                    elif f == 1:
+                        if not out1:
+                            continue
+                        i, j, k = 0, 1, 3
+                    elif f == 2:
+                        if not out2:
+                            continue
+                        i, j, k = 0, 2, 3
+                    else:
+                        if not out3:
+                            continue
+                        i, j, k = 1, 2, 3
+                    px, py, pz = W[i, 0], W[i, 1], W[i, 2]
+                    qx, qy, qz = W[j, 0], W[j, 1], W[j, 2]
+                    rx, ry, rz = W[k, 0], W[k, 1], W[k, 2]
+                    fm, t0, t1, t2, w0, w1, w2 = _triangle_any(px, py, pz, qx, qy, qz, rx, ry, rz)
+                    d = _triangle_distance2(fm, t0, t1, t2, w0, w1, w2, px, py, pz, qx, qy, qz, rx, ry, rz)
+                    if d < best_d:
+                        best_d = d
+                        m = fm
+                        # face vertex 0 / 1 / 2 -> simplex vertex i / j / k (ascending stays ascending)
+                        s0 = _pick3(t0, i, j, k)
+                        s1 = _pick3(t1, i, j, k)
+                        s2 = _pick3(t2, i, j, k)
+                        l0 = w0
+                        l1 = w1
+                        l2 = w2
             # keep W[s0], W[s1], W[s2] (ascending, so copying forward in place never overwrites one still to read)
             if m >= 1:
                 W[0, 0] = W[s0, 0]
@@ -557,7 +552,7 @@ def _gjk(pa, pb, max_iter, W, IA, IB, lam, out, work_i, work_f):
     the final simplex (support points W, their vertex indices IA, IB, weights λ) for EPA. ``work_i`` (>= 1,) int
     receives the status; ``work_f`` is kept for callers' compatibility. Returns (status, simplex size).
     """
-    return _gjk_loop(pa[np.newaxis], pb[np.newaxis], _NO_PAIRS, _NO_PAIRS[0], 1, max_iter, W, IA, IB, lam,
+    return _gjk_loop(pa[np.newaxis], pb[np.newaxis], _NO_PAIRS, _NO_OFFSETS, 1, max_iter, W, IA, IB, lam,
                      out[6:7], out[np.newaxis, 0:3], out[np.newaxis, 3:6], work_i)
 
 
@@ -579,7 +574,7 @@ def _gjk_batch(points_a, points_b, max_iter, dist, closest_a, closest_b, status)
     IA = np.empty(4, np.int64)
     IB = np.empty(4, np.int64)
     lam = np.empty(4)
-    _gjk_loop(points_a, points_b, _NO_PAIRS, _NO_PAIRS[0], points_a.shape[0], max_iter, W, IA, IB, lam, dist,
+    _gjk_loop(points_a, points_b, _NO_PAIRS, _NO_OFFSETS, points_a.shape[0], max_iter, W, IA, IB, lam, dist,
               closest_a, closest_b, status)
 
 
