@@ -2,8 +2,8 @@
 
 Every public name of DESIGN.md section 3 is importable from here; the subpackages hold the rest:
 ``engine.dynamics`` (falling bodies), ``engine.bounding`` (bounding volumes, hull, decomposition),
-``engine.broadphase``, ``engine.narrowphase``, ``engine.gas``, ``engine.world`` (shapes and the pipeline). engine/ARCHITECTURE.md maps each module to the
-chapter's slides, its oracle and its property file.
+``engine.broadphase``, ``engine.narrowphase``, ``engine.gas``, ``engine.world`` (shapes and the pipeline).
+engine/ARCHITECTURE.md maps each module to the chapter's slides, its oracle and its property file.
 """
 from __future__ import annotations
 

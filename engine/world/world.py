@@ -23,7 +23,7 @@ from engine.broadphase import BROAD_PHASES, DynamicAABBTree, cull_separating_box
 from engine.narrowphase import contact_feature, overlap_aabb_curve, time_of_impact_pairs
 
 from .dispatch import ground_gap, lower_boundary, overlap_groups
-from .shapes import BOX, CAPSULE, CURVE, KIND_NAMES, PLANE, Shape, as_rotation_matrix
+from .shapes import BOX, KIND_NAMES, PLANE, Shape, as_rotation_matrix
 
 __all__ = ["World", "ContactSet", "ImpactSet", "FEATURE_NAMES"]
 
