@@ -139,7 +139,10 @@ def test_bench_coal_frame(benchmark, scene):
         elif isinstance(s, Box):
             geom = coal.Box(*(2 * s.half_extents))
         else:
-            geom = coal.Convex.convexHull(s.local, False, None)
+            vertices = coal.StdVec_Vec3s()
+            for p in s.local:
+                vertices.append(p)
+            geom = coal.Convex.convexHull(vertices, False, "")
         transform = coal.Transform3s()
         transform.setRotation(s.rotation)
         transform.setTranslation(s.center)

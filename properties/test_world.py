@@ -184,6 +184,24 @@ TestWorldStateful = WorldMachine.TestCase
 TestWorldStateful.settings = settings(max_examples=40, stateful_step_count=12, deadline=None)
 
 
+@given(st.lists(st.tuples(bodies, st.none() | poses), min_size=2, max_size=8), st.none() | planes,
+       st.sampled_from(BROAD_PHASES))
+@settings(max_examples=100)
+def test_pairs_of_dense_scenes_match_the_oracles(shapes_poses, ground, broad_phase):
+    """Crowded scenes (centres pulled into a cube of side ~3): many pairs near touching, of every kind pair."""
+    w = World(broad_phase)
+    model = {}
+    for shape, pose in shapes_poses:
+        i = w.add(shape)
+        center = shape.center * 0.35
+        rotation = shape.rotation if pose is None or pose[1] is None else pose[1]
+        w.move(i, center=center, rotation=rotation)
+        model[i] = (shape, center, rotation)
+    if ground is not None:
+        model[w.add(ground)] = (ground, None, None)
+    check_against_oracles(w, model)
+
+
 # ---------------------------------------------------------------------------------------------------------------
 # contacts
 # ---------------------------------------------------------------------------------------------------------------
