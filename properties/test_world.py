@@ -279,7 +279,7 @@ def test_contacts_normal_depth_points(shapes, ground):
 
 @given(st.lists(st.tuples(bodies, velocities), min_size=2, max_size=5), st.none() | planes,
        st.sampled_from(["tree", "sap", "brute"]))
-@settings(max_examples=40)
+@settings(max_examples=25)
 def test_time_of_impact_first_contact(bodies_vel, ground, broad_phase):
     dt = 1.0
     w = World(broad_phase)

@@ -95,6 +95,7 @@ class Geometry:
     """World arrays for the narrow phase, with lazily derived ones (world points, OBB axes, capsule ends)."""
 
     def __init__(self, world):
+        self.world = world
         self.kind = world._kind
         self.center = world._center
         self.rotation = world._rot
@@ -107,7 +108,7 @@ class Geometry:
     @cached_property
     def padded_points(self) -> np.ndarray:
         """(cap, M, 3) world points of every core (rows past ``count`` repeat the first point)."""
-        return self.center[:, None, :] + np.einsum("nij,nmj->nmi", self.rotation, self.local)
+        return self.world._world_points
 
     @cached_property
     def _packed(self):
@@ -210,16 +211,17 @@ class World:
         self._local = np.zeros((cap, m, 3))
         self._lo = np.zeros((cap, 3))
         self._hi = np.zeros((cap, 3))
+        self._world_points = np.zeros((cap, m, 3))
 
     def _grow(self, cap, m):
         old = {name: getattr(self, name) for name in ("_kind", "_center", "_rot", "_vel", "_radius", "_half",
-                                                      "_count", "_local", "_lo", "_hi")}
+                                                      "_count", "_local", "_lo", "_hi", "_world_points")}
         n_old, m_old = old["_kind"].shape[0], old["_local"].shape[1]
         self._alloc(cap, m)
         for name, arr in old.items():
-            if name == "_local":
-                self._local[:n_old, :m_old] = arr
-                self._local[:n_old, m_old:] = arr[:, :1]  # padding repeats the first point
+            if name in ("_local", "_world_points"):
+                getattr(self, name)[:n_old, :m_old] = arr
+                getattr(self, name)[:n_old, m_old:] = arr[:, :1]  # padding repeats the first point
             else:
                 getattr(self, name)[:n_old] = arr
         grown = np.full(cap, -1, np.int64)
@@ -237,7 +239,12 @@ class World:
         return body_id
 
     def _refresh_aabbs(self, ids):
-        pts = self._center[ids][:, None, :] + np.einsum("nij,nmj->nmi", self._rot[ids], self._local[ids])
+        """World points (center + R @ local) and AABBs (the points' min / max, grown by the radius) of ``ids``."""
+        rot = self._rot[ids][:, None, :, :]
+        local = self._local[ids]
+        pts = (self._center[ids][:, None, :] + local[:, :, 0:1] * rot[..., 0] + local[:, :, 1:2] * rot[..., 1]
+               + local[:, :, 2:3] * rot[..., 2])
+        self._world_points[ids] = pts
         r = self._radius[ids][:, None]
         self._lo[ids] = pts.min(axis=1) - r
         self._hi[ids] = pts.max(axis=1) + r
@@ -358,7 +365,7 @@ class World:
                                      f"quaternion")
                 rot = np.stack([as_rotation_matrix(q, "rotations") for q in r]) if k else np.empty((0, 3, 3))
             elif r.shape == (k, 3, 3):
-                err = np.abs(np.einsum("kji,kjl->kil", r, r) - np.eye(3)).max(axis=(1, 2)) if k else np.zeros(0)
+                err = np.abs(np.matmul(r.transpose(0, 2, 1), r) - np.eye(3)).max(axis=(1, 2)) if k else np.zeros(0)
                 det = np.linalg.det(r) if k else np.zeros(0)
                 wrong = (err > 1e-9) | (det < 0)
                 if wrong.any():
