@@ -2,8 +2,8 @@
 
 Every public name of DESIGN.md section 3 is importable from here; the subpackages hold the rest:
 ``engine.dynamics`` (falling bodies), ``engine.bounding`` (bounding volumes, hull, decomposition),
-``engine.broadphase``, ``engine.narrowphase``, ``engine.gas``. engine/ARCHITECTURE.md maps each module to the
-chapter's slides, its oracle and its property file.
+``engine.broadphase``, ``engine.narrowphase``, ``engine.gas``, ``engine.world`` (shapes and the pipeline).
+engine/ARCHITECTURE.md maps each module to the chapter's slides, its oracle and its property file.
 """
 from __future__ import annotations
 
@@ -21,6 +21,7 @@ from .narrowphase import (
     obb_overlap,
     time_of_impact,
 )
+from .world import Box, Capsule, ConvexPolyhedron, HeightCurve, Plane, Sphere, World
 
 __version__ = "0.1.0"
 
@@ -36,4 +37,6 @@ __all__ = [
     "obb_overlap", "gjk_distance", "epa_penetration", "contact_feature", "Contact", "time_of_impact",
     # the confined gas
     "simulate_gas", "GasResult",
+    # the collision pipeline: shapes and World
+    "Sphere", "Box", "Capsule", "ConvexPolyhedron", "Plane", "HeightCurve", "World",
 ]

@@ -1,0 +1,195 @@
+"""The shapes a ``World`` holds: four convex bodies and two grounds (DESIGN.md section 3).
+
+Every body is stored the same way: a pose (``center`` (3,), ``rotation`` (3, 3)) and a convex *core* given by
+local points (m, 3) — world = center + rotation @ local — swept by a ball of ``radius`` (Ericson 4.5, "sphere
+swept volumes"): a sphere is one point swept by r, a capsule a segment swept by r, a box its 8 corners (r = 0),
+a convex polyhedron the vertices of its hull (r = 0). The narrow phase (GJK on the world points + radii) then
+treats every pair alike; the cheaper exact tests (sphere–sphere, sphere–box, box–box SAT, sphere–capsule) use
+the same data.
+
+Rotation (``Box``, ``move``): a 3x3 matrix whose COLUMNS are the body's axes in the world (orthonormal with
+determinant +1, to 1e-9), or a unit quaternion (w, x, y, z). An unnormalised quaternion is rejected
+(ValueError naming ``rotation``), not silently normalised: a quaternion of norm 2 is almost always a bug in the
+caller's integrator. Note that ``engine.OBB`` stores the axes as ROWS: ``OBB(c, rotation.T, half)``.
+
+Grounds fill the half-space below a height, the chapter's "sol plat" (``Plane(altitude)``: y <= a) and "Sol
+courbe" (``HeightCurve(f)``: y <= f(x), extruded along z). They never move and do not enter the broad phase.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from engine._validate import as_float, as_float_array, as_positive
+from engine.bounding.hull import convex_hull
+
+__all__ = ["Shape", "Sphere", "Box", "Capsule", "ConvexPolyhedron", "Plane", "HeightCurve",
+           "as_rotation_matrix", "SPHERE", "BOX", "CAPSULE", "HULL", "PLANE", "CURVE", "KIND_NAMES"]
+
+# shape kinds: the row and column labels of the dispatch table (engine/world/dispatch.py)
+SPHERE, BOX, CAPSULE, HULL, PLANE, CURVE = range(6)
+KIND_NAMES = ("sphere", "box", "capsule", "hull", "plane", "curve")
+
+#: tolerance of the orthonormality / unit-norm checks of a rotation
+ROTATION_TOL = 1e-9
+
+
+def as_rotation_matrix(rotation, name: str = "rotation") -> np.ndarray:
+    """A proper rotation (3, 3) from None (identity), a 3x3 matrix (columns = body axes) or a unit quaternion
+    (w, x, y, z). ValueError naming ``name`` unless orthonormal with det +1 / of unit norm, to 1e-9."""
+    if rotation is None:
+        return np.eye(3)
+    arr = as_float_array(rotation, name, ndim=None)
+    if arr.shape == (4,):
+        norm = float(np.sqrt(arr @ arr))
+        if abs(norm - 1.0) > ROTATION_TOL:
+            raise ValueError(f"{name} quaternion must have unit norm, got |q| = {norm!r} (normalise it first)")
+        w, x, y, z = arr
+        return np.array([
+            [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+            [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+            [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
+        ])
+    if arr.shape != (3, 3):
+        raise ValueError(f"{name} must be a (3, 3) matrix or a (4,) quaternion, got shape {arr.shape}")
+    err = float(np.abs(arr.T @ arr - np.eye(3)).max())
+    if err > ROTATION_TOL:
+        raise ValueError(f"{name} must be orthonormal (max |R^T R - I| = {err:.3g})")
+    if np.linalg.det(arr) < 0.0:
+        raise ValueError(f"{name} must be a proper rotation (det = -1: a reflection)")
+    return arr
+
+
+def _vec3(value, name):
+    return as_float_array(value, name, shape=(3,))
+
+
+class Shape:
+    """Base class: ``kind`` (a code of the dispatch table), pose ``center``/``rotation``, core ``local`` points
+    (m, 3) and sweep ``radius``."""
+
+    kind: int = -1
+    radius: float = 0.0
+    center: np.ndarray
+    rotation: np.ndarray
+    local: np.ndarray
+
+    def world_points(self) -> np.ndarray:
+        """The core's points in world coordinates, (m, 3)."""
+        return self.center + self.local @ self.rotation.T
+
+    def __repr__(self) -> str:
+        return f"{type(self).__name__}(center={self.center.tolist()}, radius={self.radius})"
+
+
+class Sphere(Shape):
+    """``Sphere(center (3,), radius > 0)``."""
+
+    kind = SPHERE
+
+    def __init__(self, center, radius):
+        self.center = _vec3(center, "center")
+        self.radius = as_positive(radius, "radius")
+        self.rotation = np.eye(3)
+        self.local = np.zeros((1, 3))
+
+
+class Box(Shape):
+    """``Box(center (3,), half_extents (3,) > 0, rotation=None)``: an oriented box (OBB); rotation a 3x3 matrix
+    whose columns are the box axes, or a unit quaternion (w, x, y, z)."""
+
+    kind = BOX
+
+    def __init__(self, center, half_extents, rotation=None):
+        self.center = _vec3(center, "center")
+        half = _vec3(half_extents, "half_extents")
+        if (half <= 0).any():
+            k = int(np.argmax(half <= 0))
+            raise ValueError(f"half_extents must be > 0: half_extents[{k}] = {half[k]!r}")
+        self.half_extents = half
+        self.rotation = as_rotation_matrix(rotation)
+        signs = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)], dtype=float)
+        self.local = signs * half
+
+
+class Capsule(Shape):
+    """``Capsule(p0 (3,), p1 (3,), radius > 0)``: the segment p0–p1 swept by a ball; its center is the midpoint
+    and its rotation starts as the identity (``move`` turns the segment about the center)."""
+
+    kind = CAPSULE
+
+    def __init__(self, p0, p1, radius):
+        a = _vec3(p0, "p0")
+        b = _vec3(p1, "p1")
+        self.radius = as_positive(radius, "radius")
+        self.center = 0.5 * (a + b)
+        self.rotation = np.eye(3)
+        self.local = np.stack([a - self.center, b - self.center])
+
+
+class ConvexPolyhedron(Shape):
+    """``ConvexPolyhedron(points (n, 3))``: the convex hull of the points (engine.convex_hull, quickhull), which
+    must have a volume (>= 4 points, not coplanar). Its center is the mean of the hull vertices."""
+
+    kind = HULL
+
+    def __init__(self, points):
+        pts = as_float_array(points, "points", shape=(None, 3), min_rows=4)
+        try:
+            hull = convex_hull(pts)
+        except ValueError as exc:
+            raise ValueError(f"points must span a volume: {exc}") from None
+        if not hull.volume > 0.0:
+            raise ValueError("points must span a volume (they are coplanar)")
+        verts = pts[np.sort(hull.vertices)]
+        self.center = verts.mean(axis=0)
+        self.rotation = np.eye(3)
+        self.local = verts - self.center
+
+
+class Plane(Shape):
+    """``Plane(altitude=0.0)``: the flat ground, solid below y = altitude (slide "sol plat")."""
+
+    kind = PLANE
+
+    def __init__(self, altitude=0.0):
+        self.altitude = as_float(altitude, "altitude")
+
+    def height(self, x) -> np.ndarray:
+        return np.full(np.shape(x), self.altitude)
+
+    def __repr__(self) -> str:
+        return f"Plane(altitude={self.altitude})"
+
+
+class HeightCurve(Shape):
+    """``HeightCurve(f, *, samples=64)``: the curved ground, solid below y = f(x) (slide "Sol courbe"), extruded
+    along z. ``f`` is a vectorised callable (numpy array -> array of the same shape), continuous; ``samples``
+    is the number of points per body on which the narrow test samples the body's lower boundary."""
+
+    kind = CURVE
+
+    def __init__(self, f, *, samples: int = 64):
+        if not callable(f):
+            raise TypeError(f"f must be a callable y = f(x), got {type(f).__name__}")
+        if isinstance(samples, bool) or not isinstance(samples, int | np.integer) or samples < 8:
+            raise ValueError(f"samples must be an int >= 8, got {samples!r}")
+        probe = np.asarray(f(np.linspace(-1.0, 1.0, 3)), dtype=float)
+        if probe.shape != (3,):
+            raise ValueError(f"f must be vectorised (array in, same-shape array out), got shape {probe.shape}")
+        self.f = f
+        self.samples = int(samples)
+
+    def height(self, x) -> np.ndarray:
+        y = np.asarray(self.f(np.asarray(x, dtype=float)), dtype=float)
+        if not np.isfinite(y).all():
+            raise ValueError("f returned a non-finite height")
+        return y
+
+    def slope(self, x) -> np.ndarray:
+        """f'(x) by a central difference."""
+        x = np.asarray(x, dtype=float)
+        h = 1e-6 * np.maximum(1.0, np.abs(x))
+        return (self.height(x + h) - self.height(x - h)) / (2 * h)
+
+    def __repr__(self) -> str:
+        return f"HeightCurve({getattr(self.f, '__name__', 'f')})"

@@ -1,0 +1,47 @@
+"""Strategies for the World pipeline: shapes of every kind, poses, small scenes."""
+from __future__ import annotations
+
+import numpy as np
+from hypothesis import strategies as st
+
+from engine.world import Box, Capsule, ConvexPolyhedron, Plane, Sphere
+
+from .geometry import rotations, seeds
+
+__all__ = ["positions", "sizes", "spheres", "boxes", "capsules", "hulls", "bodies", "velocities", "poses"]
+
+#: a scene of side ~8 with shapes of size ~0.3-1.5: a moderate density, pairs of every kind meet
+positions = st.tuples(*[st.floats(-4.0, 4.0, allow_nan=False) | st.integers(-4, 4).map(float)] * 3).map(np.array)
+sizes = st.floats(0.3, 1.5, allow_nan=False) | st.sampled_from([0.5, 1.0])
+
+
+@st.composite
+def spheres(draw):
+    return Sphere(draw(positions), draw(sizes))
+
+
+@st.composite
+def boxes(draw):
+    half = np.array([draw(sizes) for _ in range(3)])
+    return Box(draw(positions), half, draw(st.none() | rotations()))
+
+
+@st.composite
+def capsules(draw):
+    c = draw(positions)
+    d = draw(st.tuples(*[st.floats(-1.5, 1.5, allow_nan=False)] * 3).map(np.array))
+    return Capsule(c - d / 2, c + d / 2, draw(sizes) * 0.5)
+
+
+@st.composite
+def hulls(draw):
+    rng = np.random.default_rng(draw(seeds))
+    n = draw(st.integers(4, 20))
+    pts = rng.normal(size=(n, 3)) * draw(sizes) * 0.7
+    return ConvexPolyhedron(pts + draw(positions))
+
+
+bodies = st.one_of(spheres(), boxes(), capsules(), hulls())
+velocities = st.tuples(*[st.floats(-6.0, 6.0, allow_nan=False) | st.just(0.0)] * 3).map(np.array)
+poses = st.tuples(positions, st.none() | rotations())
+planes = st.floats(-5.0, 0.0, allow_nan=False).map(Plane)
