@@ -5,6 +5,7 @@
     collide contact A.json B.json
     collide bound POINTS.csv | collide hull POINTS.csv | collide decompose POLYGON.csv
     collide gas --n 2000 --eta 0.2 --method events
+    collide demo [--png docs/demo.png] [--no-gif]
     collide report [--quick] [--scheduler tcp://HOST:8786]
 """
 from __future__ import annotations

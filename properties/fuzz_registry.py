@@ -767,6 +767,36 @@ def _scratch_png():
     return os.path.join(tempfile.mkdtemp(prefix="engine-fuzz-"), "speeds.png")
 
 
+# --- the pipeline: shapes and World -------------------------------------------------------------------------------
+api("Sphere", engine.Sphere)(lambda draw: dict(center=draw(vec()), radius=draw(pos(0.01, 3))))
+api("Box", engine.Box)(lambda draw: dict(center=draw(vec()), half_extents=draw(hnp.arrays(np.float64, (3,),
+                                                                                            elements=pos(0.01, 3))),
+                                         rotation=draw(rotation())))
+api("Capsule", engine.Capsule)(lambda draw: dict(p0=draw(vec()), p1=draw(vec()), radius=draw(pos(0.01, 3))))
+api("ConvexPolyhedron", engine.ConvexPolyhedron)(lambda draw: dict(points=draw(general_points(4, 12))))
+api("Plane", engine.Plane)(lambda draw: dict(altitude=draw(_coord)))
+api("HeightCurve", lambda samples: engine.HeightCurve(_curve, samples=samples))(
+    lambda draw: dict(samples=draw(st.integers(2, 128))))
+
+
+def _world(broad_phase, centers, radii, velocities, moved, dt):
+    world = engine.World(broad_phase=broad_phase)
+    ids = [world.add(engine.Sphere(c, r), velocity=v) for c, r, v in zip(centers, radii, velocities)]
+    world.add(engine.Plane(-5.0))
+    world.update(ids, moved)
+    return world.pairs(), world.contacts(), world.time_of_impact(dt)
+
+
+@api("World", _world, max_examples=60, indexed=False,
+     aliases=dict(centers="center", radii="radius", velocities="velocity", moved="centers"))
+def _(draw):
+    n = draw(st.integers(1, 8))
+    c = hnp.arrays(np.float64, (n, 3), elements=_coord)
+    return dict(broad_phase=draw(st.sampled_from(engine.BROAD_PHASES)), centers=draw(c),
+                radii=draw(hnp.arrays(np.float64, (n,), elements=pos(0.1, 3))), velocities=draw(c), moved=draw(c),
+                dt=draw(pos(0.01, 1.0)))
+
+
 #: public names that are not called with arrays: result records, exceptions, constants, JSON/file front ends (their
 #: parsers are fuzzed in properties/test_contact_io.py-style tests of their own), plotting to a file.
 NOT_CALLABLE_API = {
