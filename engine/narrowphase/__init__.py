@@ -43,7 +43,7 @@ from .primitives import (
     overlap_sphere_sphere,
     overlap_sphere_sphere_batch,
 )
-from .sat import obb_overlap, overlap_convex_sat, overlap_obb_obb_batch
+from .sat import obb_overlap, overlap_convex_sat, overlap_convex_sat_pairs, overlap_obb_obb_batch
 
 __all__ = [
     "Contact", "ContactBatch", "TOINotConverged", "contact_feature", "contact_feature_pairs", "time_of_impact",
@@ -57,5 +57,5 @@ __all__ = [
     "overlap_circle_segment_batch", "overlap_sphere_aabb", "overlap_sphere_aabb_batch", "overlap_sphere_capsule",
     "overlap_sphere_capsule_batch", "overlap_sphere_ground_batch", "overlap_sphere_obb", "overlap_sphere_obb_batch",
     "overlap_sphere_sphere", "overlap_sphere_sphere_batch",
-    "obb_overlap", "overlap_convex_sat", "overlap_obb_obb_batch",
+    "obb_overlap", "overlap_convex_sat", "overlap_convex_sat_pairs", "overlap_obb_obb_batch",
 ]
