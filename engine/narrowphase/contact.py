@@ -323,12 +323,41 @@ def _closest_segments_2d(A, B, tol, out):
 
 
 @njit
+def _drop_flat_vertices(S, count, tol):
+    """Remove from the convex polygon S[:count] every vertex within tol of the line through its two neighbours
+    (clipping a face on a face that shares an edge leaves such points: they add nothing to the contact patch).
+    Returns the new count."""
+    while count >= 3:
+        dropped = False
+        for i in range(count):
+            a = (i - 1) % count
+            b = (i + 1) % count
+            ex = S[b, 0] - S[a, 0]
+            ey = S[b, 1] - S[a, 1]
+            length = math.sqrt(ex * ex + ey * ey)
+            dx = S[i, 0] - S[a, 0]
+            dy = S[i, 1] - S[a, 1]
+            off = abs(ex * dy - ey * dx) / length if length > 0.0 else math.sqrt(dx * dx + dy * dy)
+            if off <= tol:
+                for j in range(i, count - 1):
+                    S[j, 0] = S[j + 1, 0]
+                    S[j, 1] = S[j + 1, 1]
+                count -= 1
+                dropped = True
+                break
+        if not dropped:
+            break
+    return count
+
+
+@njit
 def _features(pa, pb, ra, rb, n, ca, cb, ftol, S, FA, FB, buf, out_points, start):
     """The "where" of one pair, given the contact normal n (A towards B) and the closest (or deepest) points
     ca, cb: the support sets of A (vertices within tol of max a·n) and of B (within tol of min b·n), projected on
-    the plane ⊥ n and reduced to features, their intersection (clipping), deduplicated, lifted to the mid-plane
-    between the two support planes. Writes the points into out_points[start:]; returns (kind_a, kind_b, count)
-    with kind 1 vertex, 2 edge, 3 face. S, FA, FB, buf are scratch arrays."""
+    the plane ⊥ n and reduced to features, their intersection (clipping), deduplicated (and polygon vertices flat
+    between their neighbours dropped), lifted to the mid-plane between the two support planes. Writes the points
+    into out_points[start:]; returns (kind_a, kind_b, count) with kind 1 vertex, 2 edge, 3 face. S, FA, FB, buf
+    are scratch arrays."""
     size = 0.0
     for c in range(3):
         lo = np.inf
@@ -403,6 +432,7 @@ def _features(pa, pb, ra, rb, n, ca, cb, ftol, S, FA, FB, buf, out_points, start
             S[kept, 0] = S[i, 0]
             S[kept, 1] = S[i, 1]
             kept += 1
+    kept = _drop_flat_vertices(S, kept, tol)
     mid = 0.5 * ((top_a + ra) + (bot_b - rb))
     for i in range(kept):
         for c in range(3):
