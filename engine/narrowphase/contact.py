@@ -630,7 +630,8 @@ def _contact_batch(pts, off, pr, rad, ftol, max_iter) -> ContactBatch:
                            kind_a, kind_b, raw, start, count, status)
     point_offsets = np.zeros(k + 1, np.int64)
     np.cumsum(count, out=point_offsets[1:])
-    take = np.concatenate([np.arange(s, s + c) for s, c in zip(start[:-1], count)]) if k else np.zeros(0, np.int64)
+    # the rows of the points actually written: pair p's count rows from start[p]
+    take = np.arange(point_offsets[-1]) + np.repeat(start[:-1] - point_offsets[:-1], count)
     return ContactBatch(separation=separation, normal=normal, feature_a=kind_a, feature_b=kind_b,
                         points=raw[take], point_offsets=point_offsets, closest_a=ca, closest_b=cb,
                         radius_a=rad[pr[:, 0]], radius_b=rad[pr[:, 1]], exact_fallback=fallback)
