@@ -292,7 +292,16 @@ def _full_dimensional(points):
 # contact_feature_pairs
 # ---------------------------------------------------------------------------------------------------------------
 
-FALLBACKS = []  # pairs that took Qhull's exact depth (counted in the report; see ContactBatch.exact_fallback)
+FALLBACKS = []  # (pairs that took Qhull's exact depth, pairs) per example; see ContactBatch.exact_fallback
+
+
+@pytest.fixture(scope="module", autouse=True)
+def _count_fallbacks():
+    """Prints (pytest -s) how often EPA broke down and Qhull answered, over this module's batches."""
+    yield
+    if FALLBACKS:
+        print(f"\ncontact_feature_pairs: Qhull fallback on {sum(f for f, _ in FALLBACKS)} of "
+              f"{sum(k for _, k in FALLBACKS)} pairs")
 
 
 @settings(max_examples=100)
