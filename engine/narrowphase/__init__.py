@@ -8,7 +8,15 @@ sets are packed as ``points`` (N, 3) + ``offsets`` (S + 1,) and paired by a (k, 
 """
 from __future__ import annotations
 
-from .contact import Contact, TOINotConverged, contact_feature, time_of_impact, time_of_impact_pairs
+from .contact import (
+    Contact,
+    ContactBatch,
+    TOINotConverged,
+    contact_feature,
+    contact_feature_pairs,
+    time_of_impact,
+    time_of_impact_pairs,
+)
 from .contact_io import describe_contact, load_shape
 from .epa import EPANotConverged, epa_penetration, epa_penetration_pairs
 from .gjk import GJKNotConverged, gjk_distance, gjk_distance_batch, gjk_distance_pairs, pack_point_sets
@@ -35,10 +43,11 @@ from .primitives import (
     overlap_sphere_sphere,
     overlap_sphere_sphere_batch,
 )
-from .sat import obb_overlap, overlap_convex_sat, overlap_obb_obb_batch
+from .sat import obb_overlap, overlap_convex_sat, overlap_convex_sat_pairs, overlap_obb_obb_batch
 
 __all__ = [
-    "Contact", "TOINotConverged", "contact_feature", "time_of_impact", "time_of_impact_pairs",
+    "Contact", "ContactBatch", "TOINotConverged", "contact_feature", "contact_feature_pairs", "time_of_impact",
+    "time_of_impact_pairs",
     "describe_contact", "load_shape",
     "EPANotConverged", "epa_penetration", "epa_penetration_pairs",
     "GJKNotConverged", "gjk_distance", "gjk_distance_batch", "gjk_distance_pairs", "pack_point_sets",
@@ -48,5 +57,5 @@ __all__ = [
     "overlap_circle_segment_batch", "overlap_sphere_aabb", "overlap_sphere_aabb_batch", "overlap_sphere_capsule",
     "overlap_sphere_capsule_batch", "overlap_sphere_ground_batch", "overlap_sphere_obb", "overlap_sphere_obb_batch",
     "overlap_sphere_sphere", "overlap_sphere_sphere_batch",
-    "obb_overlap", "overlap_convex_sat", "overlap_obb_obb_batch",
+    "obb_overlap", "overlap_convex_sat", "overlap_convex_sat_pairs", "overlap_obb_obb_batch",
 ]

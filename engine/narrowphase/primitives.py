@@ -367,9 +367,20 @@ def overlap_sphere_ground_batch(centers, radii, altitude):
 
 # ---------------------------------------------------------------------------------------------------------------
 # curved ground y = f(x), f a vectorised callable: the region y <= f(x) is solid
+#
+# The exact tests minimise, for every shape i at once, an objective g_i over an interval [lo_i, hi_i]: dense
+# sampling (one call of f on the whole grid), then golden-section refinement of the bracket around the best sample
+# (one call of f per iteration, on both interior points of every bracket). The bracket bookkeeping runs in the
+# @njit kernels below; with a Python f the loop over iterations calls f between them, with a numba-jitted f
+# (a numba dispatcher) ``_search_jit`` runs the whole search, f included, in one compiled call.
 # ---------------------------------------------------------------------------------------------------------------
 
 _GOLDEN = (np.sqrt(5.0) - 1.0) / 2.0
+#: golden-section iterations after the sampling: the bracket shrinks by 0.618^60 ≈ 3e-13 of the sample spacing
+GOLDEN_ITERATIONS = 60
+
+_MAXIMIZE = 0  # g(x) = −f(x): max of f over the interval
+_DISTANCE = 1  # g(x) = (x − p_x)² + (f(x) − p_y)²: squared distance from p to the graph
 
 
 def _evaluate(f, x: np.ndarray) -> np.ndarray:
@@ -388,43 +399,150 @@ def _evaluate(f, x: np.ndarray) -> np.ndarray:
     return y
 
 
-def _golden_search(g, a, b, iterations):
-    """Vectorised golden-section minimisation of g on the brackets [a, b] (n,); returns (x, g(x))."""
-    c = b - _GOLDEN * (b - a)
-    d = a + _GOLDEN * (b - a)
-    gc = g(c)
-    gd = g(d)
-    for _ in range(iterations):
-        left = gc <= gd
-        b = np.where(left, d, b)
-        a = np.where(left, a, c)
-        new_c = b - _GOLDEN * (b - a)
-        new_d = a + _GOLDEN * (b - a)
-        # one of the two interior points is reused, but evaluate both vectorised (simpler, same call count)
-        c, d = new_c, new_d
-        gc = g(c)
-        gd = g(d)
-    x = np.where(gc <= gd, c, d)
-    return x, np.minimum(gc, gd)
+@njit
+def _objective(mode, x, y, px, py):
+    if mode == _MAXIMIZE:
+        return -y
+    return (x - px) ** 2 + (y - py) ** 2
 
 
-def _minimize_on_intervals(g, lo, hi, samples: int, iterations: int = 60):
-    """min over x in [lo_i, hi_i] of g_i(x) for every i: dense sampling, then golden-section refinement around
-    the best sample. ``g(x, rows)`` evaluates the i-th objective at x for rows i (vectorised)."""
+@njit
+def _sample_grid(lo, hi, t, xs):
+    """xs[i * s + j] = lo_i + (hi_i − lo_i) t_j: the s = len(t) samples of every interval, flat."""
+    s = t.shape[0]
+    for i in range(lo.shape[0]):
+        for j in range(s):
+            xs[i * s + j] = lo[i] + (hi[i] - lo[i]) * t[j]
+
+
+@njit
+def _best_samples(mode, xs, ys, px, py, s, best_x, best, a, b, cd):
+    """Per interval: the best sample (first of the smallest g), the bracket [a, b] = its two neighbours, and the
+    bracket's golden-section points c = b − φ(b − a), d = a + φ(b − a) into cd = (c (n), d (n))."""
+    n = best.shape[0]
+    for i in range(n):
+        k = 0
+        v = _objective(mode, xs[i * s], ys[i * s], px[i], py[i])
+        for j in range(1, s):
+            g = _objective(mode, xs[i * s + j], ys[i * s + j], px[i], py[i])
+            if g < v:
+                v = g
+                k = j
+        best_x[i] = xs[i * s + k]
+        best[i] = v
+        a[i] = xs[i * s + max(k - 1, 0)]
+        b[i] = xs[i * s + min(k + 1, s - 1)]
+        cd[i] = b[i] - _GOLDEN * (b[i] - a[i])
+        cd[n + i] = a[i] + _GOLDEN * (b[i] - a[i])
+
+
+@njit
+def _golden_step(mode, cd, ycd, px, py, a, b, gc, gd, last):
+    """One golden-section iteration on every bracket (Kiefer 1953): g at c and d (f already evaluated into ycd);
+    keep [a, d] if g(c) <= g(d) else [c, b]; new c, d into cd — unless this was the ``last`` evaluation."""
+    n = a.shape[0]
+    for i in range(n):
+        c = cd[i]
+        d = cd[n + i]
+        gc[i] = _objective(mode, c, ycd[i], px[i], py[i])
+        gd[i] = _objective(mode, d, ycd[n + i], px[i], py[i])
+        if last:
+            continue
+        if gc[i] <= gd[i]:
+            b[i] = d
+        else:
+            a[i] = c
+        cd[i] = b[i] - _GOLDEN * (b[i] - a[i])
+        cd[n + i] = a[i] + _GOLDEN * (b[i] - a[i])
+
+
+@njit
+def _golden_finish(cd, gc, gd, best_x, best, x_out, v_out):
+    """The better of the refined point and the best sample."""
+    n = gc.shape[0]
+    for i in range(n):
+        if gc[i] <= gd[i]:
+            x, v = cd[i], gc[i]
+        else:
+            x, v = cd[n + i], gd[i]
+        if v < best[i]:
+            x_out[i] = x
+            v_out[i] = v
+        else:
+            x_out[i] = best_x[i]
+            v_out[i] = best[i]
+
+
+@njit
+def _first_non_finite(y):
+    for i in range(y.shape[0]):
+        if not (y[i] - y[i]) == 0.0:
+            return i
+    return -1
+
+
+@njit(cache=False)  # f is an argument: one specialisation per f, not cached across sessions
+def _search_jit(f, mode, lo, hi, t, px, py, iterations, x_out, v_out, bad_x):
+    """The whole search with a numba-jitted f, in one compiled call. Returns 0, or 1 when f returned a non-finite
+    value (the abscissa in bad_x[0])."""
+    n = lo.shape[0]
+    s = t.shape[0]
+    xs = np.empty(n * s)
+    _sample_grid(lo, hi, t, xs)
+    ys = np.asarray(f(xs), dtype=np.float64)
+    i = _first_non_finite(ys)
+    if i >= 0:
+        bad_x[0] = xs[i]
+        bad_x[1] = ys[i]
+        return 1
+    best_x = np.empty(n)
+    best = np.empty(n)
+    a = np.empty(n)
+    b = np.empty(n)
+    cd = np.empty(2 * n)
+    gc = np.empty(n)
+    gd = np.empty(n)
+    _best_samples(mode, xs, ys, px, py, s, best_x, best, a, b, cd)
+    for it in range(iterations + 1):
+        ycd = np.asarray(f(cd), dtype=np.float64)
+        i = _first_non_finite(ycd)
+        if i >= 0:
+            bad_x[0] = cd[i]
+            bad_x[1] = ycd[i]
+            return 1
+        _golden_step(mode, cd, ycd, px, py, a, b, gc, gd, it == iterations)
+    _golden_finish(cd, gc, gd, best_x, best, x_out, v_out)
+    return 0
+
+
+def _is_jitted(f) -> bool:
+    from numba.core.registry import CPUDispatcher
+
+    return isinstance(f, CPUDispatcher)
+
+
+def _minimize_on_intervals(f, mode, lo, hi, px, py, samples: int, iterations: int = GOLDEN_ITERATIONS):
+    """min over x in [lo_i, hi_i] of g_i(x) for every i (g by ``mode``, from f): ``(x (n,), g (n,))``."""
     n = lo.shape[0]
     t = np.linspace(0.0, 1.0, samples)
-    xs = lo[:, None] + (hi - lo)[:, None] * t[None, :]
-    rows = np.repeat(np.arange(n), samples)
-    vals = g(xs.ravel(), rows).reshape(n, samples)
-    k = np.argmin(vals, axis=1)
-    best_x = xs[np.arange(n), k]
-    best = vals[np.arange(n), k]
-    left = xs[np.arange(n), np.maximum(k - 1, 0)]
-    right = xs[np.arange(n), np.minimum(k + 1, samples - 1)]
-    idx = np.arange(n)
-    x, v = _golden_search(lambda x: g(x, idx), left, right, iterations)
-    better = v < best
-    return np.where(better, x, best_x), np.where(better, v, best)
+    x_out = np.empty(n)
+    v_out = np.empty(n)
+    if _is_jitted(f):
+        bad = np.empty(2)
+        if _search_jit(f, mode, lo, hi, t, px, py, iterations, x_out, v_out, bad):
+            raise ValueError(f"f returned a non-finite value {bad[1]!r} at x = {bad[0]!r}")
+        return x_out, v_out
+    xs = np.empty(n * samples)
+    _sample_grid(lo, hi, t, xs)
+    ys = _evaluate(f, xs)
+    best_x, best, a, b = np.empty(n), np.empty(n), np.empty(n), np.empty(n)
+    cd = np.empty(2 * n)
+    gc, gd = np.empty(n), np.empty(n)
+    _best_samples(mode, xs, ys, px, py, samples, best_x, best, a, b, cd)
+    for it in range(iterations + 1):  # one vectorised call of f per iteration, for every bracket at once
+        _golden_step(mode, cd, _evaluate(f, cd.copy()), px, py, a, b, gc, gd, it == iterations)
+    _golden_finish(cd, gc, gd, best_x, best, x_out, v_out)
+    return x_out, v_out
 
 
 def _check_samples(samples) -> int:
@@ -438,26 +556,30 @@ def _check_samples(samples) -> int:
 def max_on_intervals(f, lo_x, hi_x, *, samples: int = 64):
     """max of f over [lo_x[i], hi_x[i]] for every i ((n,) each): ``(x_at_max (n,), f_max (n,))``.
 
-    Robust for continuous f: ``samples`` evenly spaced evaluations per interval (one vectorised call), then a
-    golden-section refinement around the best sample. A peak narrower than the sample spacing may be missed;
-    raise ``samples`` for wiggly curves.
+    Robust for continuous f: ``samples`` evenly spaced evaluations per interval (one vectorised call of f for all
+    intervals), then a golden-section refinement around the best sample (one vectorised call per iteration; with
+    a numba-jitted f the whole search is one compiled call). A peak narrower than the sample spacing may be
+    missed; raise ``samples`` for wiggly curves.
     """
     lo_x = as_float_array(lo_x, "lo_x", ndim=1)
     hi_x = as_float_array(hi_x, "hi_x", shape=lo_x.shape)
     samples = _check_samples(samples)
+    if not callable(f):
+        raise TypeError(f"f must be a vectorised callable, got {type(f).__name__}")
     if (lo_x > hi_x).any():
         i = int(np.argmax(lo_x > hi_x))
         raise ValueError(f"lo_x must be <= hi_x: lo_x[{i}] = {lo_x[i]!r} > hi_x[{i}] = {hi_x[i]!r}")
     if lo_x.shape[0] == 0:
         return np.empty(0), np.empty(0)
-    x, v = _minimize_on_intervals(lambda x, rows: -_evaluate(f, x), lo_x, hi_x, samples)
+    zero = np.zeros(lo_x.shape[0])
+    x, v = _minimize_on_intervals(f, _MAXIMIZE, lo_x, hi_x, zero, zero, samples)
     return x, -v
 
 
 def overlap_aabb_curve_bottom_middle(lo, hi, f):
     """The slide's test of boxes [lo, hi] (n, 2 or 3) against the ground y <= f(x): only the bottom-middle point
-    (x = (lo_x + hi_x)/2, y = lo_y) is tested — contact iff f(x) >= y. bool (n,). Fast, but misses a box whose
-    corner dips under a bump of the curve (see ``overlap_aabb_curve``)."""
+    (x = (lo_x + hi_x)/2, y = lo_y) is tested — contact iff f(x) >= y. bool (n,); one vectorised call of f. Fast,
+    but misses a box whose corner dips under a bump of the curve (see ``overlap_aabb_curve``)."""
     lo, hi = _boxes(lo, hi, "lo", "hi", dims=(2, 3))
     x = 0.5 * (lo[:, 0] + hi[:, 0])
     return _evaluate(f, x) >= lo[:, UP]
@@ -475,18 +597,18 @@ def overlap_aabb_curve(lo, hi, f, *, samples: int = 64):
 
 def min_distance_to_curve(points, f, half_width, *, samples: int = 64):
     """Smallest Euclidean distance from points (n, 2) to the graph of f restricted to |x − p_x| <= half_width
-    ((n,) or scalar). Returns ``(distance (n,), x_closest (n,))``; sampling + golden-section refinement."""
+    ((n,) or scalar). Returns ``(distance (n,), x_closest (n,))``; sampling + golden-section refinement, every
+    point at once (see ``max_on_intervals``)."""
     p = as_float_array(points, "points", shape=(None, 2))
     w = _radii(half_width, "half_width", p.shape[0])
     samples = _check_samples(samples)
+    if not callable(f):
+        raise TypeError(f"f must be a vectorised callable, got {type(f).__name__}")
     if p.shape[0] == 0:
         return np.empty(0), np.empty(0)
-
-    def sq_dist(x, rows):
-        y = _evaluate(f, x)
-        return (x - p[rows, 0]) ** 2 + (y - p[rows, 1]) ** 2
-
-    x, d2 = _minimize_on_intervals(sq_dist, p[:, 0] - w, p[:, 0] + w, samples)
+    px = np.ascontiguousarray(p[:, 0])
+    py = np.ascontiguousarray(p[:, 1])
+    x, d2 = _minimize_on_intervals(f, _DISTANCE, px - w, px + w, px, py, samples)
     return np.sqrt(d2), x
 
 

@@ -15,17 +15,23 @@ Public functions:
 - ``overlap_obb_obb_batch(centers_a, axes_a, half_extents_a, centers_b, axes_b, half_extents_b,
   index_a=None, index_b=None) -> bool (k,)`` — one compiled call; with index arrays, pair p tests box
   ``index_a[p]`` of the A arrays against box ``index_b[p]`` of the B arrays (the dispatch-table form);
-- ``overlap_convex_sat(points_a, points_b) -> bool`` on the convex hulls of two point sets.
+- ``overlap_convex_sat(points_a, points_b) -> bool`` on the convex hulls of two point sets;
+- ``overlap_convex_sat_pairs(points, offsets, pairs) -> bool (k,)`` — the same over packed shapes (as in
+  ``gjk_distance_pairs``), each hull's axes computed once, one compiled call over the pairs.
 """
 from __future__ import annotations
+
+import math
 
 import numpy as np
 
 from .._config import njit
 from .._validate import as_float_array
 from ..bounding.obb import OBB, ORTHONORMAL_TOL
+from .gjk import _check_offsets, check_pairs
 
-__all__ = ["PARALLEL_EPS", "obb_overlap", "overlap_obb_obb_batch", "overlap_convex_sat", "convex_axes"]
+__all__ = ["PARALLEL_EPS", "obb_overlap", "overlap_obb_obb_batch", "overlap_convex_sat", "overlap_convex_sat_pairs",
+           "convex_axes"]
 
 #: added to |R| in the OBB test (Ericson 4.4.1) to absorb round-off on near-parallel edge pairs
 PARALLEL_EPS = 1e-9
@@ -261,22 +267,91 @@ def _flat_axes(pts: np.ndarray):
     return vt, _unique_directions(diff[n > 0] / n[n > 0, None])
 
 
-def _cross_axes(axes_a, axes_b):
-    cross = np.cross(axes_a[:, None, :], axes_b[None, :, :]).reshape(-1, 3)
-    n = np.linalg.norm(cross, axis=1)
-    keep = n > 1e-9  # parallel edges give no new axis (their plane's normal is among the face normals)
-    return cross[keep] / n[keep, None]
+@njit
+def _overlap_convex_pairs(points, offsets, normals, normal_off, edges, edge_off, pairs, out):
+    """SAT over k pairs of packed hulls (Ericson 5.2.1): pair p = (i, j) is tested on the face normals of i, then
+    of j, then on every cross product of an edge direction of i with one of j (unit, skipped when the edges are
+    parallel: |e_i × e_j| <= 1e-9, whose plane's normal is among the face normals). Closed: touching overlaps."""
+    n_axes = 1
+    for s in range(normal_off.shape[0] - 1):
+        n_axes = max(n_axes, normal_off[s + 1] - normal_off[s])
+    big_e = 1
+    for s in range(edge_off.shape[0] - 1):
+        big_e = max(big_e, edge_off[s + 1] - edge_off[s])
+    axes = np.empty((2 * n_axes + big_e * big_e, 3))
+    for p in range(pairs.shape[0]):
+        i = pairs[p, 0]
+        j = pairs[p, 1]
+        k = 0
+        for s in (i, j):
+            for f in range(normal_off[s], normal_off[s + 1]):
+                axes[k, 0] = normals[f, 0]
+                axes[k, 1] = normals[f, 1]
+                axes[k, 2] = normals[f, 2]
+                k += 1
+        for a in range(edge_off[i], edge_off[i + 1]):
+            for b in range(edge_off[j], edge_off[j + 1]):
+                cx = edges[a, 1] * edges[b, 2] - edges[a, 2] * edges[b, 1]
+                cy = edges[a, 2] * edges[b, 0] - edges[a, 0] * edges[b, 2]
+                cz = edges[a, 0] * edges[b, 1] - edges[a, 1] * edges[b, 0]
+                length = math.sqrt(cx * cx + cy * cy + cz * cz)
+                if length > 1e-9:  # parallel edges give no new axis
+                    axes[k, 0] = cx / length
+                    axes[k, 1] = cy / length
+                    axes[k, 2] = cz / length
+                    k += 1
+        out[p] = _overlap_along_axes(points[offsets[i]:offsets[i + 1]], points[offsets[j]:offsets[j + 1]],
+                                     axes[:k])
+
+
+def _pack_axes(pts, off, shapes):
+    """convex_axes of every shape in ``shapes`` (once each), packed: (normals, normal offsets, edges, edge
+    offsets) over all S shapes (shapes not listed get none)."""
+    s = off.shape[0] - 1
+    normals = [np.empty((0, 3))] * s
+    edges = [np.empty((0, 3))] * s
+    for i in shapes:
+        normals[i], edges[i] = convex_axes(pts[off[i]:off[i + 1]])
+    normal_off = np.zeros(s + 1, np.int64)
+    np.cumsum([n.shape[0] for n in normals], out=normal_off[1:])
+    edge_off = np.zeros(s + 1, np.int64)
+    np.cumsum([e.shape[0] for e in edges], out=edge_off[1:])
+    return _stack(normals), normal_off, _stack(edges), edge_off
+
+
+def _stack(arrays) -> np.ndarray:
+    return np.ascontiguousarray(np.concatenate(arrays), dtype=np.float64) if arrays else np.empty((0, 3))
+
+
+def _overlap_convex_batch(pts, off, pr) -> np.ndarray:
+    out = np.empty(pr.shape[0], np.bool_)
+    if pr.shape[0]:
+        normals, normal_off, edges, edge_off = _pack_axes(pts, off, np.unique(pr))
+        _overlap_convex_pairs(pts, off, normals, normal_off, edges, edge_off, pr, out)
+    return out
+
+
+def overlap_convex_sat_pairs(points, offsets, pairs) -> np.ndarray:
+    """SAT over k pairs of packed convex hulls in one compiled call: bool (k,), True where they overlap or touch.
+
+    ``points`` (N, 3) / ``offsets`` (S + 1,) as in ``gjk_distance_pairs`` (shape s is the convex hull of
+    ``points[offsets[s]:offsets[s + 1]]``), ``pairs`` (k, 2) int. Each shape's face normals and edge directions
+    (``convex_axes``, the engine's quickhull) are computed once, however many pairs it is in; then one kernel
+    tests every pair on its candidate axes (Ericson 5.2.1).
+    """
+    pts = as_float_array(points, "points", shape=(None, 3))
+    off = _check_offsets(offsets, pts.shape[0])
+    pr = check_pairs(pairs, off.shape[0] - 1)
+    return _overlap_convex_batch(pts, off, pr)
 
 
 def overlap_convex_sat(points_a, points_b) -> bool:
     """True when the convex hulls of ``points_a`` (n, 3) and ``points_b`` (m, 3) overlap or touch (SAT).
 
     Candidate axes: the face normals of both hulls and the cross products of every edge pair (Ericson 5.2.1).
-    Flat or degenerate sets (segments, polygons) are accepted.
+    Flat or degenerate sets (segments, polygons) are accepted. ``overlap_convex_sat_pairs`` on one pair.
     """
     pa = as_float_array(points_a, "points_a", shape=(None, 3), min_rows=1)
     pb = as_float_array(points_b, "points_b", shape=(None, 3), min_rows=1)
-    normals_a, edges_a = convex_axes(pa)
-    normals_b, edges_b = convex_axes(pb)
-    axes = np.concatenate([normals_a, normals_b, _cross_axes(edges_a, edges_b)])
-    return bool(_overlap_along_axes(pa, pb, np.ascontiguousarray(axes)))
+    off = np.array([0, pa.shape[0], pa.shape[0] + pb.shape[0]], np.int64)
+    return bool(_overlap_convex_batch(np.concatenate([pa, pb]), off, np.array([[0, 1]], np.int64))[0])
