@@ -17,6 +17,8 @@ AREAS: dict[str, dict[str, list[str]]] = {
             "properties/test_bisection.py",
             "properties/test_falling.py",
             "properties/test_bisection_edges.py",
+            "properties/test_state_vector_layout.py",
+            "properties/test_falling_cube_edges.py",
         ],
     },
     "broadphase": {
