@@ -19,6 +19,7 @@ AREAS: dict[str, dict[str, list[str]]] = {
             "properties/test_bisection_edges.py",
             "properties/test_state_vector_layout.py",
             "properties/test_falling_cube_edges.py",
+            "properties/test_impact_tolerance.py",
         ],
     },
     "broadphase": {

@@ -149,7 +149,8 @@ def run_area(area: str, spec: dict, workdir: Path, max_children: int, keep: bool
         match = STATUS.match(line)
         if match and match.group(1).startswith("engine.") and match.group(2) != "not checked":
             statuses[match.group(1)] = match.group(2)
-    killed = sorted(k for k, s in statuses.items() if s == "killed")
+    # a mutant that makes a test hang is detected too (mutmut stops it at its CPU-time limit: "timeout")
+    killed = sorted(k for k, s in statuses.items() if s in ("killed", "timeout"))
     result = {
         "area": area,
         "total": len(statuses),
@@ -184,12 +185,12 @@ def main() -> None:
         results.append(run_area(area, spec, args.workdir, args.max_children, args.keep))
     if args.sample > 1:
         print(f"\n(a deterministic 1-in-{args.sample} sample of the mutants)")
-    print("\narea         killed / total   score   wall")
+    print("\narea         killed / total   score   wall   (killed includes timeouts)")
     for r in results:
         score = 100.0 * r["killed"] / r["total"] if r["total"] else float("nan")
         print(f"{r['area']:<12} {r['killed']:>6} / {r['total']:<6} {score:6.1f}%  {r['wall_seconds']:>5} s")
         for status, names in r["by_status"].items():
-            if status != "killed":
+            if status not in ("killed", "timeout"):
                 print(f"  {status}: {len(names)}")
                 for name in names:
                     print(f"    {name}")
