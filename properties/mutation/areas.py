@@ -29,6 +29,8 @@ AREAS: dict[str, dict[str, list[str]]] = {
             "properties/test_broadphase_stateful.py",
             "properties/test_broadphase_spheres.py",
             "properties/test_broadphase_kinematic.py",
+            "properties/test_dynamic_tree_edges.py",
+            "properties/test_kinematic_inputs.py",
         ],
     },
     "gas": {
