@@ -57,3 +57,20 @@ def test_query_returning_more_ids_than_its_first_buffer(n, seed):
     np.testing.assert_array_equal(tree.query(q_lo, q_hi), np.arange(n))
     inside = np.flatnonzero(np.all(lo <= 1.0, axis=1) & np.all(hi >= 0.0, axis=1))
     np.testing.assert_array_equal(tree.query(np.zeros(3), np.ones(3)), inside)
+
+
+@given(st.integers(0, 2**32 - 1), st.integers(1, 30), st.floats(0.05, 1.0, allow_nan=False),
+       st.floats(-0.9, 0.9, allow_nan=False))
+def test_a_move_smaller_than_the_margin_keeps_the_leaf(seed, n, margin, fraction):
+    """Inserted one by one, each leaf's fat box is its box grown by the margin on every side: a shift by less
+    than the margin, up or down, stays inside it (no re-insertion), and the pairs follow the moved box."""
+    lo, hi = boxes(seed, n, 6.0)
+    tree = DynamicAABBTree(dim=3, margin=margin)
+    assert [tree.insert(lo[k], hi[k]) for k in range(n)] == list(range(n))
+    i = int(np.random.default_rng(seed).integers(n))
+    shift = fraction * margin
+    assert tree.move(i, lo[i] + shift, hi[i] + shift) is False
+    lo2, hi2 = lo.copy(), hi.copy()
+    lo2[i] += shift
+    hi2[i] += shift
+    np.testing.assert_array_equal(tree.pairs(), find_pairs(lo2, hi2, "brute"))
