@@ -1,0 +1,71 @@
+"""Which engine modules each mutation area mutates, and which property files may kill their mutants.
+
+The map follows engine/ARCHITECTURE.md (module -> property file). mutmut 3 then narrows it further by itself: a
+stats run records which tests call which (trampolined) function, and each mutant runs only those tests.
+
+``DESELECT`` lists the tests left out of the mutation run, each with its reason: with NUMBA_DISABLE_JIT=1 every
+kernel is interpreted, and these tests take minutes per run (benchmark-sized inputs, or simulations of 1e5 RK4
+steps per example). They still run in CI (`tox`), compiled.
+"""
+from __future__ import annotations
+
+AREAS: dict[str, dict[str, list[str]]] = {
+    "dynamics": {
+        "mutate": ["engine/dynamics/*"],
+        "tests": [
+            "properties/test_rk4.py",
+            "properties/test_bisection.py",
+            "properties/test_falling.py",
+            "properties/test_bisection_edges.py",
+            "properties/test_state_vector_layout.py",
+            "properties/test_falling_cube_edges.py",
+            "properties/test_impact_tolerance.py",
+        ],
+    },
+    "broadphase": {
+        "mutate": ["engine/broadphase/*"],
+        "tests": [
+            "properties/test_broadphase.py",
+            "properties/test_broadphase_stateful.py",
+            "properties/test_broadphase_spheres.py",
+            "properties/test_broadphase_kinematic.py",
+            "properties/test_dynamic_tree_edges.py",
+            "properties/test_kinematic_inputs.py",
+        ],
+    },
+    "gas": {
+        "mutate": ["engine/gas/*"],
+        "tests": [
+            "properties/test_gas_elastic.py",
+            "properties/test_gas_simulation.py",
+        ],
+    },
+    "narrowphase": {
+        "mutate": ["engine/narrowphase/*"],
+        "tests": [
+            "properties/test_sat.py",
+            "properties/test_gjk.py",
+            "properties/test_narrowphase_primitives.py",
+            "properties/test_contact.py",
+        ],
+    },
+    "bounding": {
+        "mutate": ["engine/bounding/*"],
+        "tests": [
+            "properties/test_bounding_fits.py",
+            "properties/test_bounding_overlap.py",
+            "properties/test_hull.py",
+            "properties/test_decompose.py",
+        ],
+    },
+}
+
+#: tests (pytest node ids) not run under mutation, with the reason; see the module docstring
+DESELECT: dict[str, str] = {
+    "properties/test_falling.py::test_linear_drag_impacts_match_solve_ivp":
+        "t_end = 1e3 s at dt <= 1e-2: 1e5 interpreted RK4 steps per example (> 6 min per run)",
+    "properties/test_falling.py::test_quadratic_drag_first_impact_matches_solve_ivp":
+        "t_end = 1e3 s: 1e5 interpreted RK4 steps per example",
+    "properties/test_falling.py::test_step_size_does_not_move_the_impact":
+        "t_end = 1e3 s, twice per example: 2e5 interpreted RK4 steps per example",
+}
