@@ -15,10 +15,13 @@ from .dynamics.scenes import CubeDrop, FallResult, Impact, drop_cube, drop_parti
 from .gas import GasResult, simulate_gas
 from .narrowphase import (
     Contact,
+    ContactBatch,
     contact_feature,
+    contact_feature_pairs,
     epa_penetration,
     gjk_distance,
     obb_overlap,
+    overlap_convex_sat_pairs,
     time_of_impact,
 )
 from .world import Box, Capsule, ConvexPolyhedron, HeightCurve, Plane, Sphere, World
@@ -35,6 +38,7 @@ __all__ = [
     "BROAD_PHASES", "find_pairs", "sweep_intervals", "sphere_pairs", "IncrementalSAP", "DynamicAABBTree",
     # narrow phase
     "obb_overlap", "gjk_distance", "epa_penetration", "contact_feature", "Contact", "time_of_impact",
+    "contact_feature_pairs", "ContactBatch", "overlap_convex_sat_pairs",
     # the confined gas
     "simulate_gas", "GasResult",
     # the collision pipeline: shapes and World

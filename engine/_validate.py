@@ -117,7 +117,11 @@ def as_float_array(value, name: str, *, ndim: int | None = None, shape: tuple | 
     return out
 
 
-def as_count(value, name: str, minimum: int = 0, maximum: int | None = None) -> int:
+#: the largest count a public function accepts (indices and sizes stay far inside int64)
+MAX_COUNT = 2**62
+
+
+def as_count(value, name: str, minimum: int = 0, maximum: int | None = MAX_COUNT) -> int:
     """An integer (Python or numpy int, not a bool, not a float) in [minimum, maximum]."""
     if isinstance(value, bool | np.bool_) or not isinstance(value, numbers.Integral):
         raise TypeError(f"{name} must be an int, got {type(value).__name__}")

@@ -450,7 +450,7 @@ def _dynamic_tree(lo, hi, lo_q, hi_q, margin):
     return found, with_new, tree.update(lo, hi)
 
 
-@api("DynamicAABBTree", _dynamic_tree, aliases=dict(lo_q="lo_q", hi_q="hi_q"))
+@api("DynamicAABBTree", _dynamic_tree, optional=("margin",))
 def _(draw):
     lo, hi = draw(boxes(1, 8))
     a, b = draw(boxes(1, 1))
@@ -520,6 +520,21 @@ def _(draw):
     s = off.shape[0] - 1
     return dict(points=pts, offsets=off, velocities=draw(hnp.arrays(np.float64, (s, 3), elements=_coord)),
                 pairs=pairs, t_max=draw(pos(0.1, 2)))
+
+
+@api("contact_feature_pairs", lambda points, offsets, pairs, radii: narrow.contact_feature_pairs(
+    points, offsets, pairs, radii=radii), optional=("radii",))
+def _(draw):
+    pts, off, pairs = _packed(draw, general=True)
+    s = off.shape[0] - 1
+    return dict(points=pts, offsets=off, pairs=pairs,
+                radii=draw(hnp.arrays(np.float64, (s,), elements=pos(0.0, 1.0))))
+
+
+@api("overlap_convex_sat_pairs", narrow.overlap_convex_sat_pairs)
+def _(draw):
+    pts, off, pairs = _packed(draw, general=True)
+    return dict(points=pts, offsets=off, pairs=pairs)
 
 
 @api("pack_point_sets", lambda a, b: narrow.pack_point_sets([a, b]), indexed=False,
@@ -769,9 +784,9 @@ def _scratch_png():
 
 # --- the pipeline: shapes and World -------------------------------------------------------------------------------
 api("Sphere", engine.Sphere)(lambda draw: dict(center=draw(vec()), radius=draw(pos(0.01, 3))))
-api("Box", engine.Box)(lambda draw: dict(center=draw(vec()), half_extents=draw(hnp.arrays(np.float64, (3,),
-                                                                                            elements=pos(0.01, 3))),
-                                         rotation=draw(rotation())))
+api("Box", engine.Box, optional=("rotation",))(
+    lambda draw: dict(center=draw(vec()), half_extents=draw(hnp.arrays(np.float64, (3,), elements=pos(0.01, 3))),
+                      rotation=draw(rotation())))
 api("Capsule", engine.Capsule)(lambda draw: dict(p0=draw(vec()), p1=draw(vec()), radius=draw(pos(0.01, 3))))
 api("ConvexPolyhedron", engine.ConvexPolyhedron)(lambda draw: dict(points=draw(general_points(4, 12))))
 api("Plane", engine.Plane)(lambda draw: dict(altitude=draw(_coord)))
@@ -802,7 +817,9 @@ def _(draw):
 NOT_CALLABLE_API = {
     "BisectionResult": "result record (dataclass)", "FallResult": "result record", "CubeDrop": "result record",
     "Impact": "result record", "ConvexHull": "result record built by convex_hull", "Contact": "result record",
-    "GasResult": "result record", "BROAD_PHASES": "constant", "KDOP_SIZES": "constant",
+    "GasResult": "result record",
+    "ContactBatch": "result record built by contact_feature_pairs", "BROAD_PHASES": "constant",
+    "KDOP_SIZES": "constant",
     "BOUNDING_KINDS": "constant", "GAS_METHODS": "constant", "GAS_BOUNDARIES": "constant",
     "MAX_STEPS": "constant", "GasEventCapReached": "exception",
     "TOINotConverged": "exception", "EPANotConverged": "exception", "GJKNotConverged": "exception",

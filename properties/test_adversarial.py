@@ -274,7 +274,7 @@ def test_gjk_and_epa_and_toi_caps_raise_their_errors():
     with pytest.raises((EPANotConverged, GJKNotConverged)):  # EPA starts from GJK's simplex, under the same cap
         engine.epa_penetration(a, a * 0.9 + 0.05, max_iterations=1)
     with pytest.raises(TOINotConverged):
-        engine.time_of_impact(a, np.array([1.0, 0, 0]), b, np.zeros(3), t_max=100.0, max_iterations=1)
+        engine.time_of_impact(a, np.array([1.0, 0, 0]), b + 20.0, np.zeros(3), t_max=100.0, max_iterations=1)
 
 
 @pytest.mark.parametrize("method", METHODS)

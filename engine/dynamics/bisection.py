@@ -39,7 +39,10 @@ def max_bisection_iterations(a: float, b: float, tol: float) -> int:
     width = abs(b - a)
     if width <= tol:
         return 1
-    return math.ceil(math.log2(width / tol)) + 1
+    ratio = width / tol
+    if math.isinf(ratio):  # a denormal tol: width / tol overflows, the difference of the logarithms does not
+        return math.ceil(math.log2(width) - math.log2(tol)) + 1
+    return math.ceil(math.log2(ratio)) + 1
 
 
 def _sign(value: float, x: float) -> int:

@@ -44,8 +44,8 @@ def packing_fraction(radii, box: float, boundary: str = "walls") -> float:
         raise ValueError(f"radii must be > 0: radii[{bad[0]}] = {r[bad[0]]!r}")
     side = reachable_side(box, float(r.mean()), boundary)
     if side <= 0.0:
-        return math.inf
-    return float(np.sum(math.pi / 6.0 * (2.0 * r) ** 3) / side**3)
+        raise ValueError(f"radii too large for the box: the centres' reachable side L - 2 r = {side!r} <= 0")
+    return float(np.sum(math.pi / 6.0 * (2.0 * r) ** 3) / side / side / side)
 
 
 def radius_for_packing(n: int, eta: float, box: float = 10.0, boundary: str = "walls") -> float:

@@ -61,8 +61,8 @@ class ShapeSpec:
 def _rotation(value, where: str) -> np.ndarray:
     if value is None:
         return np.eye(3)
-    arr = np.asarray(value, dtype=np.float64) if not isinstance(value, str) else None
-    if arr is None or arr.shape not in ((3, 3), (4,)):
+    arr = as_float_array(value, f"{where}: rotation")
+    if arr.shape not in ((3, 3), (4,)):
         raise ValueError(f"{where}: rotation must be a 3x3 matrix or a quaternion [w, x, y, z]")
     if arr.shape == (4,):
         q = as_float_array(arr, f"{where}: rotation", shape=(4,))

@@ -23,7 +23,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._config import njit
-from .._validate import as_float, as_float_array, as_nonnegative
+from .._validate import as_count, as_float, as_float_array, as_nonnegative
 from ..bounding.aabb import aabbs_touch, overlap_aabb_aabb
 from ..bounding.obb import OBB, ORTHONORMAL_TOL
 from ..bounding.sphere import overlap_sphere_sphere, spheres_touch
@@ -545,12 +545,12 @@ def _minimize_on_intervals(f, mode, lo, hi, px, py, samples: int, iterations: in
     return x_out, v_out
 
 
+#: the most samples per interval of the curve searches (each shape gets a grid of this many points)
+MAX_SAMPLES = 2**20
+
+
 def _check_samples(samples) -> int:
-    if isinstance(samples, bool) or not isinstance(samples, int | np.integer):
-        raise TypeError(f"samples must be an int, got {type(samples).__name__}")
-    if samples < 2:
-        raise ValueError(f"samples must be >= 2, got {samples}")
-    return int(samples)
+    return as_count(samples, "samples", 2, MAX_SAMPLES)
 
 
 def max_on_intervals(f, lo_x, hi_x, *, samples: int = 64):
@@ -589,6 +589,7 @@ def overlap_aabb_curve(lo, hi, f, *, samples: int = 64):
     """Exact test of boxes [lo, hi] (n, 2 or 3) against the solid region y <= f(x): a box meets it iff its bottom
     lo_y is not above max f over [lo_x, hi_x] (found by ``max_on_intervals``). bool (n,)."""
     lo, hi = _boxes(lo, hi, "lo", "hi", dims=(2, 3))
+    samples = _check_samples(samples)
     if lo.shape[0] == 0:
         return np.empty(0, np.bool_)
     _, fmax = max_on_intervals(f, lo[:, 0], hi[:, 0], samples=samples)
@@ -618,6 +619,7 @@ def overlap_circle_curve(centers, radii, f, *, samples: int = 64):
     |x − c_x| <= r, so the minimum of the true distance over that window decides). bool (n,)."""
     c = as_float_array(centers, "centers", shape=(None, 2))
     r = _radii(radii, "radii", c.shape[0])
+    samples = _check_samples(samples)
     if c.shape[0] == 0:
         return np.empty(0, np.bool_)
     below = _evaluate(f, c[:, 0].copy()) >= c[:, UP]

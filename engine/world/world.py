@@ -20,7 +20,7 @@ import numpy as np
 
 from engine._validate import as_choice, as_float_array, as_nonnegative
 from engine.broadphase import BROAD_PHASES, DynamicAABBTree, cull_separating_box_pairs, find_pairs
-from engine.narrowphase import contact_feature, overlap_aabb_curve, time_of_impact_pairs
+from engine.narrowphase import contact_feature_pairs, overlap_aabb_curve, time_of_impact_pairs
 
 from .dispatch import ground_gap, lower_boundary, overlap_groups
 from .shapes import BOX, KIND_NAMES, PLANE, Shape, as_rotation_matrix
@@ -30,7 +30,6 @@ __all__ = ["World", "ContactSet", "ImpactSet", "FEATURE_NAMES"]
 #: feature codes of ContactSet.feature_a / feature_b (as engine.narrowphase.contact_feature_pairs)
 FEATURE_NAMES = {1: "vertex", 2: "edge", 3: "face"}
 _ROUND_NAMES = {1: "sphere", 2: "cylinder", 3: "face"}
-_CODES = {"vertex": 1, "sphere": 1, "edge": 2, "cylinder": 2, "face": 3}
 
 #: a batch update moving more bodies than this rebuilds the tree in one top-down pass instead of moving leaves
 REBUILD_THRESHOLD = 64
@@ -147,31 +146,13 @@ def _canonical(pairs: np.ndarray) -> np.ndarray:
 
 
 def _contacts_of_pairs(points, offsets, pairs, radii):
-    """Contacts of body pairs (k, 2) of packed shapes (points (N, 3), offsets (S + 1,), radii (S,)).
-
-    Stand-in for engine.narrowphase.contact_feature_pairs (same arrays out): a loop over contact_feature.
-    Returns (separation (k,), normal (k, 3), feature_a (k,) int8, feature_b (k,) int8, kinds, points (M, 3),
-    point_offsets (k + 1,)).
+    """Contacts of body pairs (k, 2) of packed shapes (points (N, 3), offsets (S + 1,), radii (S,)), in one compiled
+    call (engine.narrowphase.contact_feature_pairs). Returns (separation (k,), normal (k, 3), feature_a (k,) int8,
+    feature_b (k,) int8, kinds, points (M, 3), point_offsets (k + 1,)).
     """
-    k = pairs.shape[0]
-    sep = np.empty(k)
-    normal = np.empty((k, 3))
-    fa = np.empty(k, np.int8)
-    fb = np.empty(k, np.int8)
-    kinds, pts = [], []
-    offs = np.zeros(k + 1, np.int64)
-    for p in range(k):
-        i, j = int(pairs[p, 0]), int(pairs[p, 1])
-        c = contact_feature(points[offsets[i]:offsets[i + 1]], points[offsets[j]:offsets[j + 1]],
-                            radius_a=float(radii[i]), radius_b=float(radii[j]))
-        sep[p] = c.separation
-        normal[p] = c.normal
-        fa[p] = _CODES[c.feature_a]
-        fb[p] = _CODES[c.feature_b]
-        kinds.append(c.kind)
-        pts.append(c.points)
-        offs[p + 1] = offs[p] + c.points.shape[0]
-    return sep, normal, fa, fb, kinds, (np.concatenate(pts) if pts else np.empty((0, 3))), offs
+    batch = contact_feature_pairs(points, offsets, pairs, radii=radii)
+    return (batch.separation, batch.normal, batch.feature_a, batch.feature_b, list(batch.kind), batch.points,
+            batch.point_offsets)
 
 
 class World:
@@ -458,7 +439,7 @@ class World:
         return out
 
     def contacts(self) -> ContactSet:
-        """Contacts of the overlapping pairs (``ContactSet``). Body pairs: engine.narrowphase.contact_feature
+        """Contacts of the overlapping pairs (``ContactSet``). Body pairs: engine.narrowphase.contact_feature_pairs
         (GJK/EPA normal, supporting features, clipped contact points on the mid-plane). Body–ground pairs:
         closed form — normal ±y (Plane) or the curve's normal (−f'(x), 1) at the deepest sample (HeightCurve),
         points on the mid-plane between the body's lowest feature and the ground."""
