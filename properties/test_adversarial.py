@@ -287,3 +287,14 @@ def test_denormal_coordinates(method, k, n):
     lo[:, 2] = (np.arange(n) % (k + 1)) * tiny
     hi = lo.copy()
     assert np.array_equal(engine.find_pairs(lo, hi, method=method), brute_force_pairs(lo, hi))
+
+
+@given(t=st.floats(-0.5, 0.5), r_a=st.floats(0.1, 2.0), r_b=st.floats(0.1, 2.0))
+@example(t=0.0, r_a=1.0, r_b=0.5)  # a sphere's centre on a capsule's axis: the cores' Minkowski difference is a segment
+def test_sphere_centre_on_a_capsule_axis(t, r_a, r_b):
+    """EPA once returned the segment's own direction here (depth right, normal wrong): the minimum translation is
+    any direction orthogonal to the axis, by r_a + r_b."""
+    c = engine.contact_feature(np.array([[t, 0.0, 0.0]]), np.array([[-0.5, 0, 0], [0.5, 0, 0]]),
+                               radius_a=r_a, radius_b=r_b)
+    assert c.separation == pytest.approx(-(r_a + r_b), abs=1e-12)
+    assert abs(c.normal[0]) <= 1e-12 and abs(np.linalg.norm(c.normal) - 1.0) <= 1e-12

@@ -364,13 +364,11 @@ def test_contact_batch_geometry(batch_input):
             assert abs(sep - (-epa_penetration(a, b)[0] - ra - rb)) <= 1e-12 * scale
         top_a = (a @ n).max() + ra
         bot_b = (b @ n).min() - rb
-        flat = np.linalg.matrix_rank(a - a[0], tol=1e-9) < 3 and np.linalg.matrix_rank(b - b[0], tol=1e-9) < 3
-        if d > 0 or not flat:
-            # the support planes realise the separation, and hold the closest (deepest) points (two overlapping
-            # flat sets have depth 0 along a normal EPA picks from a degenerate simplex: left out)
-            assert abs((bot_b - top_a) - sep) <= 1e-9 * scale
-            assert abs(batch.closest_a[p] @ n - top_a) <= 1e-9 * scale
-            assert abs(batch.closest_b[p] @ n - bot_b) <= 1e-9 * scale
+        # the support planes realise the separation, and hold the closest (deepest) points (also for two
+        # overlapping flat sets: depth 0 along the direction in which their Minkowski difference is flat)
+        assert abs((bot_b - top_a) - sep) <= 1e-9 * scale
+        assert abs(batch.closest_a[p] @ n - top_a) <= 1e-9 * scale
+        assert abs(batch.closest_b[p] @ n - bot_b) <= 1e-9 * scale
         pts = batch.points[batch.point_offsets[p]:batch.point_offsets[p + 1]]
         for x in pts:
             assert abs(x @ n - 0.5 * (top_a + bot_b)) <= 1e-9 * scale

@@ -252,11 +252,6 @@ def test_contacts_normal_depth_points(shapes, ground):
         tol = 1e-6 * scale
         # depth agrees with EPA (on the cores, plus the radii) or with GJK when the cores are apart
         d_core, _, _ = gjk_distance(pa, pb)
-        if d_core == 0 and np.linalg.matrix_rank((pa[:, None] - pb[None]).reshape(-1, 3) - (pa[0] - pb[0])) < 3:
-            # intersecting cores whose Minkowski difference is flat (point on a segment, crossing segments):
-            # engine.narrowphase.contact_feature (EPA) returns a normal that is not a minimum translation there;
-            # reported to the lead, checked again once contact_feature_pairs lands
-            continue
         if d_core > 0:
             expected = rsum - d_core
         else:

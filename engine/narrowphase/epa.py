@@ -129,6 +129,7 @@ def _epa(pa, pb, W, IA, IB, n_simplex, max_iter, out):
         VB[k] = IB[k]
         size2 = max(size2, W[k, 0] ** 2 + W[k, 1] ** 2 + W[k, 2] ** 2)
     nv = n_simplex
+    dx, dy, dz = 0.0, 0.0, 0.0  # the flat direction of a segment simplex (set below)
     # --- blow a lower-dimensional simplex up into a tetrahedron (the origin lies on the simplex) ---------------
     if nv == 1:
         # the origin is a support point of M, hence on its boundary: touching, depth 0
@@ -159,7 +160,7 @@ def _epa(pa, pb, W, IA, IB, n_simplex, max_iter, out):
         VB[2] = VB[3]
         nv = 3
         if best <= EPA_TOL * math.sqrt(size2):
-            nv = -1  # M is flat around the segment: touching
+            nv = -2  # M has no extent along d (either sign): touching, and d is the touching plane's normal
     if nv == 3:
         e1x, e1y, e1z = V[1, 0] - V[0, 0], V[1, 1] - V[0, 1], V[1, 2] - V[0, 2]
         e2x, e2y, e2z = V[2, 0] - V[0, 0], V[2, 1] - V[0, 1], V[2, 2] - V[0, 2]
@@ -190,6 +191,12 @@ def _epa(pa, pb, W, IA, IB, n_simplex, max_iter, out):
         # touching: depth 0, the normal from the simplex (any unit vector if it is a single point)
         out[0] = 0.0
         out[1], out[2], out[3] = 1.0, 0.0, 0.0
+        if nv == -2:
+            # M lies in a plane (or on a line) containing the segment and orthogonal to d: moving along d by any
+            # amount separates the cores, so d — not a direction inside M — is the minimum translation
+            length = math.sqrt(dx * dx + dy * dy + dz * dz)
+            if length > 0.0:
+                out[1], out[2], out[3] = dx / length, dy / length, dz / length
         if nv == -1:
             # the touching plane's normal: the lower-dimensional case above found a flat direction
             e1x, e1y, e1z = V[1, 0] - V[0, 0], V[1, 1] - V[0, 1], V[1, 2] - V[0, 2]
