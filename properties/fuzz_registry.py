@@ -764,8 +764,12 @@ api("mean_and_standard_error", gas.mean_and_standard_error)(
 api("speed_moment_ratio", gas.speed_moment_ratio)(
     lambda draw: dict(speeds=draw(hnp.arrays(np.float64, (draw(st.integers(1, 30)),), elements=pos(0.01, 5)))))
 
-@api("load_shape", lambda center, half_extents, velocity, rotation: narrow.load_shape(
-    {"shape": "box", "center": center, "half_extents": half_extents, "velocity": velocity, "rotation": rotation}))
+def _load_box(center, half_extents, velocity, rotation):
+    return narrow.load_shape({"shape": "box", "center": center, "half_extents": half_extents, "velocity": velocity,
+                              "rotation": rotation})
+
+
+@api("load_shape", _load_box, optional=("velocity", "rotation"))
 def _(draw):
     return dict(center=draw(vec()), half_extents=draw(hnp.arrays(np.float64, (3,), elements=pos(0.0, 3))),
                 velocity=draw(vec()), rotation=draw(rotation()))
