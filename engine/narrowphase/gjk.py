@@ -71,6 +71,30 @@ class GJKNotConverged(RuntimeError):
 # ---------------------------------------------------------------------------------------------------------------
 
 @njit(inline="always")
+def _centroid(P, s, i0, i1):
+    """Mean of the rows P[s, i0:i1] (sums over even and odd rows: two short addition chains, not one long one)."""
+    x = 0.0
+    y = 0.0
+    z = 0.0
+    x2 = 0.0
+    y2 = 0.0
+    z2 = 0.0
+    for i in range(i0, i1 - 1, 2):
+        x += P[s, i, 0]
+        y += P[s, i, 1]
+        z += P[s, i, 2]
+        x2 += P[s, i + 1, 0]
+        y2 += P[s, i + 1, 1]
+        z2 += P[s, i + 1, 2]
+    m = i1 - i0
+    if m % 2 == 1:
+        x += P[s, i1 - 1, 0]
+        y += P[s, i1 - 1, 1]
+        z += P[s, i1 - 1, 2]
+    return (x + x2) / m, (y + y2) / m, (z + z2) / m
+
+
+@njit(inline="always")
 def _support(points, dx, dy, dz):
     """Index of the vertex of ``points`` (n, 3) farthest along d (Ericson 9.5: the support mapping s(d))."""
     best = 0
@@ -276,49 +300,11 @@ def _gjk_loop(PA, PB, pairs, offsets, k_pairs, max_iter, W, IA, IB, lam, dist, c
             b1 = PB.shape[1]
         # start from a support point of M (so that every simplex vertex lies on M's boundary, as EPA assumes), in
         # the direction of M's centroid: the first support point is then already close to the answer
-        na = a1 - a0
-        nb = b1 - b0
-        # (sums over even and odd rows: two short addition chains instead of one long one)
-        dx = 0.0
-        dy = 0.0
-        dz = 0.0
-        dx2 = 0.0
-        dy2 = 0.0
-        dz2 = 0.0
-        for i in range(a0, a1 - 1, 2):
-            dx += PA[sa, i, 0]
-            dy += PA[sa, i, 1]
-            dz += PA[sa, i, 2]
-            dx2 += PA[sa, i + 1, 0]
-            dy2 += PA[sa, i + 1, 1]
-            dz2 += PA[sa, i + 1, 2]
-        if na % 2 == 1:
-            dx += PA[sa, a1 - 1, 0]
-            dy += PA[sa, a1 - 1, 1]
-            dz += PA[sa, a1 - 1, 2]
-        dx = (dx + dx2) / na
-        dy = (dy + dy2) / na
-        dz = (dz + dz2) / na
-        ex = 0.0
-        ey = 0.0
-        ez = 0.0
-        ex2 = 0.0
-        ey2 = 0.0
-        ez2 = 0.0
-        for i in range(b0, b1 - 1, 2):
-            ex += PB[sb, i, 0]
-            ey += PB[sb, i, 1]
-            ez += PB[sb, i, 2]
-            ex2 += PB[sb, i + 1, 0]
-            ey2 += PB[sb, i + 1, 1]
-            ez2 += PB[sb, i + 1, 2]
-        if nb % 2 == 1:
-            ex += PB[sb, b1 - 1, 0]
-            ey += PB[sb, b1 - 1, 1]
-            ez += PB[sb, b1 - 1, 2]
-        dx -= (ex + ex2) / nb
-        dy -= (ey + ey2) / nb
-        dz -= (ez + ez2) / nb
+        cax, cay, caz = _centroid(PA, sa, a0, a1)
+        cbx, cby, cbz = _centroid(PB, sb, b0, b1)
+        dx = cax - cbx
+        dy = cay - cby
+        dz = caz - cbz
         if dx == 0.0 and dy == 0.0 and dz == 0.0:
             dx = 1.0
         vx, vy, vz = dx, dy, dz
