@@ -364,15 +364,11 @@ def test_contact_batch_geometry(batch_input):
             assert abs(sep - (-epa_penetration(a, b)[0] - ra - rb)) <= 1e-12 * scale
         top_a = (a @ n).max() + ra
         bot_b = (b @ n).min() - rb
-        flat = np.linalg.matrix_rank(a - a[0], tol=1e-9) < 3 and np.linalg.matrix_rank(b - b[0], tol=1e-9) < 3
-        if d > 0 or not flat:
-            # the support planes realise the separation, and hold the closest (deepest) points. Two overlapping
-            # flat sets are left out: when their Minkowski difference touches the origin at one of its vertices,
-            # EPA still picks an arbitrary normal (open defect; the segment-interior case is fixed and pinned in
-            # test_adversarial.py::test_sphere_centre_on_a_capsule_axis)
-            assert abs((bot_b - top_a) - sep) <= 1e-9 * scale
-            assert abs(batch.closest_a[p] @ n - top_a) <= 1e-9 * scale
-            assert abs(batch.closest_b[p] @ n - bot_b) <= 1e-9 * scale
+        # the support planes realise the separation, and hold the closest (deepest) points (also for two
+        # overlapping flat sets: depth 0 along a direction in which their Minkowski difference does not extend)
+        assert abs((bot_b - top_a) - sep) <= 1e-9 * scale
+        assert abs(batch.closest_a[p] @ n - top_a) <= 1e-9 * scale
+        assert abs(batch.closest_b[p] @ n - bot_b) <= 1e-9 * scale
         pts = batch.points[batch.point_offsets[p]:batch.point_offsets[p + 1]]
         for x in pts:
             assert abs(x @ n - 0.5 * (top_a + bot_b)) <= 1e-9 * scale

@@ -252,11 +252,6 @@ def test_contacts_normal_depth_points(shapes, ground):
         tol = 1e-6 * scale
         # depth agrees with EPA (on the cores, plus the radii) or with GJK when the cores are apart
         d_core, _, _ = gjk_distance(pa, pb)
-        if d_core == 0 and np.linalg.matrix_rank((pa[:, None] - pb[None]).reshape(-1, 3) - (pa[0] - pb[0])) < 3:
-            # intersecting cores whose Minkowski difference is flat: when it touches the origin at one of its
-            # vertices EPA picks an arbitrary normal (open defect); the segment-interior case (a sphere's centre on
-            # a capsule's axis) is fixed and pinned in test_adversarial.py
-            continue
         if d_core > 0:
             expected = rsum - d_core
         else:

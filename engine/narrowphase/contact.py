@@ -29,7 +29,7 @@ import numpy as np
 from .._config import njit
 from .._validate import as_float_array, as_nonnegative, as_positive
 from ..bounding.hull import HULL_EPS, _monotone_chain_kernel
-from .epa import _EPA_OK, EPANotConverged, _epa, _minkowski_fallback
+from .epa import _EPA_OK, EPA_TOL, EPANotConverged, _epa, _minkowski_fallback, _touching_normal_at_vertex
 from .gjk import (
     _NOT_CONVERGED,
     _OVERLAP,
@@ -451,14 +451,19 @@ def _normal_and_depth(pa, pb, max_iter, out, W, IA, IB, lam, g, work_i, work_f):
     d = g[6]
     if d > 0.0:
         out[0] = d
+        # the unit direction of closest_b − closest_a, rescaled first (d may be so small, 1e-162, that its square
+        # underflows and d itself is inexact)
+        big = max(abs(g[3] - g[0]), abs(g[4] - g[1]), abs(g[5] - g[2]))
+        length = math.sqrt(((g[3] - g[0]) / big) ** 2 + ((g[4] - g[1]) / big) ** 2 + ((g[5] - g[2]) / big) ** 2)
         for c in range(3):
-            out[1 + c] = (g[3 + c] - g[c]) / d
+            out[1 + c] = (g[3 + c] - g[c]) / big / length
             out[4 + c] = g[c]
             out[7 + c] = g[3 + c]
         return _OK
-    if status != _OVERLAP:  # touching at distance exactly 0 without a full simplex: no depth, any direction
+    if status != _OVERLAP:  # touching at distance exactly 0 without a full simplex: depth 0, a touching normal
         out[0] = 0.0
-        out[1], out[2], out[3] = 1.0, 0.0, 0.0
+        nx, ny, nz, _ = _touching_normal_at_vertex(pa, pb, EPA_TOL)
+        out[1], out[2], out[3] = nx, ny, nz
         for c in range(3):
             out[4 + c] = g[c]
             out[7 + c] = g[3 + c]

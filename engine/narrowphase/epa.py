@@ -111,6 +111,61 @@ def _support_m(pa, pb, dx, dy, dz, V, VA, VB, nv):
 
 
 @njit
+def _touching_normal_at_vertex(pa, pb, rel_tol):
+    """The origin is a vertex of M = A − B (depth 0): a unit direction n along which M does not extend,
+    max over M of m·n <= tol (a normal of the touching plane). Candidates: the direction from A's centroid to
+    B's, then the six axis directions; returns (nx, ny, nz, found). ``rel_tol`` is relative to the shapes' size."""
+    scale = 0.0
+    for i in range(pa.shape[0]):
+        for c in range(3):
+            scale = max(scale, abs(pa[i, c] - pa[0, c]))
+    for i in range(pb.shape[0]):
+        for c in range(3):
+            scale = max(scale, abs(pb[i, c] - pa[0, c]))
+    tol = rel_tol * max(scale, 1e-300)
+    cx = 0.0
+    cy = 0.0
+    cz = 0.0
+    for i in range(pb.shape[0]):
+        cx += pb[i, 0] / pb.shape[0]
+        cy += pb[i, 1] / pb.shape[0]
+        cz += pb[i, 2] / pb.shape[0]
+    for i in range(pa.shape[0]):
+        cx -= pa[i, 0] / pa.shape[0]
+        cy -= pa[i, 1] / pa.shape[0]
+        cz -= pa[i, 2] / pa.shape[0]
+    for k in range(7):
+        if k == 0:
+            dx, dy, dz = cx, cy, cz
+        else:
+            dx, dy, dz = 0.0, 0.0, 0.0
+            sign = 1.0 if k % 2 == 1 else -1.0
+            axis = (k - 1) // 2
+            if axis == 0:
+                dx = sign
+            elif axis == 1:
+                dy = sign
+            else:
+                dz = sign
+        big = max(abs(dx), abs(dy), abs(dz))
+        if big == 0.0:
+            continue
+        dx /= big  # rescale first: the squares of a tiny (e.g. 1e-162) direction would underflow
+        dy /= big
+        dz /= big
+        length = math.sqrt(dx * dx + dy * dy + dz * dz)
+        dx /= length
+        dy /= length
+        dz /= length
+        ia = _support(pa, dx, dy, dz)
+        ib = _support(pb, -dx, -dy, -dz)
+        h = (pa[ia, 0] - pb[ib, 0]) * dx + (pa[ia, 1] - pb[ib, 1]) * dy + (pa[ia, 2] - pb[ib, 2]) * dz
+        if h <= tol:
+            return dx, dy, dz, True
+    return 1.0, 0.0, 0.0, False
+
+
+@njit
 def _epa(pa, pb, W, IA, IB, n_simplex, max_iter, out):
     """EPA from GJK's final simplex. Writes depth, normal (3), point on A (3), point on B (3) into ``out``."""
     V = np.empty((_MAX_VERTS, 3))
@@ -191,6 +246,11 @@ def _epa(pa, pb, W, IA, IB, n_simplex, max_iter, out):
         # touching: depth 0, the normal from the simplex (any unit vector if it is a single point)
         out[0] = 0.0
         out[1], out[2], out[3] = 1.0, 0.0, 0.0
+        if nv == 1:
+            # the origin is a vertex of M (GJK's one-point simplex): any direction of M's normal cone there
+            nx1, ny1, nz1, found = _touching_normal_at_vertex(pa, pb, EPA_TOL)
+            if found:
+                out[1], out[2], out[3] = nx1, ny1, nz1
         if nv == -2:
             # M lies in a plane (or on a line) containing the segment and orthogonal to d: moving along d by any
             # amount separates the cores, so d — not a direction inside M — is the minimum translation
