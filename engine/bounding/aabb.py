@@ -71,6 +71,35 @@ def as_rotation(rotation, translation, d: int) -> tuple[np.ndarray, np.ndarray]:
     return rotation, translation
 
 
+def as_rotation_matrix(rotation, name: str = "rotation", *, tol: float = ROTATION_TOL,
+                       normalise: bool = False) -> np.ndarray:
+    """A proper rotation (3, 3) from None (identity), a 3x3 matrix (columns = the body's axes in the world) or a
+    quaternion (w, x, y, z). ValueError naming ``name`` unless the matrix is orthonormal with det +1, or the
+    quaternion has unit norm, to ``tol``. ``normalise``: divide a quaternion accepted within ``tol`` by its norm
+    (JSON files carry rounded digits); otherwise it is used as given."""
+    if rotation is None:
+        return np.eye(3)
+    arr = as_float_array(rotation, name)
+    if arr.shape == (4,):
+        norm = float(np.sqrt(arr @ arr))
+        if abs(norm - 1.0) > tol:
+            raise ValueError(f"{name} quaternion must have unit norm, got |q| = {norm!r} (normalise it first)")
+        w, x, y, z = arr / norm if normalise else arr
+        return np.array([
+            [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+            [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+            [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
+        ])
+    if arr.shape != (3, 3):
+        raise ValueError(f"{name} must be a (3, 3) matrix or a (4,) quaternion, got shape {arr.shape}")
+    err = float(np.abs(arr.T @ arr - np.eye(3)).max())
+    if err > tol:
+        raise ValueError(f"{name} must be orthonormal (max |R^T R - I| = {err:.3g})")
+    if np.linalg.det(arr) < 0.0:
+        raise ValueError(f"{name} must be a proper rotation (det = -1: a reflection)")
+    return arr
+
+
 # ---------------------------------------------------------------------------------------------------------
 # kernels
 # ---------------------------------------------------------------------------------------------------------

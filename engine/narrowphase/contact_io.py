@@ -33,6 +33,7 @@ from pathlib import Path
 import numpy as np
 
 from .._validate import as_float_array, as_nonnegative, as_positive
+from ..bounding.aabb import as_rotation_matrix
 from .contact import _pose, contact_feature, time_of_impact
 
 __all__ = ["ShapeSpec", "load_shape", "describe_contact", "SHAPE_KINDS"]
@@ -56,27 +57,6 @@ class ShapeSpec:
         out = np.empty_like(self.core)
         _pose(self.core, self.center, self.velocity, self.angular_velocity, float(t), out)
         return out
-
-
-def _rotation(value, where: str) -> np.ndarray:
-    if value is None:
-        return np.eye(3)
-    arr = as_float_array(value, f"{where}: rotation")
-    if arr.shape not in ((3, 3), (4,)):
-        raise ValueError(f"{where}: rotation must be a 3x3 matrix or a quaternion [w, x, y, z]")
-    if arr.shape == (4,):
-        q = as_float_array(arr, f"{where}: rotation", shape=(4,))
-        norm = np.linalg.norm(q)
-        if abs(norm - 1.0) > 1e-6:
-            raise ValueError(f"{where}: the rotation quaternion must have unit norm, got {norm!r}")
-        w, x, y, z = q / norm
-        return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-                         [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-                         [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
-    m = as_float_array(arr, f"{where}: rotation", shape=(3, 3))
-    if np.abs(m.T @ m - np.eye(3)).max() > 1e-6 or np.linalg.det(m) < 0:
-        raise ValueError(f"{where}: rotation must be a proper rotation matrix (orthonormal, det +1)")
-    return m
 
 
 def load_shape(source, where: str = "shape") -> ShapeSpec:
@@ -106,7 +86,7 @@ def load_shape(source, where: str = "shape") -> ShapeSpec:
             raise ValueError(f"{where}: a {kind} needs '{key}'")
         return spec[key]
 
-    rot = _rotation(spec.get("rotation"), where)
+    rot = as_rotation_matrix(spec.get("rotation"), f"{where}: rotation", tol=1e-6, normalise=True)
     radius = as_nonnegative(spec.get("radius", 0.0), f"{where}: radius")
     if kind == "box":
         center = as_float_array(need("center"), f"{where}: center", shape=(3,))

@@ -20,6 +20,7 @@ from __future__ import annotations
 import numpy as np
 
 from engine._validate import as_float, as_float_array, as_positive
+from engine.bounding.aabb import as_rotation_matrix
 from engine.bounding.hull import convex_hull
 
 __all__ = ["Shape", "Sphere", "Box", "Capsule", "ConvexPolyhedron", "Plane", "HeightCurve",
@@ -28,36 +29,6 @@ __all__ = ["Shape", "Sphere", "Box", "Capsule", "ConvexPolyhedron", "Plane", "He
 # shape kinds: the row and column labels of the dispatch table (engine/world/dispatch.py)
 SPHERE, BOX, CAPSULE, HULL, PLANE, CURVE = range(6)
 KIND_NAMES = ("sphere", "box", "capsule", "hull", "plane", "curve")
-
-#: tolerance of the orthonormality / unit-norm checks of a rotation
-ROTATION_TOL = 1e-9
-
-
-def as_rotation_matrix(rotation, name: str = "rotation") -> np.ndarray:
-    """A proper rotation (3, 3) from None (identity), a 3x3 matrix (columns = body axes) or a unit quaternion
-    (w, x, y, z). ValueError naming ``name`` unless orthonormal with det +1 / of unit norm, to 1e-9."""
-    if rotation is None:
-        return np.eye(3)
-    arr = as_float_array(rotation, name, ndim=None)
-    if arr.shape == (4,):
-        norm = float(np.sqrt(arr @ arr))
-        if abs(norm - 1.0) > ROTATION_TOL:
-            raise ValueError(f"{name} quaternion must have unit norm, got |q| = {norm!r} (normalise it first)")
-        w, x, y, z = arr
-        return np.array([
-            [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
-            [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
-            [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
-        ])
-    if arr.shape != (3, 3):
-        raise ValueError(f"{name} must be a (3, 3) matrix or a (4,) quaternion, got shape {arr.shape}")
-    err = float(np.abs(arr.T @ arr - np.eye(3)).max())
-    if err > ROTATION_TOL:
-        raise ValueError(f"{name} must be orthonormal (max |R^T R - I| = {err:.3g})")
-    if np.linalg.det(arr) < 0.0:
-        raise ValueError(f"{name} must be a proper rotation (det = -1: a reflection)")
-    return arr
-
 
 def _vec3(value, name):
     return as_float_array(value, name, shape=(3,))
