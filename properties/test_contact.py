@@ -118,6 +118,24 @@ def test_named_features():
 
 # --- when -----------------------------------------------------------------------------------------------------
 
+def _closest_gap_over(lo_a, hi_a, lo_b, hi_b, velocity, t_max):
+    """Least distance between box A and box B + velocity·t over t in [0, t_max] (a convex function of t: golden
+    section search)."""
+    def gap(t):
+        lb, hb = lo_b + velocity * t, hi_b + velocity * t
+        return np.linalg.norm(np.maximum(0.0, np.maximum(lb - hi_a, lo_a - hb)))
+
+    a, b = 0.0, t_max
+    g = (np.sqrt(5.0) - 1.0) / 2.0
+    for _ in range(200):
+        c, d = b - g * (b - a), a + g * (b - a)
+        if gap(c) <= gap(d):
+            b = d
+        else:
+            a = c
+    return min(gap(0.0), gap(t_max), gap(0.5 * (a + b)))
+
+
 @given(aabbs(), aabbs(spread=6.0), vectors)
 def test_toi_axis_aligned_boxes_exact(box_a, box_b, velocity):
     """Translating axis-aligned boxes: the exact first time the three interval pairs overlap at once."""
@@ -142,11 +160,28 @@ def test_toi_axis_aligned_boxes_exact(box_a, box_b, velocity):
         assume(exact < t_max - 1e-6 and t_out - t_in > 1e-6)
     else:
         assume(t_in > t_max + 1e-6 or t_out < t_in - 1e-6)
+        # time_of_impact answers to within its distance tolerance (1e-9 × the size): a pair that passes closer
+        # than that (a tiny velocity along an axis where the boxes touch keeps them 1e-100 apart for a while)
+        # is a contact for it, so the "never" cases must also stay apart in space, not only in time
+        assume(_closest_gap_over(lo_a, hi_a, lo_b, hi_b, velocity, t_max) > 1e-6)
     t = time_of_impact(box_corners(lo_a, hi_a), np.zeros(3), box_corners(lo_b, hi_b), velocity, t_max=t_max)
     if exact is None:
         assert t is None
     else:
         assert t is not None and abs(t - exact) <= 1e-6 * (1 + exact)
+
+
+def test_toi_counts_a_pass_closer_than_its_tolerance_as_contact():
+    """Boxes touching along x while B slides away at 1.45e-102 per second: when the z intervals meet (t = 0.5)
+    they are 7e-103 apart, far below the 1e-9 distance tolerance: time_of_impact reports that contact (the exact
+    interval oracle says "never": this is why its "never" cases must stay apart in space)."""
+    lo_a, hi_a = np.array([0.0, 0.0, 1.0]), np.array([1.0, 1.0, 2.0])
+    lo_b, hi_b = np.array([1.0, 0.0, 0.0]), np.array([2.0, 1.0, 0.5])
+    velocity = np.array([1.45479815e-102, 0.0, 1.0])
+    t = time_of_impact(box_corners(lo_a, hi_a), np.zeros(3), box_corners(lo_b, hi_b), velocity, t_max=2.0)
+    assert t is not None and abs(t - 0.5) <= 1e-8
+    lb, hb = lo_b + velocity * t, hi_b + velocity * t
+    assert np.linalg.norm(np.maximum(0.0, np.maximum(lb - hi_a, lo_a - hb))) <= 1e-9
 
 
 @given(vectors, vectors, sizes, sizes, vectors, vectors)

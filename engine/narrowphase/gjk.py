@@ -32,7 +32,7 @@ import math
 import numpy as np
 
 from .._config import njit
-from .._validate import as_float_array
+from .._validate import MAX_MAGNITUDE, as_float_array
 
 __all__ = [
     "GJKNotConverged",
@@ -55,6 +55,7 @@ OVERLAP_TOL = 1e-10
 _SEPARATED = 0
 _OVERLAP = 1
 _NOT_CONVERGED = 2
+_INVALID = 3  # a coordinate of the pair is NaN, ±inf or above MAX_MAGNITUDE (checked while copying)
 
 
 class GJKNotConverged(RuntimeError):
@@ -70,28 +71,37 @@ class GJKNotConverged(RuntimeError):
 # take and return scalars only (no arrays, no tuple-of-arrays).
 # ---------------------------------------------------------------------------------------------------------------
 
-@njit(inline="always")
-def _centroid(P, s, i0, i1):
-    """Mean of the rows P[s, i0:i1] (sums over even and odd rows: two short addition chains, not one long one)."""
-    x = 0.0
-    y = 0.0
-    z = 0.0
-    x2 = 0.0
-    y2 = 0.0
-    z2 = 0.0
-    for i in range(i0, i1 - 1, 2):
-        x += P[s, i, 0]
-        y += P[s, i, 1]
-        z += P[s, i, 2]
-        x2 += P[s, i + 1, 0]
-        y2 += P[s, i + 1, 1]
-        z2 += P[s, i + 1, 2]
-    m = i1 - i0
-    if m % 2 == 1:
-        x += P[s, i1 - 1, 0]
-        y += P[s, i1 - 1, 1]
-        z += P[s, i1 - 1, 2]
-    return (x + x2) / m, (y + y2) / m, (z + z2) / m
+@njit
+def _copy_shape(P, s, r0, n, S, row):
+    """Copy rows ``P[s, r0:r0 + n]`` into the scratch rows ``S[row:row + 3, :n]`` (x, y, z: unit-stride support
+    scans) and return ``(ok, centroid)``; ok is False when a coordinate is NaN, ±inf or above MAX_MAGNITUDE. The
+    sums run over even and odd rows: two short addition chains, not one long one. (A plain ``@njit``, not
+    ``inline="always"``: numba's IR inlining of a function with array arguments adds reference counting to the
+    caller's pair loop; LLVM inlines this one without it.)"""
+    ok = True
+    x0 = 0.0
+    y0 = 0.0
+    z0 = 0.0
+    x1 = 0.0
+    y1 = 0.0
+    z1 = 0.0
+    for i in range(n):
+        x = P[s, r0 + i, 0]
+        y = P[s, r0 + i, 1]
+        z = P[s, r0 + i, 2]
+        ok &= (abs(x) <= MAX_MAGNITUDE) & (abs(y) <= MAX_MAGNITUDE) & (abs(z) <= MAX_MAGNITUDE)
+        S[row, i] = x
+        S[row + 1, i] = y
+        S[row + 2, i] = z
+        if i % 2 == 0:
+            x0 += x
+            y0 += y
+            z0 += z
+        else:
+            x1 += x
+            y1 += y
+            z1 += z
+    return ok, (x0 + x1) / n, (y0 + y1) / n, (z0 + z1) / n
 
 
 @njit(inline="always")
@@ -269,16 +279,18 @@ _NO_OFFSETS = np.zeros(1, np.int64)
 
 
 @njit
-def _gjk_loop(PA, PB, pairs, offsets, k_pairs, max_iter, W, IA, IB, lam, dist, closest_a, closest_b, status_out):
+def _gjk_loop(PA, PB, pairs, offsets, k_pairs, max_iter, W, IA, IB, lam, dist, closest_a, closest_b, status_out, S):
     """GJK (Ericson 9.5) over k pairs of shapes, in one compiled loop.
 
     ``PA``, ``PB`` are (S, N, 3). With a pair list (``pairs`` (k, 2), ``offsets``), pair p is shape
     ``pairs[p, 0]`` of A = rows ``offsets[s]:offsets[s + 1]`` of ``PA[0]`` against shape ``pairs[p, 1]`` of B, the
     same way; without one (``pairs`` empty), pair p is ``PA[p]`` against ``PB[p]``. Shapes are addressed by
     (index, row range), never by slices: the loop creates no array views and assigns no array variable, so it
-    holds no reference counting. Writes ``dist[p]``, ``closest_a[p]``, ``closest_b[p]``, ``status_out[p]`` and
-    leaves the last pair's final simplex in W (4, 3), IA, IB (row indices into PA[sa], PB[sb]), λ (for EPA).
-    Returns the last pair's (status, simplex size).
+    holds no reference counting. ``S`` (6, n_max) is scratch: each pair's two shapes are copied there as x, y, z
+    rows (unit-stride support scans; the copy also checks the values and sums the centroids: status ``_INVALID``
+    for a NaN, ±inf or a magnitude above MAX_MAGNITUDE). Writes ``dist[p]``, ``closest_a[p]``, ``closest_b[p]``,
+    ``status_out[p]`` and leaves the last pair's final simplex in W (4, 3), IA, IB (row indices into PA[sa],
+    PB[sb]), λ (for EPA). Returns the last pair's (status, simplex size).
     """
     use_pairs = pairs.shape[0] > 0
     status = _NOT_CONVERGED
@@ -298,10 +310,20 @@ def _gjk_loop(PA, PB, pairs, offsets, k_pairs, max_iter, W, IA, IB, lam, dist, c
             a1 = PA.shape[1]
             b0 = 0
             b1 = PB.shape[1]
+        # copy both shapes into the scratch rows (x, y, z of A, then of B) for unit-stride support scans
+        na = a1 - a0
+        nb = b1 - b0
+        ok_a, cax, cay, caz = _copy_shape(PA, sa, a0, na, S, 0)
+        ok_b, cbx, cby, cbz = _copy_shape(PB, sb, b0, nb, S, 3)
+        ok = ok_a and ok_b
+        if not ok:  # NaN, ±inf or a magnitude above MAX_MAGNITUDE: the caller raises
+            status = _INVALID
+            n = 0
+            dist[p] = np.nan
+            status_out[p] = status
+            continue
         # start from a support point of M (so that every simplex vertex lies on M's boundary, as EPA assumes), in
         # the direction of M's centroid: the first support point is then already close to the answer
-        cax, cay, caz = _centroid(PA, sa, a0, a1)
-        cbx, cby, cbz = _centroid(PB, sb, b0, b1)
         dx = cax - cbx
         dy = cay - cby
         dz = caz - cbz
@@ -320,23 +342,25 @@ def _gjk_loop(PA, PB, pairs, offsets, k_pairs, max_iter, W, IA, IB, lam, dist, c
             # w <- s_A(-v) - s_B(v): the first vertex of A with the least a·v and of B with the greatest b·v;
             # one plain scan per shape, the tie going to the lower row (it compiles to a branch-free min/cmov loop;
             # an even/odd two-chain scan measured slower)
-            ia = a0
+            ia = 0
             lo = np.inf
-            for i in range(a0, a1):
-                d = PA[sa, i, 0] * vx + PA[sa, i, 1] * vy + PA[sa, i, 2] * vz
+            for i in range(na):
+                d = S[0, i] * vx + S[1, i] * vy + S[2, i] * vz
                 if d < lo:
                     lo = d
                     ia = i
-            ib = b0
+            ib = 0
             hi = -np.inf
-            for i in range(b0, b1):
-                d = PB[sb, i, 0] * vx + PB[sb, i, 1] * vy + PB[sb, i, 2] * vz
+            for i in range(nb):
+                d = S[3, i] * vx + S[4, i] * vy + S[5, i] * vz
                 if d > hi:
                     hi = d
                     ib = i
-            wx = PA[sa, ia, 0] - PB[sb, ib, 0]
-            wy = PA[sa, ia, 1] - PB[sb, ib, 1]
-            wz = PA[sa, ia, 2] - PB[sb, ib, 2]
+            wx = S[0, ia] - S[3, ib]
+            wy = S[1, ia] - S[4, ib]
+            wz = S[2, ia] - S[5, ib]
+            ia += a0
+            ib += b0
             if it < 0:
                 W[0, 0] = wx
                 W[0, 1] = wy
@@ -539,7 +563,8 @@ def _gjk(pa, pb, max_iter, W, IA, IB, lam, out, work_i, work_f):
     receives the status; ``work_f`` is kept for callers' compatibility. Returns (status, simplex size).
     """
     return _gjk_loop(pa[np.newaxis], pb[np.newaxis], _NO_PAIRS, _NO_OFFSETS, 1, max_iter, W, IA, IB, lam,
-                     out[6:7], out[np.newaxis, 0:3], out[np.newaxis, 3:6], work_i)
+                     out[6:7], out[np.newaxis, 0:3], out[np.newaxis, 3:6], work_i,
+                     np.empty((6, max(pa.shape[0], pb.shape[0]))))
 
 
 @njit
@@ -550,7 +575,11 @@ def _gjk_pairs(points, offsets, pairs, max_iter, dist, closest_a, closest_b, sta
     IB = np.empty(4, np.int64)
     lam = np.empty(4)
     P = points[np.newaxis]  # (1, N, 3): one view for the whole loop, shapes addressed by row offsets
-    _gjk_loop(P, P, pairs, offsets, pairs.shape[0], max_iter, W, IA, IB, lam, dist, closest_a, closest_b, status)
+    n_max = 1
+    for s in range(offsets.shape[0] - 1):
+        n_max = max(n_max, offsets[s + 1] - offsets[s])
+    _gjk_loop(P, P, pairs, offsets, pairs.shape[0], max_iter, W, IA, IB, lam, dist, closest_a, closest_b, status,
+              np.empty((6, n_max)))
 
 
 @njit
@@ -561,7 +590,7 @@ def _gjk_batch(points_a, points_b, max_iter, dist, closest_a, closest_b, status)
     IB = np.empty(4, np.int64)
     lam = np.empty(4)
     _gjk_loop(points_a, points_b, _NO_PAIRS, _NO_OFFSETS, points_a.shape[0], max_iter, W, IA, IB, lam, dist,
-              closest_a, closest_b, status)
+              closest_a, closest_b, status, np.empty((6, max(points_a.shape[1], points_b.shape[1]))))
 
 
 # ---------------------------------------------------------------------------------------------------------------
@@ -569,25 +598,37 @@ def _gjk_batch(points_a, points_b, max_iter, dist, closest_a, closest_b, status)
 # ---------------------------------------------------------------------------------------------------------------
 
 @njit
-def _all_finite(x):
-    """True when every entry of the flat array ``x`` is finite (x − x is 0 for finite x, NaN for ±inf and NaN)."""
+def _within_magnitude(x):
+    """True when every entry of the flat array ``x`` has |x| <= MAX_MAGNITUDE (False for NaN and ±inf)."""
     ok = True
     for i in range(x.shape[0]):
-        ok &= (x[i] - x[i]) == 0.0
+        ok &= abs(x[i]) <= MAX_MAGNITUDE
     return ok
 
 
-def _as_points(value, name: str, shape: tuple) -> np.ndarray:
+def _as_points(value, name: str, shape: tuple, *, scan_values: bool = True) -> np.ndarray:
     """``as_float_array(value, name, shape=shape)`` without its copy when ``value`` already is an aligned, writeable,
-    C-contiguous float64 ndarray of that shape holding finite numbers: the kernels only read their input, so the
-    copy (a third of a batch's time for 20-vertex hulls) buys nothing there. Anything else goes through
-    ``as_float_array``, with its checks and messages."""
+    C-contiguous float64 ndarray of that shape: the kernels only read their input, so the copy (a third of a
+    batch's time for 20-vertex hulls) buys nothing there. Its values are then checked here (``scan_values``) or,
+    when every point is read by the kernel anyway, by the kernel while it copies each shape (status ``_INVALID``,
+    see ``_raise_invalid``). Anything else goes through ``as_float_array``, with its checks and messages."""
     if (type(value) is np.ndarray and value.dtype == np.float64 and value.ndim == len(shape)
             and value.flags.c_contiguous and value.flags.aligned and value.flags.writeable
             and all(want is None or want == got for want, got in zip(shape, value.shape))
-            and _all_finite(value.reshape(-1))):
+            and (not scan_values or _within_magnitude(value.reshape(-1)))):
         return value
     return as_float_array(value, name, shape=shape)
+
+
+def _raise_invalid(status, arrays: dict, shape: tuple):
+    """When the kernel flagged a pair ``_INVALID``, raise the boundary's own error (``as_float_array`` names the
+    argument and the first offending index)."""
+    bad = np.flatnonzero(status == _INVALID)
+    if bad.size:
+        for name, value in arrays.items():
+            as_float_array(value, name, shape=shape)
+        raise ValueError(f"{' or '.join(arrays)} hold a NaN, ±inf or a magnitude above {MAX_MAGNITUDE:g} "
+                         f"(pair {bad[0]})")
 
 
 def _as_max_iterations(max_iterations) -> int:
@@ -687,6 +728,7 @@ def gjk_distance_pairs(points, offsets, pairs, *, max_iterations: int = MAX_ITER
     status = np.empty(k, np.int64)
     if k:
         _gjk_pairs(pts, off, pr, max_iter, dist, ca, cb, status)
+        _raise_invalid(status, {"points": points}, (None, 3))
         _raise_first_failure(status, "pairs", max_iter)
     return dist, ca, cb
 
@@ -696,8 +738,9 @@ def gjk_distance_batch(points_a, points_b, *, max_iterations: int = MAX_ITERATIO
 
     Returns ``(distance (k,), closest_a (k, 3), closest_b (k, 3))``.
     """
-    pa = _as_points(points_a, "points_a", (None, None, 3))
-    pb = _as_points(points_b, "points_b", (None, None, 3))
+    # every point of a batch is read by the kernel, which checks the values as it copies them (_INVALID)
+    pa = _as_points(points_a, "points_a", (None, None, 3), scan_values=False)
+    pb = _as_points(points_b, "points_b", (None, None, 3), scan_values=False)
     if pa.shape[0] != pb.shape[0]:
         raise ValueError(f"points_a and points_b must hold the same number of pairs, got {pa.shape[0]} and "
                          f"{pb.shape[0]}")
@@ -711,5 +754,6 @@ def gjk_distance_batch(points_a, points_b, *, max_iterations: int = MAX_ITERATIO
     status = np.empty(k, np.int64)
     if k:
         _gjk_batch(pa, pb, max_iter, dist, ca, cb, status)
+        _raise_invalid(status, {"points_a": points_a, "points_b": points_b}, (None, None, 3))
         _raise_first_failure(status, "points_a", max_iter)
     return dist, ca, cb
