@@ -648,3 +648,32 @@ def test_convex_sat_batch_on_targeted_separations(data):
         # grazing pairs (crossing edges exactly touching) are decided by round-off on either side: left out
         if d > GAP * scale or d == 0.0 and epa_penetration(shapes[i], shapes[j])[0] > GAP * scale:
             assert got[p] == (d == 0.0)
+
+
+# --- the GJK batches check their values in the kernel ----------------------------------------------------------
+
+@settings(max_examples=60)
+@given(st.integers(1, 6), st.integers(1, 5), st.integers(1, 5), st.data(),
+       st.sampled_from([np.nan, np.inf, -np.inf, 1.5e150, -1e200, 1e300]))
+def test_gjk_batches_refuse_a_bad_value_anywhere_naming_it(k, m, p, data, bad):
+    """One NaN, ±inf or over-large coordinate anywhere in a GJK batch (aligned or packed) raises ValueError naming
+    the argument and the index; the caller's arrays are left as they were."""
+    from engine.narrowphase import gjk_distance_batch, gjk_distance_pairs
+
+    rng = np.random.default_rng(data.draw(st.integers(0, 2**32 - 1)))
+    a = rng.normal(size=(k, m, 3))
+    b = rng.normal(size=(k, p, 3)) + 3.0
+    side = data.draw(st.sampled_from(["points_a", "points_b"]))
+    target = a if side == "points_a" else b
+    idx = tuple(data.draw(st.integers(0, n - 1)) for n in target.shape)
+    target[idx] = bad
+    before_a, before_b = a.copy(), b.copy()
+    with pytest.raises(ValueError, match=rf"^{side}.*{side}\[{idx[0]}, {idx[1]}, {idx[2]}\]"):
+        gjk_distance_batch(a, b)
+    assert np.array_equal(a, before_a, equal_nan=True) and np.array_equal(b, before_b, equal_nan=True)
+    packed = np.concatenate([a.reshape(-1, 3), b.reshape(-1, 3)])
+    offsets = np.concatenate([np.arange(0, k * m + 1, m), k * m + np.arange(p, k * p + 1, p)])
+    pairs = np.stack([np.arange(k), k + np.arange(k)], axis=1)
+    row = (idx[0] * m + idx[1]) if side == "points_a" else (k * m + idx[0] * p + idx[1])
+    with pytest.raises(ValueError, match=rf"^points.*points\[{row}, {idx[2]}\]"):
+        gjk_distance_pairs(packed, offsets, pairs)
