@@ -40,7 +40,9 @@ def narrowphase_markdown(df: pd.DataFrame, info: dict) -> str:
              f"{info['date']} · commit `{info['commit']}` · {info['machine']}", "",
              "The engine runs each test over a batch of pairs in one compiled call (`gjk_distance_batch`, "
              "`overlap_obb_obb_batch`); python-fcl and coal are called per pair from Python, as a user of their "
-             "bindings would. `engine-kernel` is the compiled loop alone (no validation, no copies). "
+             "bindings would. `engine-kernel` is the compiled loop alone (no validation, no copies); "
+             "`engine N threads` is the same batch split among N threads (`threads=N`, wall time; the targets "
+             "are judged on one thread). "
              "Times are minimums over rounds; `× fcl` and `× coal` say how many times faster per pair than "
              "those, measured in the same run; `× per-pair` how many times faster than `engine per-pair`, the "
              "engine's single-pair function called from Python for every pair (contact features, convex SAT, "

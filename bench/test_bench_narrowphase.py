@@ -13,6 +13,8 @@ shared between pairs, and the curved-ground circle test (Python f, numba-jitted 
 """
 from __future__ import annotations
 
+import os
+
 import numpy as np
 import pytest
 
@@ -95,6 +97,27 @@ def test_gjk_hull20_batch_engine(benchmark, hulls):
     dist, _, _ = _run(benchmark, lambda: gjk_distance_batch(hulls[:N_HULL], hulls[N_HULL:]), N_HULL, "engine",
                       "gjk hull20")
     assert np.isfinite(dist).all()
+
+
+def _threads() -> int:
+    n = os.cpu_count() or 1
+    if n < 2:
+        pytest.skip("one CPU: no threaded batch to time")
+    return n
+
+
+def test_gjk_box_box_batch_engine_threads(benchmark, boxes):
+    """The same batch split among all CPUs (``threads=``); the issue's per-pair target is judged on one thread."""
+    n = _threads()
+    a = boxes["corners"][:N_BATCH]
+    b = boxes["corners"][N_BATCH:]
+    _run(benchmark, lambda: gjk_distance_batch(a, b, threads=n), N_BATCH, f"engine {n} threads", "gjk box-box")
+
+
+def test_gjk_hull20_batch_engine_threads(benchmark, hulls):
+    n = _threads()
+    _run(benchmark, lambda: gjk_distance_batch(hulls[:N_HULL], hulls[N_HULL:], threads=n), N_HULL,
+         f"engine {n} threads", "gjk hull20")
 
 
 def test_obb_sat_batch_engine(benchmark, boxes):

@@ -677,3 +677,37 @@ def test_gjk_batches_refuse_a_bad_value_anywhere_naming_it(k, m, p, data, bad):
     row = (idx[0] * m + idx[1]) if side == "points_a" else (k * m + idx[0] * p + idx[1])
     with pytest.raises(ValueError, match=rf"^points.*points\[{row}, {idx[2]}\]"):
         gjk_distance_pairs(packed, offsets, pairs)
+
+
+@settings(max_examples=25, deadline=None)
+@given(st.integers(0, 1500), st.integers(2, 4), st.integers(1, 12), st.integers(1, 12), st.integers(0, 2**32 - 1))
+def test_gjk_batches_on_threads_give_the_same_answers_bit_for_bit(k, threads, m, p, seed):
+    """``threads`` splits a batch into contiguous chunks run in parallel: every output equals the one-thread call
+    exactly (and a pair list with repeated shapes too)."""
+    from engine.narrowphase import gjk_distance_batch, gjk_distance_pairs
+    from engine.narrowphase.gjk import MIN_PAIRS_PER_THREAD
+
+    rng = np.random.default_rng(seed)
+    a = rng.normal(size=(k, m, 3))
+    b = rng.normal(size=(k, p, 3)) + rng.normal(scale=2.0, size=(k, 1, 3))
+    one = gjk_distance_batch(a, b)
+    many = gjk_distance_batch(a, b, threads=threads)
+    assert all(np.array_equal(x, y) for x, y in zip(one, many))
+    packed, offsets = pack_point_sets(list(a) + list(b)) if k else (np.zeros((1, 3)), np.array([0, 1]))
+    n_shapes = offsets.shape[0] - 1
+    pairs = rng.integers(0, n_shapes, size=(max(k, MIN_PAIRS_PER_THREAD * threads), 2))
+    one = gjk_distance_pairs(packed, offsets, pairs)
+    many = gjk_distance_pairs(packed, offsets, pairs, threads=threads)
+    assert all(np.array_equal(x, y) for x, y in zip(one, many))
+    # and the threads really ran: each chunk's distances are those of its own pairs
+    d_direct = np.array([gjk_distance(packed[offsets[i]:offsets[i + 1]], packed[offsets[j]:offsets[j + 1]])[0]
+                         for i, j in pairs[:: max(1, pairs.shape[0] // 7)]])
+    assert np.array_equal(many[0][:: max(1, pairs.shape[0] // 7)], d_direct)
+
+
+@pytest.mark.parametrize("threads", [0, -1, 1.5, True, "2", 10**6])
+def test_gjk_batch_threads_is_validated(threads):
+    from engine.narrowphase import gjk_distance_batch
+
+    with pytest.raises((ValueError, TypeError), match="^threads"):
+        gjk_distance_batch(np.zeros((1, 1, 3)), np.ones((1, 1, 3)), threads=threads)

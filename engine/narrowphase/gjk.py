@@ -28,11 +28,12 @@ the Minkowski difference.
 from __future__ import annotations
 
 import math
+from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
 from .._config import njit
-from .._validate import MAX_MAGNITUDE, as_float_array
+from .._validate import MAX_MAGNITUDE, as_count, as_float_array
 
 __all__ = [
     "GJKNotConverged",
@@ -710,31 +711,58 @@ def _raise_first_failure(status, what: str, max_iter: int):
         raise GJKNotConverged(f"GJK did not converge in max_iterations={max_iter} iterations for {what}[{bad[0]}]")
 
 
-def gjk_distance_pairs(points, offsets, pairs, *, max_iterations: int = MAX_ITERATIONS):
-    """GJK over k pairs of packed shapes, in one compiled call.
+#: a thread gets at least this many pairs (below that, starting threads costs more than it saves)
+MIN_PAIRS_PER_THREAD = 512
+#: the most threads a batch call may ask for
+MAX_THREADS = 256
+
+
+def _run_in_chunks(run, k: int, threads: int) -> None:
+    """Call ``run(lo, hi)`` on contiguous chunks of ``range(k)``, one per thread of a thread pool.
+
+    The kernels are compiled with ``nogil=True``, so the chunks run in parallel; each chunk writes its own slice
+    of the outputs, so the answers are the same, bit for bit, as one call over the whole batch. With
+    ``threads == 1``, or fewer than ``MIN_PAIRS_PER_THREAD`` pairs per thread, it is one call on this thread.
+    """
+    n = min(threads, max(1, k // MIN_PAIRS_PER_THREAD))
+    if n <= 1:
+        run(0, k)
+        return
+    bounds = [k * i // n for i in range(n + 1)]
+    with ThreadPoolExecutor(max_workers=n) as pool:
+        for future in [pool.submit(run, bounds[i], bounds[i + 1]) for i in range(n)]:
+            future.result()
+
+
+def gjk_distance_pairs(points, offsets, pairs, *, max_iterations: int = MAX_ITERATIONS, threads: int = 1):
+    """GJK over k pairs of packed shapes, in one compiled call (or one per thread: ``threads``).
 
     ``points`` (N, 3) holds every shape's vertices; shape s owns ``points[offsets[s]:offsets[s + 1]]``
     (``offsets`` (S + 1,), increasing, from 0 to N; see ``pack_point_sets``). ``pairs`` (k, 2) int lists
-    (shape_a, shape_b). Returns ``(distance (k,), closest_a (k, 3), closest_b (k, 3))``.
+    (shape_a, shape_b). Returns ``(distance (k,), closest_a (k, 3), closest_b (k, 3))``. ``threads`` > 1 splits
+    the pairs among that many threads (``_run_in_chunks``; the same answers, bit for bit).
     """
     pts = _as_points(points, "points", (None, 3))
     off = _check_offsets(offsets, pts.shape[0])
     pr = check_pairs(pairs, off.shape[0] - 1)
     max_iter = _as_max_iterations(max_iterations)
+    n_threads = as_count(threads, "threads", minimum=1, maximum=MAX_THREADS)
     k = pr.shape[0]
     dist = np.empty(k)
     ca = np.empty((k, 3))
     cb = np.empty((k, 3))
     status = np.empty(k, np.int64)
     if k:
-        _gjk_pairs(pts, off, pr, max_iter, dist, ca, cb, status)
+        _run_in_chunks(lambda lo, hi: _gjk_pairs(pts, off, pr[lo:hi], max_iter, dist[lo:hi], ca[lo:hi], cb[lo:hi],
+                                                status[lo:hi]), k, n_threads)
         _raise_invalid(status, {"points": points}, (None, 3))
         _raise_first_failure(status, "pairs", max_iter)
     return dist, ca, cb
 
 
-def gjk_distance_batch(points_a, points_b, *, max_iterations: int = MAX_ITERATIONS):
-    """GJK over k aligned pairs: ``points_a`` (k, n, 3) against ``points_b`` (k, m, 3), one compiled call.
+def gjk_distance_batch(points_a, points_b, *, max_iterations: int = MAX_ITERATIONS, threads: int = 1):
+    """GJK over k aligned pairs: ``points_a`` (k, n, 3) against ``points_b`` (k, m, 3), one compiled call (or one
+    per thread: ``threads`` > 1 splits the pairs among that many threads, with the same answers bit for bit).
 
     Returns ``(distance (k,), closest_a (k, 3), closest_b (k, 3))``.
     """
@@ -747,13 +775,15 @@ def gjk_distance_batch(points_a, points_b, *, max_iterations: int = MAX_ITERATIO
     if pa.shape[0] and (pa.shape[1] < 1 or pb.shape[1] < 1):
         raise ValueError("every shape needs at least one point")
     max_iter = _as_max_iterations(max_iterations)
+    n_threads = as_count(threads, "threads", minimum=1, maximum=MAX_THREADS)
     k = pa.shape[0]
     dist = np.empty(k)
     ca = np.empty((k, 3))
     cb = np.empty((k, 3))
     status = np.empty(k, np.int64)
     if k:
-        _gjk_batch(pa, pb, max_iter, dist, ca, cb, status)
+        _run_in_chunks(lambda lo, hi: _gjk_batch(pa[lo:hi], pb[lo:hi], max_iter, dist[lo:hi], ca[lo:hi], cb[lo:hi],
+                                                status[lo:hi]), k, n_threads)
         _raise_invalid(status, {"points_a": points_a, "points_b": points_b}, (None, None, 3))
         _raise_first_failure(status, "points_a", max_iter)
     return dist, ca, cb
