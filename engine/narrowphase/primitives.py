@@ -481,6 +481,17 @@ def _first_non_finite(y):
     return -1
 
 
+@njit(cache=False)  # f is an argument, as in _search_jit
+def _evaluate_jit(f, x, bad):
+    """f(x) as float64, and whether every value is finite; if not, the first bad (x, f(x)) goes to bad[0:2]."""
+    y = np.asarray(f(x), dtype=np.float64)
+    i = _first_non_finite(y)
+    if i >= 0:
+        bad[0] = x[i]
+        bad[1] = y[i]
+    return y, i < 0
+
+
 @njit(cache=False)  # f is an argument: one specialisation per f, not cached across sessions
 def _search_jit(f, mode, lo, hi, t, px, py, iterations, x_out, v_out, bad_x):
     """The whole search with a numba-jitted f, in one compiled call. Returns 0, or 1 when f returned a non-finite
@@ -489,11 +500,8 @@ def _search_jit(f, mode, lo, hi, t, px, py, iterations, x_out, v_out, bad_x):
     s = t.shape[0]
     xs = np.empty(n * s)
     _sample_grid(lo, hi, t, xs)
-    ys = np.asarray(f(xs), dtype=np.float64)
-    i = _first_non_finite(ys)
-    if i >= 0:
-        bad_x[0] = xs[i]
-        bad_x[1] = ys[i]
+    ys, ok = _evaluate_jit(f, xs, bad_x)
+    if not ok:
         return 1
     best_x = np.empty(n)
     best = np.empty(n)
@@ -504,11 +512,8 @@ def _search_jit(f, mode, lo, hi, t, px, py, iterations, x_out, v_out, bad_x):
     gd = np.empty(n)
     _best_samples(mode, xs, ys, px, py, s, best_x, best, a, b, cd)
     for it in range(iterations + 1):
-        ycd = np.asarray(f(cd), dtype=np.float64)
-        i = _first_non_finite(ycd)
-        if i >= 0:
-            bad_x[0] = cd[i]
-            bad_x[1] = ycd[i]
+        ycd, ok = _evaluate_jit(f, cd, bad_x)
+        if not ok:
             return 1
         _golden_step(mode, cd, ycd, px, py, a, b, gc, gd, it == iterations)
     _golden_finish(cd, gc, gd, best_x, best, x_out, v_out)
