@@ -44,15 +44,21 @@ def test_apart_along_an_axis_the_normal_is_that_axis(axis, gap, center, offset):
     assert np.array_equal(back.normal, -AXES[axis])
 
 
-@example(length_a=1.0, length_b=1.0, gap=1.0, rot=np.eye(3), shift=np.zeros(3))
-@given(st.floats(0.1, 3.0), st.floats(0.1, 3.0), st.floats(0.01, 2.0), rotations(), vectors)
-def test_parallel_edges_meeting_end_to_end_touch_at_the_shared_end(length_a, length_b, gap, rot, shift):
-    """A = [0, L_a] along u, B = [L_a, L_a + L_b] along u lifted by h along n ⊥ u (then rotated and moved): the
-    edges are parallel and their projections on the contact plane share one end only, so the contact is
-    edge–edge with exactly one point, the shared end on the mid-plane, and the normal is n."""
+@example(length_a=1.0, length_b=1.0, gap=1.0, rot=np.eye(3), shift=np.zeros(3), flip_a=False, flip_b=True)
+@example(length_a=1.0, length_b=1.0, gap=1.0, rot=np.eye(3), shift=np.zeros(3), flip_a=True, flip_b=False)
+@given(st.floats(0.1, 3.0), st.floats(0.1, 3.0), st.floats(0.01, 2.0), rotations(), vectors, st.booleans(),
+       st.booleans())
+def test_parallel_edges_meeting_end_to_end_touch_at_the_shared_end(length_a, length_b, gap, rot, shift, flip_a,
+                                                                      flip_b):
+    """A = [0, L_a] along u, B = [L_a, L_a + L_b] along u lifted by h along n ⊥ u (then rotated and moved, each
+    edge's two points in either order): the edges are parallel and their projections on the contact plane share
+    one end only, so the contact is edge–edge with exactly one point, the shared end on the mid-plane, and the
+    normal is n."""
     u, n = rot[:, 0], rot[:, 2]
     a = np.array([np.zeros(3), length_a * u]) + shift
     b = np.array([length_a * u + gap * n, (length_a + length_b) * u + gap * n]) + shift
+    a = a[::-1] if flip_a else a
+    b = b[::-1] if flip_b else b
     contact = contact_feature(a, b)
     size = 10.0
     assert contact.kind == "edge-edge"
