@@ -61,6 +61,7 @@ AREAS: dict[str, dict[str, list[str]]] = {
             "properties/test_epa_witnesses_and_fallback.py",
             "properties/test_epa_pairs_fallback.py",
             "properties/test_curve_jitted_errors.py",
+            "properties/test_epa_vertex_touching.py",
         ],
     },
     "bounding": {
