@@ -62,6 +62,7 @@ AREAS: dict[str, dict[str, list[str]]] = {
             "properties/test_epa_pairs_fallback.py",
             "properties/test_curve_jitted_errors.py",
             "properties/test_epa_vertex_touching.py",
+            "properties/test_contact_axis_sharing_boxes.py",
         ],
     },
     "bounding": {
