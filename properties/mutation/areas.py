@@ -47,6 +47,22 @@ AREAS: dict[str, dict[str, list[str]]] = {
             "properties/test_gjk.py",
             "properties/test_narrowphase_primitives.py",
             "properties/test_contact.py",
+            # the batched forms, contact_feature_pairs, overlap_convex_sat_pairs, time_of_impact_pairs, curve tests
+            "properties/test_narrowphase_batch.py",
+            # adversarial inputs (touching, flat, denormal, tied) of SAT, GJK, EPA, contact
+            "properties/test_adversarial.py",
+            # World: contacts and time of impact through the dispatch of the narrow phase
+            "properties/test_world.py",
+            # input validation of every public narrow-phase function (load_shape included)
+            "properties/test_fuzz_public_api.py",
+            # written against the survivors of the first narrowphase run (properties/MUTATION.md)
+            "properties/test_contact_normal_edges.py",
+            "properties/test_contact_io_shapes.py",
+            "properties/test_epa_witnesses_and_fallback.py",
+            "properties/test_epa_pairs_fallback.py",
+            "properties/test_curve_jitted_errors.py",
+            "properties/test_epa_vertex_touching.py",
+            "properties/test_contact_axis_sharing_boxes.py",
         ],
     },
     "bounding": {
@@ -68,4 +84,11 @@ DESELECT: dict[str, str] = {
         "t_end = 1e3 s: 1e5 interpreted RK4 steps per example",
     "properties/test_falling.py::test_step_size_does_not_move_the_impact":
         "t_end = 1e3 s, twice per example: 2e5 interpreted RK4 steps per example",
+    "properties/test_sat.py::test_obb_overlap_agrees_with_coal":
+        "fails on the unmutated engine under the derandomized mutation profile (mutmut refuses to start): one "
+        "of its examples is two boxes with common axes 1e-6 apart (GJK and the exact SAT agree) that coal 3.0.3 "
+        "reports as colliding (coal.distance -3.0); the oracle, not the engine, is wrong there",
+    "properties/test_adversarial.py::test_denormal_coordinates[grid]":
+        "fails interpreted only (NUMBA_DISABLE_JIT=1): int(NaN) raises in uniform_grid._cell where the compiled "
+        "cast does not; a broad-phase test in a file the narrowphase area runs",
 }
