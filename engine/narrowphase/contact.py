@@ -462,7 +462,7 @@ def _normal_and_depth(pa, pb, max_iter, out, W, IA, IB, lam, g, work_i, work_f):
         return _OK
     if status != _OVERLAP:  # touching at distance exactly 0 without a full simplex: depth 0, a touching normal
         out[0] = 0.0
-        nx, ny, nz, _ = _touching_normal_at_vertex(pa, pb, EPA_TOL)
+        nx, ny, nz, _ = _touching_normal_at_vertex(pa, pb, EPA_TOL, g[0], g[1], g[2])
         out[1], out[2], out[3] = nx, ny, nz
         for c in range(3):
             out[4 + c] = g[c]

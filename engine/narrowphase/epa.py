@@ -110,11 +110,102 @@ def _support_m(pa, pb, dx, dy, dz, V, VA, VB, nv):
     VB[nv] = ib
 
 
+#: the normal-cone search (``_normal_cone_direction``) costs (n + m)³: beyond this many points it is skipped
+MAX_CONE_POINTS = 200
+
+
 @njit
-def _touching_normal_at_vertex(pa, pb, rel_tol):
-    """The origin is a vertex of M = A − B (depth 0): a unit direction n along which M does not extend,
-    max over M of m·n <= tol (a normal of the touching plane). Candidates: the direction from A's centroid to
-    B's, then the six axis directions; returns (nx, ny, nz, found). ``rel_tol`` is relative to the shapes' size."""
+def _normal_cone_direction(pa, pb, px, py, pz, tol):
+    """A unit n with n·(a − p) <= tol for every row a of A and n·(p − b) <= tol for every row b of B, where p is a
+    point common to the two hulls: then max over A of n·a = n·p = min over B of n·b, so n is the normal of a plane
+    through p that separates the hulls — a direction of the normal cone of M = A − B at the origin. That cone is
+    the polar of the cone spanned by the generators g (every a − p and p − b); its edges are orthogonal to two
+    generators, so every ±g_i × g_k is tried and the normalised sum of those that qualify (a direction inside the
+    cone) is returned, with found; when they cancel (a cone holding a whole line), −Σ ĝ, else one qualifying edge.
+    O((n + m)³)."""
+    na = pa.shape[0]
+    n = na + pb.shape[0]
+    G = np.empty((n, 3))
+    for i in range(na):
+        G[i, 0], G[i, 1], G[i, 2] = pa[i, 0] - px, pa[i, 1] - py, pa[i, 2] - pz
+    for j in range(pb.shape[0]):
+        G[na + j, 0], G[na + j, 1], G[na + j, 2] = px - pb[j, 0], py - pb[j, 1], pz - pb[j, 2]
+    sx = 0.0
+    sy = 0.0
+    sz = 0.0
+    fx, fy, fz = 1.0, 0.0, 0.0  # the first qualifying edge
+    found = False
+    for i in range(n):
+        for k in range(i + 1, n):
+            cx, cy, cz, nonzero = _unit(G[i, 1] * G[k, 2] - G[i, 2] * G[k, 1], G[i, 2] * G[k, 0] - G[i, 0] * G[k, 2],
+                                        G[i, 0] * G[k, 1] - G[i, 1] * G[k, 0])
+            if not nonzero:
+                continue
+            for sgn in (1.0, -1.0):
+                ok = True
+                for j in range(n):
+                    if sgn * (cx * G[j, 0] + cy * G[j, 1] + cz * G[j, 2]) > tol:
+                        ok = False
+                        break
+                if ok:
+                    sx += sgn * cx
+                    sy += sgn * cy
+                    sz += sgn * cz
+                    if not found:
+                        fx, fy, fz = sgn * cx, sgn * cy, sgn * cz
+                    found = True
+    # the sum of the qualifying edges lies inside the cone, unless they cancel (a cone that holds a whole line,
+    # e.g. for two segments: then its edges are ±g_i × g_k and the inside is around −(ĝ_i + ĝ_k))
+    if found and _unit_within(G, sx, sy, sz, tol):
+        return _unit(sx, sy, sz)
+    mx = 0.0
+    my = 0.0
+    mz = 0.0
+    for j in range(n):
+        gx, gy, gz, nonzero = _unit(G[j, 0], G[j, 1], G[j, 2])
+        if nonzero:
+            mx -= gx
+            my -= gy
+            mz -= gz
+    if _unit_within(G, mx, my, mz, tol):
+        return _unit(mx, my, mz)
+    if found:
+        return fx, fy, fz, True
+    return 1.0, 0.0, 0.0, False
+
+
+@njit
+def _unit(x, y, z):
+    """(x, y, z) / |(x, y, z)|, rescaled before squaring; (1, 0, 0, False) for the zero vector."""
+    big = max(abs(x), abs(y), abs(z))
+    if big == 0.0:
+        return 1.0, 0.0, 0.0, False
+    x /= big
+    y /= big
+    z /= big
+    length = math.sqrt(x * x + y * y + z * z)
+    return x / length, y / length, z / length, True
+
+
+@njit
+def _unit_within(G, x, y, z, tol):
+    """Whether the unit direction of (x, y, z) exists and has n·g <= tol for every row g of G."""
+    nx, ny, nz, ok = _unit(x, y, z)
+    if not ok:
+        return False
+    for j in range(G.shape[0]):
+        if nx * G[j, 0] + ny * G[j, 1] + nz * G[j, 2] > tol:
+            return False
+    return True
+
+
+@njit
+def _touching_normal_at_vertex(pa, pb, rel_tol, px, py, pz):
+    """The origin is on the boundary of M = A − B, at the common point p of the two hulls (depth 0): a unit
+    direction n along which M does not extend, max over M of m·n <= tol (a normal of the touching plane).
+    Candidates: the direction from A's centroid to B's, then the six axis directions, then the normal cone of M
+    at the origin (``_normal_cone_direction``, for up to MAX_CONE_POINTS points); returns (nx, ny, nz, found).
+    ``rel_tol`` is relative to the shapes' size."""
     scale = 0.0
     for i in range(pa.shape[0]):
         for c in range(3):
@@ -147,21 +238,16 @@ def _touching_normal_at_vertex(pa, pb, rel_tol):
                 dy = sign
             else:
                 dz = sign
-        big = max(abs(dx), abs(dy), abs(dz))
-        if big == 0.0:
+        dx, dy, dz, nonzero = _unit(dx, dy, dz)  # rescaled first: a tiny (1e-162) direction's squares underflow
+        if not nonzero:
             continue
-        dx /= big  # rescale first: the squares of a tiny (e.g. 1e-162) direction would underflow
-        dy /= big
-        dz /= big
-        length = math.sqrt(dx * dx + dy * dy + dz * dz)
-        dx /= length
-        dy /= length
-        dz /= length
         ia = _support(pa, dx, dy, dz)
         ib = _support(pb, -dx, -dy, -dz)
         h = (pa[ia, 0] - pb[ib, 0]) * dx + (pa[ia, 1] - pb[ib, 1]) * dy + (pa[ia, 2] - pb[ib, 2]) * dz
         if h <= tol:
             return dx, dy, dz, True
+    if pa.shape[0] + pb.shape[0] <= MAX_CONE_POINTS:
+        return _normal_cone_direction(pa, pb, px, py, pz, tol)
     return 1.0, 0.0, 0.0, False
 
 
@@ -201,6 +287,9 @@ def _epa(pa, pb, W, IA, IB, n_simplex, max_iter, out):
             dx, dy, dz = sz, 0.0, -sx
         else:
             dx, dy, dz = -sy, sx, 0.0
+        # a unit d (rescaled before squaring): best below is then a length, comparable with EPA_TOL · size at any
+        # scale (with |d| ~ |segment| it was an area, and tiny shapes passed for flat)
+        dx, dy, dz, _ = _unit(dx, dy, dz)
         best = -1.0
         for sgn in (1.0, -1.0):
             _support_m(pa, pb, sgn * dx, sgn * dy, sgn * dz, V, VA, VB, 2)
@@ -248,7 +337,8 @@ def _epa(pa, pb, W, IA, IB, n_simplex, max_iter, out):
         out[1], out[2], out[3] = 1.0, 0.0, 0.0
         if nv == 1:
             # the origin is a vertex of M (GJK's one-point simplex): any direction of M's normal cone there
-            nx1, ny1, nz1, found = _touching_normal_at_vertex(pa, pb, EPA_TOL)
+            nx1, ny1, nz1, found = _touching_normal_at_vertex(pa, pb, EPA_TOL, pa[VA[0], 0], pa[VA[0], 1],
+                                                                pa[VA[0], 2])
             if found:
                 out[1], out[2], out[3] = nx1, ny1, nz1
         if nv == -2:
@@ -414,6 +504,8 @@ def _penetration(pa, pb, max_iter, out):
             out[1 + c] = (g[3 + c] - g[c]) / d if d > 0.0 else (1.0 if c == 0 else 0.0)
             out[4 + c] = g[c]
             out[7 + c] = g[3 + c]
+        if d == 0.0:  # touching without a full simplex: a direction of M's normal cone at the common point
+            out[1], out[2], out[3], _ = _touching_normal_at_vertex(pa, pb, EPA_TOL, g[0], g[1], g[2])
         return _EPA_SEPARATED
     return _epa(pa, pb, W, IA, IB, n, max_iter, out)
 

@@ -84,10 +84,6 @@ DESELECT: dict[str, str] = {
         "t_end = 1e3 s: 1e5 interpreted RK4 steps per example",
     "properties/test_falling.py::test_step_size_does_not_move_the_impact":
         "t_end = 1e3 s, twice per example: 2e5 interpreted RK4 steps per example",
-    "properties/test_sat.py::test_obb_overlap_agrees_with_coal":
-        "fails on the unmutated engine under the derandomized mutation profile (mutmut refuses to start): one "
-        "of its examples is two boxes with common axes 1e-6 apart (GJK and the exact SAT agree) that coal 3.0.3 "
-        "reports as colliding (coal.distance -3.0); the oracle, not the engine, is wrong there",
     "properties/test_adversarial.py::test_denormal_coordinates[grid]":
         "fails interpreted only (NUMBA_DISABLE_JIT=1): int(NaN) raises in uniform_grid._cell where the compiled "
         "cast does not; a broad-phase test in a file the narrowphase area runs",
