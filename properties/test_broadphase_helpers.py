@@ -8,7 +8,7 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import given
+from hypothesis import example, given
 from hypothesis import strategies as st
 
 from engine.broadphase import build_octree
@@ -37,6 +37,9 @@ def expected_cell_size(lo, hi):
     return size if size > 0.0 else 1.0
 
 
+@example(0, 5, 3, 0.0, ())  # points: the spacing (V / n)^(1/3) decides
+@example(1, 10, 2, 1e-3, (1, 2))  # nearly points, one axis extended (k = 1)
+@example(2, 30, 3, 1.0, ())  # boxes: twice the mean side decides
 @given(st.integers(0, 2**32 - 1), st.integers(1, 50), st.integers(1, 3), st.sampled_from([0.0, 1e-3, 1.0, 5.0]),
        st.sampled_from([(), (0,), (1, 2), (0, 1, 2)]))
 def test_default_cell_size_is_the_documented_formula(seed, n, d, side_scale, flat_axes):
