@@ -160,6 +160,20 @@ def test_area_ratio_of_small_trees():
     assert math.isclose(tree.area_ratio(), (5.6 + 3.6 + 3.6) / 5.6, rel_tol=1e-12)
     tree.remove(a)
     assert tree.area_ratio() == 1.0
+    # in 1-D the cost is the length: fat boxes [-0.1, 1.1] and [1.9, 3.1] under a root [-0.1, 3.1], whether built
+    # in batch or by inserts (the unused axes are not fattened)
+    batch = DynamicAABBTree.from_boxes([[0.0], [2.0]], [[1.0], [3.0]])
+    incremental = DynamicAABBTree(dim=1)
+    incremental.insert([0.0], [1.0])
+    incremental.insert([2.0], [3.0])
+    for one_d in (batch, incremental):
+        assert math.isclose(one_d.area_ratio(), (3.2 + 1.2 + 1.2) / 3.2, rel_tol=1e-12)
+    small = DynamicAABBTree(margin=0.0)
+    small.insert([0.0, 0.0, 0.0], [0.1, 0.1, 0.1])
+    assert small.area_ratio() == 1.0  # a root smaller than 1 still counts
+    point = DynamicAABBTree(margin=0.0)
+    point.insert([1.0, 2.0, 3.0], [1.0, 2.0, 3.0])
+    assert point.area_ratio() == 0.0  # a root of zero size: no ratio (and no division by zero)
 
 
 @given(st.integers(0, 2**32 - 1), st.integers(1, 30), st.integers(1, 3),
