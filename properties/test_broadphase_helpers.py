@@ -106,6 +106,7 @@ def test_build_octree_is_the_documented_loose_octree(seed, n, d, leaf_size, dupl
         np.testing.assert_array_equal(node_lo[node], lo3[below].min(axis=0))
         np.testing.assert_array_equal(node_hi[node], hi3[below].max(axis=0))
         if n_children[node] == 0:
+            assert child0[node] == -1  # documented mark of a leaf
             in_leaves += below
             # a leaf holds at most leaf_size objects, unless all their centres coincide (no cut separates them)
             assert len(below) <= leaf_size or np.all(centre[below] == centre[below[0]])
