@@ -34,6 +34,8 @@ AREAS: dict[str, dict[str, list[str]]] = {
             "properties/test_dynamic_tree_quality.py",
             "properties/test_broadphase_large_grids.py",
             "properties/test_broadphase_helpers.py",
+            "properties/test_broadphase_api_edges.py",
+            "properties/test_broadphase_pruning.py",
         ],
     },
     "gas": {
