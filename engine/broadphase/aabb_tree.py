@@ -60,6 +60,9 @@ def _own_cost(node_lo, node_hi, a):
 @njit
 def _insert_leaf_kernel(leaf, new_parent, root, node_lo, node_hi, parent, child1, child2, height):
     # Box2D b2DynamicTree::InsertLeaf: descend along the cheapest branch, then pair the leaf with the sibling.
+    # With P(box) the sum of its sides and U = P(node ∪ leaf): stopping at an inner node costs 2U; going into a
+    # child c costs P(c ∪ leaf) + 2(U − P(node)), minus P(c) when c is an inner node (only its growth counts).
+    # Stop when stopping is strictly cheaper than both children; otherwise go to child1 on a tie.
     if root == -1:
         parent[leaf] = -1
         return leaf
@@ -364,7 +367,8 @@ class DynamicAABBTree:
         return int(obj_id)
 
     def _fat(self, lo3, hi3):
-        grow = 0.1 * float((hi3 - lo3).max()) if self.margin is None else self.margin
+        grow = np.zeros(3)  # along the tree's d axes only: the unused axes stay flat (cost = d-D perimeter)
+        grow[: self._d] = 0.1 * float((hi3 - lo3).max()) if self.margin is None else self.margin
         fat_lo = lo3 - grow
         fat_hi = hi3 + grow
         return np.minimum(fat_lo, lo3), np.maximum(fat_hi, hi3)  # round-off never shrinks the fat box
@@ -409,6 +413,37 @@ class DynamicAABBTree:
     def ids(self) -> np.ndarray:
         """The live ids, ascending, int64 (m,)."""
         return np.flatnonzero(self._obj_node[: self._n_ids] >= 0).astype(np.int64)
+
+    def fat_box(self, obj_id) -> tuple[np.ndarray, np.ndarray]:
+        """The fattened box (fat_lo, fat_hi), (d,) each (copies), that object ``obj_id``'s leaf stores.
+
+        It is the object's box grown on each side by ``margin`` (or, with ``margin=None``, by 10 % of the
+        largest side of the box it had when its leaf was last inserted); ``move`` keeps the leaf while the
+        object's box stays inside it.
+        """
+        leaf = self._obj_node[self._check_id(obj_id)]
+        return self._node_lo[leaf, : self._d].copy(), self._node_hi[leaf, : self._d].copy()
+
+    def area_ratio(self) -> float:
+        """Tree quality: the summed box cost of all the nodes of the tree (leaves and inner nodes) over the root's.
+
+        Box2D's ``b2DynamicTree::GetAreaRatio``, with the cost that ``insert`` uses to choose a leaf's sibling (the
+        sum of a box's sides: Box2D's perimeter, in 1-3 D). The expected cost of a query grows with it (the
+        surface-area heuristic of Goldsmith and Salmon, 1987, which Box2D's insertion cost follows); the leaves'
+        share is fixed by the fat boxes, so two trees over the same leaves differ by their inner nodes. 0.0 for
+        an empty tree or a root box of zero size.
+        """
+        if self._root == -1:
+            return 0.0
+        total = 0.0
+        stack = [self._root]
+        while stack:
+            node = stack.pop()
+            total += float((self._node_hi[node] - self._node_lo[node]).sum())
+            if self._child1[node] != -1:
+                stack += [int(self._child1[node]), int(self._child2[node])]
+        root = float((self._node_hi[self._root] - self._node_lo[self._root]).sum())
+        return total / root if root > 0.0 else 0.0
 
     def insert(self, lo_i, hi_i) -> int:
         """Insert the box [lo_i, hi_i] ((d,) each); returns the object's id (freed ids are reused)."""
@@ -519,7 +554,8 @@ class DynamicAABBTree:
         if margin == 0.0:
             fat_lo, fat_hi = lo3, hi3
         else:
-            grow = (0.1 * (hi3 - lo3).max(axis=1) if margin is None else np.full(n, tree.margin))[:, None]
+            grow = np.zeros((n, 3))  # along the d axes only, as in ``_fat``
+            grow[:, : tree._d] = (0.1 * (hi3 - lo3).max(axis=1) if margin is None else np.full(n, tree.margin))[:, None]
             fat_lo = np.minimum(lo3 - grow, lo3)
             fat_hi = np.maximum(hi3 + grow, hi3)
         tree._build_from(np.arange(n, dtype=np.int64), fat_lo, fat_hi)

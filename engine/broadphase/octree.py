@@ -155,8 +155,8 @@ def build_octree(lo, hi, leaf_size: int = 8):
     """The loose octree of boxes lo, hi ((n, d)) as index arrays.
 
     Returns (perm, node_lo, node_hi, first, last, child0, n_children): node k's loose bounds are node_lo[k],
-    node_hi[k] ((3,)); a leaf (n_children[k] == 0) holds objects perm[first[k]:last[k]]; an inner node's
-    children are nodes child0[k] .. child0[k] + n_children[k] − 1; node 0 is the root.
+    node_hi[k] ((3,)); a leaf (n_children[k] == 0, child0[k] == −1) holds objects perm[first[k]:last[k]]; an
+    inner node's children are nodes child0[k] .. child0[k] + n_children[k] − 1; node 0 is the root.
     """
     if isinstance(leaf_size, bool) or not isinstance(leaf_size, int | np.integer) or leaf_size < 1:
         raise ValueError(f"leaf_size must be an int >= 1, got {leaf_size!r}")

@@ -187,7 +187,12 @@ def _default_cell_size(lo, hi):
 
 
 def default_cell_size(lo, hi) -> float:
-    """The grid's default cell side for boxes lo, hi ((n, d)): twice their mean largest side (> 0)."""
+    """The grid's default cell side for boxes lo, hi ((n, d)) (> 0; 1.0 for n = 0).
+
+    max(2 × the mean over the boxes of their largest side, (V / n)^(1/k)), where the scene's extent (largest hi
+    minus smallest lo) is positive along k of the axes and V is the product of those extents (the side of a
+    cell holding one object on average: the fallback of point-like scenes; 0 when k = 0); 1.0 if that is 0.
+    """
     lo3, hi3 = as_boxes_3d(lo, hi)
     if lo3.shape[0] == 0:
         return 1.0

@@ -31,6 +31,11 @@ AREAS: dict[str, dict[str, list[str]]] = {
             "properties/test_broadphase_kinematic.py",
             "properties/test_dynamic_tree_edges.py",
             "properties/test_kinematic_inputs.py",
+            "properties/test_dynamic_tree_quality.py",
+            "properties/test_broadphase_large_grids.py",
+            "properties/test_broadphase_helpers.py",
+            "properties/test_broadphase_api_edges.py",
+            "properties/test_broadphase_pruning.py",
         ],
     },
     "gas": {
