@@ -4,7 +4,8 @@ Entries (boxes entering cells, or sphere centres) are sorted by their cell numbe
 end up contiguous. One counting sort over millions of cells would thrash the cache with its counters, so the
 sort runs in two passes whose counters both stay in cache: first on the high bits of the cell number (at most
 2048 buckets, ``radix_split``), the payload moved bucket by bucket by the caller, then each bucket on its low
-bits (``sort_within_buckets``), which gives every entry its final slot.
+bits (``sort_within_buckets``), which gives every entry its final slot. ``cell_of`` gives the cell column of a
+coordinate, the same way for every grid.
 """
 from __future__ import annotations
 
@@ -14,6 +15,19 @@ from engine._config import njit
 
 #: most buckets of the first pass (their counters fit in cache)
 MAX_BUCKETS = 2048
+
+
+@njit
+def cell_of(v, origin, inv_size, k):
+    """Grid column of coordinate v: floor((v − origin) / size) clamped to [0, k) — monotone in v. A NaN
+    (0 · inf when a span below the denormal range gives an infinite 1 / size) counts as column 0, like any value
+    below the origin: only finite values in [0, k) reach the float → int conversion (it is undefined outside)."""
+    t = (v - origin) * inv_size
+    if not t >= 0.0:
+        return 0
+    if t >= k:
+        return k - 1
+    return int(t)
 
 
 @njit

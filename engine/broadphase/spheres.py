@@ -27,7 +27,7 @@ import numpy as np
 from engine._config import njit
 from engine._validate import as_choice, as_float_array, as_nonnegative
 from engine.bounding.sphere import spheres_touch
-from engine.broadphase.counting_sort import radix_split, sort_within_buckets
+from engine.broadphase.counting_sort import cell_of, radix_split, sort_within_buckets
 from engine.broadphase.pairs import _canonical_pairs_kernel, _grow, empty_pairs
 
 __all__ = ["sphere_pairs", "spheres_overlap_pairs"]
@@ -89,9 +89,9 @@ def _sphere_grid_sort(c, r, large, origin, inv, nx, ny, nz, cell, start, sx, sy,
         if large[i]:
             cell[i] = -1
             continue
-        ix = min(int((c[i, 0] - origin[0]) * inv), nx - 1)
-        iy = min(int((c[i, 1] - origin[1]) * inv), ny - 1)
-        iz = min(int((c[i, 2] - origin[2]) * inv), nz - 1)
+        ix = cell_of(c[i, 0], origin[0], inv, nx)
+        iy = cell_of(c[i, 1], origin[1], inv, ny)
+        iz = cell_of(c[i, 2], origin[2], inv, nz)
         cell[i] = (iy * nz + iz) * nx + ix
         n_small += 1
     n_cells = nx * ny * nz

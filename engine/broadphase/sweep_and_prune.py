@@ -22,6 +22,7 @@ import numpy as np
 
 from engine._config import njit
 from engine._validate import as_float_array
+from engine.broadphase.counting_sort import cell_of
 from engine.broadphase.pairs import _canonical_pairs_kernel, _grow, as_boxes, as_boxes_3d, empty_pairs, with_tests
 
 __all__ = ["sweep_intervals", "sap_pairs", "sap_example_trace", "IncrementalSAP", "SLIDE_EXAMPLE"]
@@ -158,17 +159,6 @@ def sap_example_trace(begin=None, end=None, labels=None) -> str:
 # 3-D: sort on one axis, sweep it, prune on the others
 # ---------------------------------------------------------------------------------------------------------
 @njit
-def _cell_of(v, origin, inv_size, k):
-    """Grid column of coordinate v: floor((v - origin) / size) clamped to [0, k) — monotone in v."""
-    c = int((v - origin) * inv_size)
-    if c < 0:
-        return 0
-    if c >= k:
-        return k - 1
-    return c
-
-
-@njit
 def _sweep_sorted_kernel(order, lo, hi, axis, n_objects):
     # Chapter SAP slide in 3-D, box-pruning form (Ericson 7.5.2): boxes sorted by b on `axis`; for box p the
     # boxes q after it with b_q <= e_p are exactly those in the active list when p enters; test the two other
@@ -216,10 +206,10 @@ def _sweep_sorted_kernel(order, lo, hi, axis, n_objects):
         entries = 0
         for p in range(m):
             o = order[p]
-            first1[p] = _cell_of(lo[o, a1], o1, inv1, k1)
-            last1[p] = _cell_of(hi[o, a1], o1, inv1, k1)
-            first2[p] = _cell_of(lo[o, a2], o2, inv2, k2)
-            last2[p] = _cell_of(hi[o, a2], o2, inv2, k2)
+            first1[p] = cell_of(lo[o, a1], o1, inv1, k1)
+            last1[p] = cell_of(hi[o, a1], o1, inv1, k1)
+            first2[p] = cell_of(lo[o, a2], o2, inv2, k2)
+            last2[p] = cell_of(hi[o, a2], o2, inv2, k2)
             entries += (last1[p] - first1[p] + 1) * (last2[p] - first2[p] + 1)
         if entries <= 4 * m or (k1 == 1 and k2 == 1):
             break
@@ -274,8 +264,8 @@ def _sweep_sorted_kernel(order, lo, hi, axis, n_objects):
                     tests += 1
                     if (b1[q] <= hi1) & (lo1 <= e1[q]) & (b2[q] <= hi2) & (lo2 <= e2[q]):
                         # report in the column of the overlap's lower corner only
-                        if (_cell_of(max(lo1, b1[q]), o1, inv1, k1) == c1
-                                and _cell_of(max(lo2, b2[q]), o2, inv2, k2) == c2):
+                        if (cell_of(max(lo1, b1[q]), o1, inv1, k1) == c1
+                                and cell_of(max(lo2, b2[q]), o2, inv2, k2) == c2):
                             if count == out.shape[0]:
                                 out = _grow(out, count + 1)
                             out[count, 0] = ident[p]

@@ -20,7 +20,7 @@ import numpy as np
 
 from engine._config import njit
 from engine._validate import as_positive
-from engine.broadphase.counting_sort import radix_split, sort_within_buckets
+from engine.broadphase.counting_sort import cell_of, radix_split, sort_within_buckets
 from engine.broadphase.pairs import _canonical_pairs_kernel, _grow, as_boxes_3d, boxes_overlap, empty_pairs, with_tests
 
 __all__ = ["grid_pairs", "default_cell_size"]
@@ -29,18 +29,11 @@ _MAX_CELLS_PER_BOX = 64
 
 
 @njit
-def _cell(v, origin, inv_size, k):
-    """Cell column of coordinate v along one axis: floor((v − origin)/size), clamped to [0, k) (monotone)."""
-    c = int((v - origin) * inv_size)
-    return 0 if c < 0 else (k - 1 if c >= k else c)
-
-
-@njit
 def _cell_range(lo, hi, i, origin, inv, dims):
     """First and last cell along x, y, z of box i."""
-    return (_cell(lo[i, 0], origin[0], inv, dims[0]), _cell(hi[i, 0], origin[0], inv, dims[0]),
-            _cell(lo[i, 1], origin[1], inv, dims[1]), _cell(hi[i, 1], origin[1], inv, dims[1]),
-            _cell(lo[i, 2], origin[2], inv, dims[2]), _cell(hi[i, 2], origin[2], inv, dims[2]))
+    return (cell_of(lo[i, 0], origin[0], inv, dims[0]), cell_of(hi[i, 0], origin[0], inv, dims[0]),
+            cell_of(lo[i, 1], origin[1], inv, dims[1]), cell_of(hi[i, 1], origin[1], inv, dims[1]),
+            cell_of(lo[i, 2], origin[2], inv, dims[2]), cell_of(hi[i, 2], origin[2], inv, dims[2]))
 
 
 @njit
@@ -137,9 +130,9 @@ def _grid_pairs_kernel(lo, hi, cell_size):
                     for q in range(p + 1, start[c + 1]):
                         tests += 1
                         if boxes_overlap(elo, ehi, p, q):
-                            if (_cell(max(elo[p, 0], elo[q, 0]), origin[0], inv, dims[0]) == cx
-                                    and _cell(max(elo[p, 1], elo[q, 1]), origin[1], inv, dims[1]) == cy
-                                    and _cell(max(elo[p, 2], elo[q, 2]), origin[2], inv, dims[2]) == cz):
+                            if (cell_of(max(elo[p, 0], elo[q, 0]), origin[0], inv, dims[0]) == cx
+                                    and cell_of(max(elo[p, 1], elo[q, 1]), origin[1], inv, dims[1]) == cy
+                                    and cell_of(max(elo[p, 2], elo[q, 2]), origin[2], inv, dims[2]) == cz):
                                 if count == out.shape[0]:
                                     out = _grow(out, count + 1)
                                 out[count, 0] = member[p]

@@ -89,7 +89,4 @@ DESELECT: dict[str, str] = {
         "t_end = 1e3 s: 1e5 interpreted RK4 steps per example",
     "properties/test_falling.py::test_step_size_does_not_move_the_impact":
         "t_end = 1e3 s, twice per example: 2e5 interpreted RK4 steps per example",
-    "properties/test_adversarial.py::test_denormal_coordinates[grid]":
-        "fails interpreted only (NUMBA_DISABLE_JIT=1): int(NaN) raises in uniform_grid._cell where the compiled "
-        "cast does not; a broad-phase test in a file the narrowphase area runs",
 }
