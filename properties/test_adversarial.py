@@ -298,3 +298,30 @@ def test_sphere_centre_on_a_capsule_axis(t, r_a, r_b):
                                radius_a=r_a, radius_b=r_b)
     assert c.separation == pytest.approx(-(r_a + r_b), abs=1e-12)
     assert abs(c.normal[0]) <= 1e-12 and abs(np.linalg.norm(c.normal) - 1.0) <= 1e-12
+
+
+@given(st.integers(0, 2**32 - 1), st.integers(-1000, 480), st.booleans())
+@example(seed=0, k=-1000, apart=True)
+@example(seed=1, k=480, apart=False)
+def test_narrow_phase_answers_scale_with_the_shapes_over_the_whole_range(seed, k, apart):
+    """Shapes scaled by 2^k (exact), from 2^-1000 to 2^480 (coordinates up to ~1e145): distances, depths and
+    separations scale by 2^k, normals do not change. (Below about 1e-60 squared cross products underflow and above
+    1e75 they overflow: the kernels solve such pairs on copies scaled into range.)"""
+    rng = np.random.default_rng(seed)
+    a = rng.normal(size=(int(rng.integers(1, 9)), 3))
+    b = rng.normal(size=(int(rng.integers(1, 9)), 3)) + (rng.normal(size=3) * 4.0 if apart else 0.3)
+    s = 2.0**k
+    d1, _, _ = engine.gjk_distance(a, b)
+    ds, ca, cb = engine.gjk_distance(a * s, b * s)
+    assert abs(ds / s - d1) <= 1e-9 * max(d1, 1.0)
+    assert abs(np.linalg.norm((ca - cb) / s) - ds / s) <= 1e-9 * max(d1, 1.0)  # (norm of 1e-301s underflows)
+    depth1, n1 = engine.epa_penetration(a, b)
+    depth_s, n_s = engine.epa_penetration(a * s, b * s)
+    assert abs(depth_s / s - depth1) <= 1e-9 * max(depth1, 1.0)
+    if depth1 > 1e-6 or d1 > 1e-6:
+        assert np.allclose(n_s, n1, atol=1e-9), (n_s, n1)
+    c1 = engine.contact_feature(a, b)
+    c_s = engine.contact_feature(a * s, b * s)
+    assert abs(c_s.separation / s - c1.separation) <= 1e-9 * max(abs(c1.separation), 1.0)
+    assert np.allclose(c_s.normal, c1.normal, atol=1e-9) or abs(c1.separation) <= 1e-6
+    assert np.all(np.isfinite(c_s.points)) and np.allclose(c_s.points / s, c1.points, atol=1e-8)

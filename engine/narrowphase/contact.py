@@ -29,7 +29,15 @@ import numpy as np
 from .._config import njit
 from .._validate import as_float_array, as_nonnegative, as_positive
 from ..bounding.hull import HULL_EPS, _monotone_chain_kernel
-from .epa import _EPA_OK, EPA_TOL, EPANotConverged, _epa, _minkowski_fallback, _touching_normal_at_vertex
+from .epa import (
+    _EPA_OK,
+    EPA_TOL,
+    EPANotConverged,
+    _epa,
+    _largest_coordinate,
+    _minkowski_fallback,
+    _touching_normal_at_vertex,
+)
 from .gjk import (
     _NOT_CONVERGED,
     _OVERLAP,
@@ -39,6 +47,7 @@ from .gjk import (
     _check_offsets,
     _gjk,
     check_pairs,
+    rescale_unit,
 )
 
 __all__ = ["Contact", "ContactBatch", "contact_feature", "contact_feature_pairs", "time_of_impact",
@@ -444,7 +453,20 @@ def _features(pa, pb, ra, rb, n, ca, cb, ftol, S, FA, FB, buf, out_points, start
 def _normal_and_depth(pa, pb, max_iter, out, W, IA, IB, lam, g, work_i, work_f):
     """GJK (Ericson 9.5), then EPA (van den Bergen 4.3.3) when the hulls overlap: out = signed distance of the
     hulls (> 0 apart, −depth overlapping), normal (3, A towards B), closest/deepest point of A (3) and of B (3).
-    Returns _OK, _GJK_FAILED or _EPA_FAILED (the caller then takes Qhull's exact answer)."""
+    Returns _OK, _GJK_FAILED or _EPA_FAILED (the caller then takes Qhull's exact answer). Tiny or huge shapes are
+    solved on copies scaled by a power of two (``rescale_unit``, as ``epa._penetration``), the lengths scaled back."""
+    unit = rescale_unit(_largest_coordinate(pa, pb))
+    if unit == 1.0:
+        return _normal_and_depth_at_scale(pa, pb, max_iter, out, W, IA, IB, lam, g, work_i, work_f)
+    status = _normal_and_depth_at_scale(pa * unit, pb * unit, max_iter, out, W, IA, IB, lam, g, work_i, work_f)
+    out[0] /= unit
+    for c in range(4, 10):
+        out[c] /= unit
+    return status
+
+
+@njit
+def _normal_and_depth_at_scale(pa, pb, max_iter, out, W, IA, IB, lam, g, work_i, work_f):
     status, n_simplex = _gjk(pa, pb, max_iter, W, IA, IB, lam, g, work_i, work_f)
     if status == _NOT_CONVERGED:
         return _GJK_FAILED
@@ -509,6 +531,17 @@ def _contact_pairs(points, offsets, pairs, radii, ftol, max_iter, todo, geometry
         pb = points[offsets[j]:offsets[j + 1]]
         ra = radii[i]
         rb = radii[j]
+        # tiny or huge pairs are solved on copies scaled by a power of two (exact), lengths scaled back at the end
+        unit = rescale_unit(max(_largest_coordinate(pa, pb), ra, rb))
+        if unit != 1.0:
+            pa = pa * unit
+            pb = pb * unit
+            ra *= unit
+            rb *= unit
+            if not geometry:  # the given closest points are in the shapes' own units
+                for c in range(3):
+                    closest_a[p, c] *= unit
+                    closest_b[p, c] *= unit
         if geometry:
             st = _normal_and_depth(pa, pb, max_iter, out, W, IA, IB, lam, g, work_i, work_f)
             status[p] = st
@@ -528,6 +561,14 @@ def _contact_pairs(points, offsets, pairs, radii, ftol, max_iter, todo, geometry
         for c in range(3):
             closest_a[p, c] += ra * normal[p, c]
             closest_b[p, c] -= rb * normal[p, c]
+        if unit != 1.0:
+            if geometry:
+                separation[p] /= unit
+            for c in range(3):
+                closest_a[p, c] /= unit
+                closest_b[p, c] /= unit
+                for q in range(point_start[p], point_start[p] + cnt):
+                    out_points[q, c] /= unit
 
 
 @dataclass(frozen=True)

@@ -38,6 +38,7 @@ from .gjk import (
     _gjk,
     _support,
     check_pairs,
+    rescale_unit,
 )
 
 __all__ = ["EPANotConverged", "epa_penetration", "epa_penetration_pairs", "EPA_TOL"]
@@ -486,8 +487,32 @@ def _epa(pa, pb, W, IA, IB, n_simplex, max_iter, out):
 
 
 @njit
+def _largest_coordinate(pa, pb):
+    big = 0.0
+    for i in range(pa.shape[0]):
+        big = max(big, abs(pa[i, 0]), abs(pa[i, 1]), abs(pa[i, 2]))
+    for i in range(pb.shape[0]):
+        big = max(big, abs(pb[i, 0]), abs(pb[i, 1]), abs(pb[i, 2]))
+    return big
+
+
+@njit
 def _penetration(pa, pb, max_iter, out):
-    """GJK then EPA on one pair; out = depth, normal (3), witness on A (3), witness on B (3)."""
+    """GJK then EPA on one pair; out = depth, normal (3), witness on A (3), witness on B (3). Tiny or huge shapes
+    (``rescale_unit``) are solved on copies scaled by a power of two (``rescale_unit``: exact), so that no
+    squared length or cross product turns subnormal, and the lengths scaled back."""
+    unit = rescale_unit(_largest_coordinate(pa, pb))
+    if unit == 1.0:
+        return _penetration_at_scale(pa, pb, max_iter, out)
+    status = _penetration_at_scale(pa * unit, pb * unit, max_iter, out)
+    out[0] /= unit
+    for c in range(4, 10):
+        out[c] /= unit
+    return status
+
+
+@njit
+def _penetration_at_scale(pa, pb, max_iter, out):
     W = np.empty((4, 3))
     IA = np.empty(4, np.int64)
     IB = np.empty(4, np.int64)

@@ -51,6 +51,9 @@ MAX_ITERATIONS = 128
 REL_TOL = 1e-12
 #: distances below OVERLAP_TOL × (size of the Minkowski difference) count as contact (distance 0)
 OVERLAP_TOL = 1e-10
+#: pairs whose largest |coordinate| lies outside [2^-200, 2^200] are solved on copies scaled by a power of two
+#: (``rescale_unit``): squared lengths and squared cross products (degree 4) then neither underflow nor overflow
+RESCALE_ABOVE = 2.0**200
 
 # kernel status codes
 _SEPARATED = 0
@@ -73,13 +76,25 @@ class GJKNotConverged(RuntimeError):
 # ---------------------------------------------------------------------------------------------------------------
 
 @njit
+def rescale_unit(big):
+    """1.0, or — when ``big``, the largest |coordinate| of a pair of shapes, lies outside [2^-200, 2^200] — the
+    power of two that brings it into [0.5, 1) (between 2^-1000 and 2^1000, so that the factor itself is finite).
+    Scaling by it is exact (up to coordinates more than 2^1000 times smaller than the largest, far below its ulp)."""
+    if big > 0.0 and (big * RESCALE_ABOVE < 1.0 or big > RESCALE_ABOVE):
+        return math.ldexp(1.0, max(-1000, min(-math.frexp(big)[1], 1000)))
+    return 1.0
+
+
+@njit
 def _copy_shape(P, s, r0, n, S, row):
     """Copy rows ``P[s, r0:r0 + n]`` into the scratch rows ``S[row:row + 3, :n]`` (x, y, z: unit-stride support
-    scans) and return ``(ok, centroid)``; ok is False when a coordinate is NaN, ±inf or above MAX_MAGNITUDE. The
+    scans) and return ``(ok, centroid, big)``: ok is False when a coordinate is NaN, ±inf or above MAX_MAGNITUDE;
+    big is the largest |coordinate|. The
     sums run over even and odd rows: two short addition chains, not one long one. (A plain ``@njit``, not
     ``inline="always"``: numba's IR inlining of a function with array arguments adds reference counting to the
     caller's pair loop; LLVM inlines this one without it.)"""
     ok = True
+    big = 0.0
     x0 = 0.0
     y0 = 0.0
     z0 = 0.0
@@ -91,6 +106,8 @@ def _copy_shape(P, s, r0, n, S, row):
         y = P[s, r0 + i, 1]
         z = P[s, r0 + i, 2]
         ok &= (abs(x) <= MAX_MAGNITUDE) & (abs(y) <= MAX_MAGNITUDE) & (abs(z) <= MAX_MAGNITUDE)
+        m = max(abs(x), abs(y), abs(z))  # off the loop-carried chain, which gets one max per row
+        big = max(big, m)
         S[row, i] = x
         S[row + 1, i] = y
         S[row + 2, i] = z
@@ -102,7 +119,7 @@ def _copy_shape(P, s, r0, n, S, row):
             x1 += x
             y1 += y
             z1 += z
-    return ok, (x0 + x1) / n, (y0 + y1) / n, (z0 + z1) / n
+    return ok, (x0 + x1) / n, (y0 + y1) / n, (z0 + z1) / n, big
 
 
 @njit(inline="always")
@@ -314,8 +331,8 @@ def _gjk_loop(PA, PB, pairs, offsets, k_pairs, max_iter, W, IA, IB, lam, dist, c
         # copy both shapes into the scratch rows (x, y, z of A, then of B) for unit-stride support scans
         na = a1 - a0
         nb = b1 - b0
-        ok_a, cax, cay, caz = _copy_shape(PA, sa, a0, na, S, 0)
-        ok_b, cbx, cby, cbz = _copy_shape(PB, sb, b0, nb, S, 3)
+        ok_a, cax, cay, caz, big_a = _copy_shape(PA, sa, a0, na, S, 0)
+        ok_b, cbx, cby, cbz, big_b = _copy_shape(PB, sb, b0, nb, S, 3)
         ok = ok_a and ok_b
         if not ok:  # NaN, ±inf or a magnitude above MAX_MAGNITUDE: the caller raises
             status = _INVALID
@@ -323,6 +340,18 @@ def _gjk_loop(PA, PB, pairs, offsets, k_pairs, max_iter, W, IA, IB, lam, dist, c
             dist[p] = np.nan
             status_out[p] = status
             continue
+        # tiny or huge shapes: the copies are scaled by a power of two (exact) so that squared lengths stay normal
+        # numbers (squared distances below ~1e-154 turn subnormal and lose their digits)
+        unit = rescale_unit(max(big_a, big_b))
+        if unit != 1.0:
+            for i in range(na):
+                S[0, i] *= unit
+                S[1, i] *= unit
+                S[2, i] *= unit
+            for i in range(nb):
+                S[3, i] *= unit
+                S[4, i] *= unit
+                S[5, i] *= unit
         # start from a support point of M (so that every simplex vertex lies on M's boundary, as EPA assumes), in
         # the direction of M's centroid: the first support point is then already close to the answer
         dx = cax - cbx
@@ -544,7 +573,12 @@ def _gjk_loop(PA, PB, pairs, offsets, k_pairs, max_iter, W, IA, IB, lam, dist, c
             qz = 0.5 * (qz + rz)
             rx, ry, rz = qx, qy, qz
         else:
-            dist[p] = math.sqrt(vv)
+            dist[p] = math.sqrt(vv) / unit
+        if unit != 1.0:  # the simplex is handed on (to EPA) in the shapes' own coordinates
+            for k in range(n):
+                W[k, 0] /= unit
+                W[k, 1] /= unit
+                W[k, 2] /= unit
         closest_a[p, 0] = qx
         closest_a[p, 1] = qy
         closest_a[p, 2] = qz
