@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import math
 import statistics
+from fractions import Fraction
 
 import numpy as np
 import pytest
@@ -137,12 +138,21 @@ def test_maxwell_test_accepts_maxwell_speeds_and_rejects_equal_speeds():
 
 @given(arrays(np.float64, st.integers(1, 50), elements=st.floats(0.0, 1e3, **finite)).filter(lambda u: u.any()))
 def test_speed_moment_ratio_is_the_fourth_over_the_squared_second_moment(u):
-    n = u.shape[0]
-    m2 = sum(x * x for x in u) / n
-    m4 = sum(x**4 for x in u) / n
+    exact = [Fraction(float(x)) for x in u]  # exact rationals: no underflow of x⁴ in the oracle
+    m2 = sum(x * x for x in exact) / len(exact)
+    m4 = sum(x**4 for x in exact) / len(exact)
     ratio = speed_moment_ratio(u)
-    assert ratio == pytest.approx(m4 / (m2 * m2), rel=1e-9)
+    assert ratio == pytest.approx(float(m4 / (m2 * m2)), rel=1e-9)
     assert ratio >= 1.0 - 1e-12  # Cauchy–Schwarz, equality for equal speeds
+
+
+@given(arrays(np.float64, st.integers(1, 50), elements=st.floats(1e-3, 1e3, **finite)),
+       st.integers(-140, 140))
+def test_speed_moment_ratio_does_not_depend_on_the_unit_of_speed(u, decades):
+    """A dimensionless ratio: the same for speeds in any unit, however small or large (no under/overflow)."""
+    scaled = speed_moment_ratio(u * 10.0**decades)
+    assert math.isfinite(scaled)
+    assert scaled == pytest.approx(speed_moment_ratio(u), rel=1e-12)
 
 
 def test_speed_moment_ratio_of_maxwell_and_of_equal_speeds():
