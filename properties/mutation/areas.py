@@ -40,6 +40,7 @@ AREAS: dict[str, dict[str, list[str]]] = {
             "properties/test_gas_simulation.py",
             "properties/test_gas_observables.py",
             "properties/test_gas_kinetic_theory.py",
+            "properties/test_gas_argument_names.py",
         ],
     },
     "narrowphase": {
