@@ -76,6 +76,7 @@ def check_names(call, pattern):
     (lambda: maxwell_boltzmann_test([]), "speeds"),
     (lambda: speed_moment_ratio([[1.0, 2.0]]), "speeds"),
     (lambda: mean_and_standard_error([1.0, math.inf]), "values"),
+    (lambda: mean_and_standard_error([[1.0, 2.0], [3.0, 4.0]]), "values"),
 ])
 def test_observables_name_their_bad_argument_first(call, name):
     check_names(call, name)
