@@ -41,6 +41,7 @@ AREAS: dict[str, dict[str, list[str]]] = {
             "properties/test_gas_observables.py",
             "properties/test_gas_kinetic_theory.py",
             "properties/test_gas_argument_names.py",
+            "properties/test_gas_stepped_response.py",
         ],
     },
     "narrowphase": {
