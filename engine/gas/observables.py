@@ -123,12 +123,18 @@ def maxwell_boltzmann_test(speeds) -> tuple[float, float]:
 
 
 def speed_moment_ratio(speeds) -> float:
-    """⟨v⁴⟩/⟨v²⟩², 5/3 for a Maxwell–Boltzmann gas (1 when every speed is equal)."""
+    """⟨v⁴⟩/⟨v²⟩², 5/3 for a Maxwell–Boltzmann gas (1 when every speed is equal).
+
+    The ratio does not depend on the unit of speed: it is computed on u / max(u), so that u⁴ neither underflows
+    (speeds near 1e-80 gave ⟨v²⟩² = 0 and a ZeroDivisionError) nor overflows (speeds near 1e100 gave inf/inf).
+    """
     u = _speeds(speeds)
-    u2 = float(np.mean(u * u))
-    if u2 == 0.0:
+    top = float(u.max())
+    if top == 0.0:
         raise ValueError("speeds are all zero: the ratio is undefined")
-    return float(np.mean(u**4)) / (u2 * u2)
+    s = u / top
+    s2 = float(np.mean(s * s))  # >= 1/n: the largest s is 1
+    return float(np.mean(s**4)) / (s2 * s2)
 
 
 def mean_and_standard_error(values) -> tuple[float, float]:

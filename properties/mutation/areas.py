@@ -43,6 +43,10 @@ AREAS: dict[str, dict[str, list[str]]] = {
         "tests": [
             "properties/test_gas_elastic.py",
             "properties/test_gas_simulation.py",
+            "properties/test_gas_observables.py",
+            "properties/test_gas_kinetic_theory.py",
+            "properties/test_gas_argument_names.py",
+            "properties/test_gas_stepped_response.py",
         ],
     },
     "narrowphase": {
@@ -89,4 +93,12 @@ DESELECT: dict[str, str] = {
         "t_end = 1e3 s: 1e5 interpreted RK4 steps per example",
     "properties/test_falling.py::test_step_size_does_not_move_the_impact":
         "t_end = 1e3 s, twice per example: 2e5 interpreted RK4 steps per example",
+    "properties/test_gas_simulation.py::test_events_energy_drift_after_1e5_collisions":
+        "N = 256, 1e5 collisions twice (walls, periodic): > 10 min interpreted (a run stayed on it 10 min)",
+    "properties/test_gas_simulation.py::test_methods_agree_on_z_after_dt_extrapolation":
+        "N = 200 over t = 62 four times, stepped down to dt = 0.005 (12,400 frames): hours interpreted",
+    "properties/test_gas_simulation.py::test_speeds_relax_to_maxwell_boltzmann":
+        "N = 1000 for t = 5 (> 15,000 collisions): minutes interpreted",
+    "properties/test_gas_simulation.py::test_dense_fluid_from_a_lattice_up_to_eta_045":
+        "N = 500 at eta = 0.45 for t = 1 (thousands of collisions): minutes interpreted",
 }
