@@ -68,13 +68,13 @@ class DemoScene:
         return np.concatenate([y[3:], GRAVITY - self.drag * y[3:]])
 
     def _gap(self, body, center):
-        """Gap (y − f(x) at the lowest sample of the body's lower boundary) and the normal there."""
+        """Gap (min of y − f(x) over the body's lower boundary) and the normal at that point."""
         local = self.world.world_points(body) - self.world.pose(body)[0]
         geo = SimpleNamespace(padded_points=(center + local)[None], radius=np.array([self.world.radius(body)]))
         curve = self.world._grounds[self.ground]
         bnd = lower_boundary(geo, np.array([0]), curve.samples)
-        gap, idx = ground_gap(curve, bnd)
-        x = bnd[0, idx[0], 0]
+        gap, xs, _ = ground_gap(curve, bnd)
+        x = float(xs[0])
         slope = float(curve.slope(np.array([x]))[0])
         n = np.array([-slope, 1.0, 0.0]) / np.hypot(slope, 1.0)
         return float(gap[0]), n

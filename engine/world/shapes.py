@@ -135,7 +135,8 @@ class Plane(Shape):
 class HeightCurve(Shape):
     """``HeightCurve(f, *, samples=64)``: the curved ground, solid below y = f(x) (slide "Sol courbe"), extruded
     along z. ``f`` is a vectorised callable (numpy array -> array of the same shape), continuous; ``samples``
-    is the number of points per body on which the narrow test samples the body's lower boundary."""
+    is the number of points per body on which the narrow test samples the body's lower boundary (then refined
+    around the lowest one by golden-section search: ``dispatch.ground_gap``)."""
 
     kind = CURVE
 

@@ -502,12 +502,10 @@ class World:
             n_rows = up[None, :] * sign
         else:
             bnd = lower_boundary(geo, bodies, ground.samples)
-            gap, idx = ground_gap(ground, bnd)
-            x = bnd[np.arange(bodies.shape[0]), idx, 0]
+            gap, x, y = ground_gap(ground, bnd)
             slope = ground.slope(x)
             n2 = np.stack([-slope, np.ones_like(slope)], axis=1) / np.sqrt(1 + slope ** 2)[:, None]
             depth = -gap * n2[:, 1]
-            y = bnd[np.arange(bodies.shape[0]), idx, 1]
             z = geo.center[bodies, 2]
             feature = np.ones(bodies.shape[0], np.int64)
             for r, row in enumerate(rows.tolist()):
