@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from hypothesis import assume, given, settings
+from hypothesis import assume, example, given, settings
 from hypothesis import strategies as st
 from hypothesis.stateful import Bundle, RuleBasedStateMachine, consumes, invariant, rule
 
@@ -339,6 +339,7 @@ def test_move_and_back_restores_pairs_and_contacts(shapes, data, broad_phase):
 
 @given(bodies, st.floats(0.2, 1.5), st.floats(0.3, 3.0), st.floats(-3.0, 3.0))
 @settings(max_examples=60)
+@example(Box([0.0, 2.0, 0.0], [1.0, 0.625, 1.0]), 1.5, 2.0, 0.0)  # f's crest between the bottom corners
 def test_curve_ground_against_dense_sampling(shape, amplitude, wavenumber, level):
     def f(x):
         return level + amplitude * np.sin(wavenumber * x)
