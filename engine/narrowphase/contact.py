@@ -453,20 +453,8 @@ def _features(pa, pb, ra, rb, n, ca, cb, ftol, S, FA, FB, buf, out_points, start
 def _normal_and_depth(pa, pb, max_iter, out, W, IA, IB, lam, g, work_i, work_f):
     """GJK (Ericson 9.5), then EPA (van den Bergen 4.3.3) when the hulls overlap: out = signed distance of the
     hulls (> 0 apart, −depth overlapping), normal (3, A towards B), closest/deepest point of A (3) and of B (3).
-    Returns _OK, _GJK_FAILED or _EPA_FAILED (the caller then takes Qhull's exact answer). Tiny or huge shapes are
-    solved on copies scaled by a power of two (``rescale_unit``, as ``epa._penetration``), the lengths scaled back."""
-    unit = rescale_unit(_largest_coordinate(pa, pb))
-    if unit == 1.0:
-        return _normal_and_depth_at_scale(pa, pb, max_iter, out, W, IA, IB, lam, g, work_i, work_f)
-    status = _normal_and_depth_at_scale(pa * unit, pb * unit, max_iter, out, W, IA, IB, lam, g, work_i, work_f)
-    out[0] /= unit
-    for c in range(4, 10):
-        out[c] /= unit
-    return status
-
-
-@njit
-def _normal_and_depth_at_scale(pa, pb, max_iter, out, W, IA, IB, lam, g, work_i, work_f):
+    Returns _OK, _GJK_FAILED or _EPA_FAILED (the caller then takes Qhull's exact answer). ``_contact_pairs``, its
+    caller, hands it tiny or huge pairs already scaled into range (``rescale_unit``)."""
     status, n_simplex = _gjk(pa, pb, max_iter, W, IA, IB, lam, g, work_i, work_f)
     if status == _NOT_CONVERGED:
         return _GJK_FAILED
