@@ -104,17 +104,20 @@ def lower_boundary(geo, bodies, samples: int) -> np.ndarray:
 GOLDEN_STEPS = 40
 
 
-def _chord_heights(bx, by, rows, x):
-    """Heights L(x) on the chords through each row's boundary points: ``bx``, ``by`` (k, S) increasing in x per
-    row, ``rows`` (q,) and ``x`` (q,). One np.interp for every row: row r's abscissae are mapped to
-    u = 2r + (x − x_first) / width (rows then occupy disjoint, increasing stretches of u)."""
+def _chord_heights(bx, by):
+    """The heights L(rows, x) on the chords through each row's boundary points: ``bx``, ``by`` (k, S) increasing
+    in x per row; the returned function takes ``rows`` (q,) and ``x`` (q,). One np.interp for every row: row r's
+    abscissae are mapped to u = 2r + (x − x_first) / width (rows then occupy disjoint, increasing stretches of u)."""
     k = bx.shape[0]
     x0 = bx[:, 0]
     width = bx[:, -1] - x0
     span = np.where(width > 0, width, 1.0)
     u_nodes = (2.0 * np.arange(k)[:, None] + (bx - x0[:, None]) / span[:, None]).ravel()
-    u = 2.0 * rows + (x - x0[rows]) / span[rows]
-    return np.interp(u, u_nodes, by.ravel())
+    y_nodes = by.ravel()
+
+    def heights(rows, x):
+        return np.interp(2.0 * rows + (x - x0[rows]) / span[rows], u_nodes, y_nodes)
+    return heights
 
 
 def ground_gap(curve, boundary) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -133,8 +136,9 @@ def ground_gap(curve, boundary) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     t = np.linspace(0.0, 1.0, n_pts)
     xs = np.sort(np.concatenate([x0[:, None] + t[None, :] * (x1 - x0)[:, None], bx], axis=1), axis=1)
     xs = np.clip(xs, x0[:, None], x1[:, None])
+    chord = _chord_heights(bx, by)
     rows = np.repeat(np.arange(k), xs.shape[1])
-    g = (_chord_heights(bx, by, rows, xs.ravel()) - curve.height(xs.ravel())).reshape(k, -1)
+    g = (chord(rows, xs.ravel()) - curve.height(xs.ravel())).reshape(k, -1)
     i = np.argmin(g, axis=1)
     r = np.arange(k)
     best_g, best_x = g[r, i], xs[r, i]
@@ -145,7 +149,7 @@ def ground_gap(curve, boundary) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         c = b - phi * (b - a)
         d = a + phi * (b - a)
         both = np.concatenate([c, d])
-        gc, gd = np.split(_chord_heights(bx, by, np.concatenate([r, r]), both) - curve.height(both), 2)
+        gc, gd = np.split(chord(np.concatenate([r, r]), both) - curve.height(both), 2)
         for xq, gq in ((c, gc), (d, gd)):  # keep the lowest point seen (the search may only improve it)
             better = gq < best_g
             best_g = np.where(better, gq, best_g)
@@ -153,7 +157,7 @@ def ground_gap(curve, boundary) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         left = gc <= gd
         b = np.where(left, d, b)
         a = np.where(left, a, c)
-    return best_g, best_x, _chord_heights(bx, by, r, best_x)
+    return best_g, best_x, chord(r, best_x)
 
 
 def overlap_body_curve_rows(geo, ia, ib):
