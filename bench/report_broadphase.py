@@ -188,8 +188,8 @@ def time_find_pairs(cfg: dict) -> dict:
     call (compilation, caches), then ``repeats`` timed calls (perf_counter; minimum and median)."""
     import time
 
-    from bench.test_bench_broadphase import w2_spheres
     from engine.broadphase import find_pairs
+    from engine.workloads import w2_spheres
 
     centres, radius = w2_spheres(cfg["n"], cfg["packing_fraction"], seed=cfg["seed"])
     lo, hi = centres - radius, centres + radius

@@ -17,7 +17,6 @@ Log-log slopes of time against N: ``python bench/test_bench_broadphase.py`` (pri
 from __future__ import annotations
 
 import math
-import re
 import sys
 import time
 from pathlib import Path
@@ -28,33 +27,9 @@ import pytest
 if __name__ == "__main__":  # script mode: make `engine` importable from a checkout
     sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
+from bench.peers import ckdtree_pairs, coal_pairs, cpu_mhz, fcl_pairs  # noqa: E402
 from engine.broadphase import BROAD_PHASES, find_pairs, sphere_pairs  # noqa: E402
-
-SEED = 4
-
-
-def cpu_mhz() -> float:
-    """Nominal clock from /proc/cpuinfo ("cpu MHz"), MHz; NaN when unavailable."""
-    try:
-        text = Path("/proc/cpuinfo").read_text()
-    except OSError:
-        return math.nan
-    found = re.findall(r"cpu MHz\s*:\s*([0-9.]+)", text)
-    return float(found[0]) if found else math.nan
-
-
-def w1_boxes(n: int, seed: int = SEED):
-    """Terdiman's box-pruning workload: (lo, hi), (n, 3)."""
-    rng = np.random.default_rng(seed)
-    centre = rng.integers(-2048, 2048, size=(n, 3)).astype(float)
-    half = rng.integers(0, 128, size=(n, 3)).astype(float)
-    return centre - half, centre + half
-
-
-def w2_spheres(n: int, eta: float, seed: int = SEED, radius: float = 0.5):
-    """n equal spheres of radius ``radius`` uniform in a cube at packing fraction eta: (centres (n, 3), radius)."""
-    side = (n * math.pi * (2 * radius) ** 3 / (6 * eta)) ** (1 / 3)
-    return np.random.default_rng(seed).uniform(0.0, side, size=(n, 3)), radius
+from engine.workloads import w1_boxes, w2_spheres  # noqa: E402
 
 
 def _large(n):
@@ -94,47 +69,10 @@ def test_bench_w1_boxes(benchmark, quick, method, n):
 # ----------------------------------------------------------------------------------------------------------
 # W2: spheres, ours against the peers
 # ----------------------------------------------------------------------------------------------------------
-def ckdtree_pairs(centres, radius):
-    from scipy.spatial import cKDTree
-
-    return cKDTree(centres).query_pairs(2 * radius, output_type="ndarray")
 
 
-def fcl_pairs(centres, radius):
-    import fcl
-
-    objects = [fcl.CollisionObject(fcl.Sphere(radius), fcl.Transform(c)) for c in centres]
-    index = {tuple(c): i for i, c in enumerate(centres.tolist())}
-    manager = fcl.DynamicAABBTreeCollisionManager()
-    manager.registerObjects(objects)
-    manager.setup()
-    found = []
-
-    def collect(o1, o2, _):
-        # a fresh request/result per call (DESIGN.md section 5: reused results keep stale state)
-        if fcl.collide(o1, o2, fcl.CollisionRequest(), fcl.CollisionResult()):
-            found.append((index[tuple(o1.getTranslation())], index[tuple(o2.getTranslation())]))
-        return False
-
-    manager.collide(None, collect)
-    return found
 
 
-def coal_pairs(centres, radius):
-    import coal
-
-    manager = coal.DynamicAABBTreeCollisionManager()
-    keep = []
-    for c in centres:
-        transform = coal.Transform3s()
-        transform.setTranslation(c)
-        obj = coal.CollisionObject(coal.Sphere(radius), transform)
-        keep.append(obj)
-        manager.registerObject(obj)
-    manager.setup()
-    callback = coal.CollisionCallBackCollect(max(16, 4 * len(centres)))
-    manager.collide(callback)
-    return callback.numCollisionPairs()
 
 
 W2_SIZES = [1_000, 10_000, 100_000, 1_000_000]

@@ -20,47 +20,14 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from scipy.spatial.transform import Rotation
 
-from engine.world import Box, ConvexPolyhedron, Sphere, World
-
-SEED = 8
-STEP = 0.02
-
-
-def mixed_scene(n: int, seed: int = SEED):
-    """(shapes, centers (n, 3), rotations (n, 3, 3)) of the benchmark scene."""
-    rng = np.random.default_rng(seed)
-    kinds = rng.choice(3, size=n, p=[0.4, 0.3, 0.3])
-    mean_volume = 4 / 3 * np.pi * 0.6 ** 3
-    side = (n * mean_volume / 0.1) ** (1 / 3)
-    centers = rng.uniform(0.0, side, size=(n, 3))
-    rotations = Rotation.random(n, random_state=seed).as_matrix()
-    shapes = []
-    for i in range(n):
-        if kinds[i] == 0:
-            shapes.append(Sphere(centers[i], rng.uniform(0.3, 0.7)))
-        elif kinds[i] == 1:
-            shapes.append(Box(centers[i], rng.uniform(0.2, 0.6, 3), rotations[i]))
-        else:
-            pts = rng.normal(size=(int(rng.integers(12, 21)), 3))
-            pts *= 0.5 / np.linalg.norm(pts, axis=1, keepdims=True).max()
-            shapes.append(ConvexPolyhedron(centers[i] + pts))
-    return shapes, centers, rotations
-
-
-def frames(centers, rounds: int, seed: int = SEED + 1):
-    rng = np.random.default_rng(seed)
-    out, c = [], centers
-    for _ in range(rounds):
-        c = c + rng.normal(0.0, STEP, c.shape)
-        out.append(c)
-    return out
+from engine.workloads import mixed_world_scene, random_steps
+from engine.world import Box, Sphere, World
 
 
 @pytest.fixture(scope="module")
 def scene(quick):
-    return mixed_scene(2_000 if quick else 10_000)
+    return mixed_world_scene(2_000 if quick else 10_000)
 
 
 def _world(shapes, broad_phase):
@@ -75,7 +42,7 @@ def test_bench_world_frame(benchmark, scene, broad_phase):
     shapes, centers, _ = scene
     w, ids = _world(shapes, broad_phase)
     w.pairs()  # compile
-    todo = iter(frames(centers, 50))
+    todo = iter(random_steps(centers, 50))
 
     def frame():
         w.update(ids, next(todo))
@@ -112,7 +79,7 @@ def _trimesh_manager(shapes):
 def test_bench_trimesh_frame(benchmark, scene):
     shapes, centers, rotations = scene
     manager, names = _trimesh_manager(shapes)
-    todo = iter(frames(centers, 10))
+    todo = iter(random_steps(centers, 10))
     transform = np.tile(np.eye(4), (len(shapes), 1, 1))
     transform[:, :3, :3] = np.array([s.rotation for s in shapes])
 
@@ -150,7 +117,7 @@ def test_bench_coal_frame(benchmark, scene):
         objects.append(obj)
         manager.registerObject(obj)
     manager.setup()
-    todo = iter(frames(centers, 10))
+    todo = iter(random_steps(centers, 10))
 
     def frame():
         for obj, c in zip(objects, next(todo)):

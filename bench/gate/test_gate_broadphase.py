@@ -14,8 +14,9 @@ import time
 import numpy as np
 import pytest
 
-from bench.test_bench_broadphase import ckdtree_pairs, w1_boxes, w2_spheres
+from bench.peers import ckdtree_pairs
 from engine.broadphase import BROAD_PHASES, find_pairs, sphere_pairs
+from engine.workloads import w1_boxes, w2_spheres
 
 N_GATE = 5_000
 ROUNDS = 7
