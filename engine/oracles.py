@@ -1,10 +1,20 @@
-"""Independent reference answers used by the properties and by the validation reports (naive or third-party,
-never the engine's own code)."""
+"""Independent reference answers for the falling bodies, used by the properties and by the validation reports.
+
+Each answer comes from closed-form physics or from a third-party integrator (scipy's ``solve_ivp``), never from
+the engine's own kernels: this module imports nothing from the engine, so that it can judge it.
+
+- ``free_fall_impacts(height, n_impacts)`` — no drag, e = 1: the k-th impact at sqrt(2h/g)(2k + 1);
+- ``reference_impacts(height, mass, drag, restitution, n_impacts, ...)`` — impact times under linear and
+  quadratic drag by ``solve_ivp`` (RK45, rtol = atol = 1e-12) with a terminal event at the ground.
+"""
 from __future__ import annotations
 
 import numpy as np
 from scipy.integrate import solve_ivp
 
+__all__ = ["free_fall_impacts", "reference_impacts"]
+
+#: gravity, m/s²
 G = 9.81
 
 
