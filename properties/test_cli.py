@@ -85,3 +85,12 @@ def test_hull_answers_in_json(capsys):
 def test_sap_example_prints_the_slides_pairs(capsys):
     code, out, _ = run(capsys, "sap-example")
     assert code == 0 and "pairs" in out.lower()
+
+
+def test_warmup_runs_every_area(capsys):
+    from engine.warmup import WARMUP_STEPS
+
+    assert [area for area, _ in WARMUP_STEPS] == ["falling bodies", "bounding volumes", "broad phase",
+                                                  "narrow phase", "pipeline (World)", "gas"]
+    code, out, err = run(capsys, "warmup", "--no-progress")
+    assert code == 0 and out.startswith("every kernel is compiled and cached (") and err == ""
