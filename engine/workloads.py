@@ -44,6 +44,7 @@ def mixed_world_scene(n: int, seed: int = 8):
     from scipy.spatial.transform import Rotation
 
     from engine.world import Box, ConvexPolyhedron, Sphere
+    from engine.world.shapes import Shape
 
     rng = np.random.default_rng(seed)
     kinds = rng.choice(3, size=n, p=[0.4, 0.3, 0.3])
@@ -51,7 +52,7 @@ def mixed_world_scene(n: int, seed: int = 8):
     side = (n * mean_volume / 0.1) ** (1 / 3)
     centers = rng.uniform(0.0, side, size=(n, 3))
     rotations = Rotation.random(n, random_state=seed).as_matrix()
-    shapes = []
+    shapes: list[Shape] = []
     for i in range(n):
         if kinds[i] == 0:
             shapes.append(Sphere(centers[i], rng.uniform(0.3, 0.7)))
