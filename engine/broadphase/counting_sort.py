@@ -5,7 +5,7 @@ end up contiguous. One counting sort over millions of cells would thrash the cac
 sort runs in two passes whose counters both stay in cache: first on the high bits of the cell number (at most
 2048 buckets, ``radix_split``), the payload moved bucket by bucket by the caller, then each bucket on its low
 bits (``sort_within_buckets``), which gives every entry its final slot. ``cell_of`` gives the cell column of a
-coordinate, the same way for every grid.
+coordinate and ``grid_dims`` the cells per axis under a cap on their number, the same way for every grid.
 """
 from __future__ import annotations
 
@@ -28,6 +28,25 @@ def cell_of(v, origin, inv_size, k):
     if t >= k:
         return k - 1
     return int(t)
+
+
+@njit
+def grid_dims(origin, top, cell_size, max_cells):
+    """(side, nx, ny, nz): cells of side ``cell_size`` over the box [origin, top] ((3,) float64 each), the side
+    doubled until the grid has at most ``max_cells`` cells (a cap on memory: far-apart clusters then share
+    coarse cells)."""
+    size = cell_size
+    while True:
+        total = 1.0
+        for k in range(3):
+            total *= np.floor((top[k] - origin[k]) / size) + 1.0
+        if total <= max_cells:
+            break
+        size *= 2.0
+    nx = int(np.floor((top[0] - origin[0]) / size)) + 1
+    ny = int(np.floor((top[1] - origin[1]) / size)) + 1
+    nz = int(np.floor((top[2] - origin[2]) / size)) + 1
+    return size, nx, ny, nz
 
 
 @njit

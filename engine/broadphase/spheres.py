@@ -27,8 +27,8 @@ import numpy as np
 from engine._config import njit
 from engine._validate import as_choice, as_float_array, as_nonnegative
 from engine.bounding.sphere import spheres_touch
-from engine.broadphase.counting_sort import cell_of, radix_split, sort_within_buckets
-from engine.broadphase.pairs import _canonical_pairs_kernel, _grow, empty_pairs
+from engine.broadphase.counting_sort import cell_of, grid_dims, radix_split, sort_within_buckets
+from engine.broadphase.pairs import canonical_pairs, canonicalise_pairs, empty_pairs, push_pair
 
 __all__ = ["sphere_pairs", "spheres_overlap_pairs"]
 
@@ -46,46 +46,35 @@ def _spheres_touch(c, r, i, j):
 
 
 @njit
-def _sphere_grid_shape(c, cell_size):
-    """(origin (3,), 1/side, nx, ny, nz) of the grid over the centres c (n, 3), at most ~32n cells."""
-    n = c.shape[0]
-    origin = np.empty(3)
-    top = np.empty(3)
-    for k in range(3):
-        origin[k] = np.inf
-        top[k] = -np.inf
-    for i in range(n):
+def _point_bounds(c):
+    """(lowest, highest) coordinate of the points c (n, 3) along each axis, (3,) each."""
+    lo = np.full(3, np.inf)
+    hi = np.full(3, -np.inf)
+    for i in range(c.shape[0]):
         for k in range(3):
             v = c[i, k]
-            if v < origin[k]:
-                origin[k] = v
-            if v > top[k]:
-                top[k] = v
-    size = cell_size
-    while True:  # at most ~32n cells (about 3n at the default cell size)
-        total = 1.0
-        for k in range(3):
-            total *= np.floor((top[k] - origin[k]) / size) + 1.0
-        if total <= max(32.0 * n, 64.0):
-            break
-        size *= 2.0
-    nx = int(np.floor((top[0] - origin[0]) / size)) + 1
-    ny = int(np.floor((top[1] - origin[1]) / size)) + 1
-    nz = int(np.floor((top[2] - origin[2]) / size)) + 1
+            if v < lo[k]:
+                lo[k] = v
+            if v > hi[k]:
+                hi[k] = v
+    return lo, hi
+
+
+@njit
+def _sphere_grid_shape(c, cell_size):
+    """(origin (3,), 1/side, nx, ny, nz) of the grid over the centres c (n, 3), at most ~32n cells (about 3n at
+    the default cell size)."""
+    origin, top = _point_bounds(c)
+    size, nx, ny, nz = grid_dims(origin, top, cell_size, max(32.0 * c.shape[0], 64.0))
     return origin, 1.0 / size, nx, ny, nz
 
 
 @njit
-def _sphere_grid_sort(c, r, large, origin, inv, nx, ny, nz, cell, start, sx, sy, sz, sr, sid,
-                      b_cell, b_x, b_y, b_z, b_r, b_id):
-    # Ericson 7.1.2: one cell per sphere (its centre); cell side >= largest diameter, so a touching pair lies
-    # in the same or an adjacent cell. Counting sort of the spheres by cell number, x varying fastest, into a
-    # sorted structure of arrays (sx, sy, sz, sr, sid); a column (iy, iz) of cells is then one contiguous run
-    # ordered by ix, and start[cell] .. start[cell + 1] are the spheres of a cell. All arrays are work arrays
-    # given by the caller (reused between calls); returns the number of spheres placed in the grid.
-    n = c.shape[0]
+def _sphere_cells(c, large, origin, inv, nx, ny, nz, cell):
+    """cell[i] = the number of the cell of centre i, x varying fastest (−1 for the spheres kept out of the
+    grid); returns how many spheres are in the grid."""
     n_small = 0
-    for i in range(n):
+    for i in range(c.shape[0]):
         if large[i]:
             cell[i] = -1
             continue
@@ -94,39 +83,45 @@ def _sphere_grid_sort(c, r, large, origin, inv, nx, ny, nz, cell, start, sx, sy,
         iz = cell_of(c[i, 2], origin[2], inv, nz)
         cell[i] = (iy * nz + iz) * nx + ix
         n_small += 1
-    n_cells = nx * ny * nz
-    if n_cells <= _DIRECT_SORT_CELLS:  # the counters fit in cache: one counting sort straight into place
-        start[: n_cells + 1] = 0
-        for i in range(n):
-            if cell[i] >= 0:
-                start[cell[i] + 1] += 1
-        for t in range(n_cells):
-            start[t + 1] += start[t]
-        fill = start[:n_cells].copy()
-        for i in range(n):
-            key = cell[i]
-            if key >= 0:
-                p = fill[key]
-                fill[key] = p + 1
-                sx[p] = c[i, 0]
-                sy[p] = c[i, 1]
-                sz[p] = c[i, 2]
-                sr[p] = r[i]
-                sid[p] = i
-        return n_small
-    # larger grids: two-pass (MSD radix) counting sort, so the counters of each pass stay in cache: first on
-    # the high bits of the cell number (at most 2048 buckets), then each bucket on its low bits
+    return n_small
+
+
+@njit
+def _direct_sort(c, r, cell, n_cells, start, sx, sy, sz, sr, sid):
+    """One counting sort of the spheres by cell straight into the sorted arrays (the counters fit in cache)."""
+    start[: n_cells + 1] = 0
+    for i in range(c.shape[0]):
+        if cell[i] >= 0:
+            start[cell[i] + 1] += 1
+    for t in range(n_cells):
+        start[t + 1] += start[t]
+    fill = start[:n_cells].copy()
+    for i in range(c.shape[0]):
+        key = cell[i]
+        if key >= 0:
+            p = fill[key]
+            fill[key] = p + 1
+            sx[p] = c[i, 0]
+            sy[p] = c[i, 1]
+            sz[p] = c[i, 2]
+            sr[p] = r[i]
+            sid[p] = i
+
+
+@njit
+def _radix_sort(c, r, cell, n_cells, n_small, start, sx, sy, sz, sr, sid, b_cell, b_x, b_y, b_z, b_r, b_id):
+    """Two-pass (MSD radix) counting sort, so that the counters of each pass stay in cache: first on the high
+    bits of the cell number (at most 2048 buckets) moving every payload (cell, x, y, z, r, index) to its bucket
+    (sequential reads, one write stream per bucket and array), then each bucket on its low bits."""
     shift, n_buckets = radix_split(n_cells)
     bucket_start = np.zeros(n_buckets + 1, dtype=np.int64)
-    for i in range(n):
+    for i in range(c.shape[0]):
         if cell[i] >= 0:
             bucket_start[(cell[i] >> shift) + 1] += 1
     for b in range(n_buckets):
         bucket_start[b + 1] += bucket_start[b]
-    # pass 1 moves every payload (cell, x, y, z, r, index) to its bucket: sequential reads, one write stream
-    # per bucket and array
     fill_bucket = bucket_start[:-1].copy()
-    for i in range(n):
+    for i in range(c.shape[0]):
         if cell[i] >= 0:
             b = cell[i] >> shift
             q = fill_bucket[b]
@@ -137,7 +132,6 @@ def _sphere_grid_sort(c, r, large, origin, inv, nx, ny, nz, cell, start, sx, sy,
             b_z[q] = c[i, 2]
             b_r[q] = r[i]
             b_id[q] = i
-    # pass 2 sorts each bucket on the low bits of the cell number, within a cache-sized window
     dest = sort_within_buckets(b_cell[:n_small], bucket_start, shift, n_cells, start)
     for t in range(n_small):
         p = dest[t]
@@ -147,6 +141,22 @@ def _sphere_grid_sort(c, r, large, origin, inv, nx, ny, nz, cell, start, sx, sy,
         sr[p] = b_r[t]
         sid[p] = b_id[t]
     start[n_cells] = n_small
+
+
+@njit
+def _sphere_grid_sort(c, r, large, origin, inv, nx, ny, nz, cell, start, sx, sy, sz, sr, sid,
+                      b_cell, b_x, b_y, b_z, b_r, b_id):
+    # Ericson 7.1.2: one cell per sphere (its centre); cell side >= largest diameter, so a touching pair lies
+    # in the same or an adjacent cell. Counting sort of the spheres by cell number, x varying fastest, into a
+    # sorted structure of arrays (sx, sy, sz, sr, sid); a column (iy, iz) of cells is then one contiguous run
+    # ordered by ix, and start[cell] .. start[cell + 1] are the spheres of a cell. All arrays are work arrays
+    # given by the caller (reused between calls); returns the number of spheres placed in the grid.
+    n_small = _sphere_cells(c, large, origin, inv, nx, ny, nz, cell)
+    n_cells = nx * ny * nz
+    if n_cells <= _DIRECT_SORT_CELLS:
+        _direct_sort(c, r, cell, n_cells, start, sx, sy, sz, sr, sid)
+    else:
+        _radix_sort(c, r, cell, n_cells, n_small, start, sx, sy, sz, sr, sid, b_cell, b_x, b_y, b_z, b_r, b_id)
     return n_small
 
 
@@ -215,11 +225,7 @@ def _large_sphere_pairs(c, r, large, out, count):
             if j == i or (large[j] and j < i):
                 continue
             if _spheres_touch(c, r, i, j):
-                if count == out.shape[0]:
-                    out = _grow(out, count + 1)
-                out[count, 0] = i
-                out[count, 1] = j
-                count += 1
+                out, count = push_pair(out, count, i, j)
     return out, count
 
 
@@ -257,7 +263,7 @@ def _sphere_grid_pairs(c, r, large, cell_size, equal_radii=False):
         count = _sphere_grid_sweep(*grid, out)
     if not equal_radii:
         out, count = _large_sphere_pairs(c, r, large, out, count)
-    return _canonical_pairs_kernel(out, count, n)
+    return canonicalise_pairs(out, count, n)
 
 
 def _work_pairs(rows: int) -> np.ndarray:
@@ -303,17 +309,10 @@ def _as_spheres(centers, radii):
 def _scene_stats(c, r, large):
     """(largest |coordinate| + largest radius, largest radius outside ``large``, mean spacing (V/n)^(1/k))."""
     n = c.shape[0]
-    lo = np.full(3, np.inf)
-    hi = np.full(3, -np.inf)
+    lo, hi = _point_bounds(c)
     r_all = 0.0
     r_small = 0.0
     for i in range(n):
-        for k in range(3):
-            v = c[i, k]
-            if v < lo[k]:
-                lo[k] = v
-            if v > hi[k]:
-                hi[k] = v
         r_all = max(r_all, r[i])
         if not large[i]:
             r_small = max(r_small, r[i])
@@ -361,7 +360,5 @@ def sphere_pairs(centers, radii, method: str = "grid") -> np.ndarray:
 def spheres_overlap_pairs(centers, radii, pairs) -> np.ndarray:
     """Keep the rows of canonical ``pairs`` ((m, 2) int64) whose spheres touch (the exact narrow test)."""
     c, r, _ = _as_spheres(centers, radii)
-    from engine.broadphase.pairs import canonical_pairs
-
     candidates = canonical_pairs(pairs, n=c.shape[0])
     return _exact_filter_kernel(candidates, c, r)

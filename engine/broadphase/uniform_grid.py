@@ -20,8 +20,16 @@ import numpy as np
 
 from engine._config import njit
 from engine._validate import as_positive
-from engine.broadphase.counting_sort import cell_of, radix_split, sort_within_buckets
-from engine.broadphase.pairs import _canonical_pairs_kernel, _grow, as_boxes_3d, boxes_overlap, empty_pairs, with_tests
+from engine.broadphase.counting_sort import cell_of, grid_dims, radix_split, sort_within_buckets
+from engine.broadphase.pairs import (
+    as_boxes_3d,
+    boxes_overlap,
+    canonicalise_pairs,
+    empty_pairs,
+    new_pair_buffer,
+    push_pair,
+    with_tests,
+)
 
 __all__ = ["grid_pairs", "default_cell_size"]
 
@@ -37,45 +45,33 @@ def _cell_range(lo, hi, i, origin, inv, dims):
 
 
 @njit
-def _grid_pairs_kernel(lo, hi, cell_size):
-    # Ericson 7.1.3-7.1.6: each box goes into every cell it overlaps; boxes sharing a cell are tested.
-    n = lo.shape[0]
+def _grid_layout(lo, hi, cell_size):
+    """(origin (3,), 1/side, dims (3,) int64): cells from the scene's lowest corner, at most ~8n of them."""
     origin = np.empty(3)
     top = np.empty(3)
     for k in range(3):
         origin[k] = lo[:, k].min()
         top[k] = hi[:, k].max()
-    # cells per axis, the whole grid kept below ~8n cells
-    size = cell_size
-    dims = np.ones(3, dtype=np.int64)
-    while True:
-        total = 1.0
-        for k in range(3):
-            total *= np.floor((top[k] - origin[k]) / size) + 1.0
-        if total <= max(8.0 * n, 64.0):
-            break
-        size *= 2.0
-    for k in range(3):
-        dims[k] = int(np.floor((top[k] - origin[k]) / size)) + 1
-    inv = 1.0 / size
-    # the cell ranges are recomputed in each pass rather than stored (less memory traffic)
-    large = np.zeros(n, dtype=np.bool_)
-    n_large = 0
+    size, nx, ny, nz = grid_dims(origin, top, cell_size, max(8.0 * lo.shape[0], 64.0))
+    return origin, 1.0 / size, np.array([nx, ny, nz])
+
+
+@njit
+def _enter_boxes(lo, hi, origin, inv, dims, large):
+    """The (cell, box) entries: every cell each box covers, in box order — (keys, ids), int64 (entries,) each.
+    Boxes covering more than _MAX_CELLS_PER_BOX cells are marked in ``large`` instead and enter no cell."""
+    n = lo.shape[0]
     entries = 0
-    for i in range(n):
+    for i in range(n):  # the cell ranges are recomputed in the second pass rather than stored
         x0, x1, y0, y1, z0, z1 = _cell_range(lo, hi, i, origin, inv, dims)
         cells = (x1 - x0 + 1) * (y1 - y0 + 1) * (z1 - z0 + 1)
         if cells > _MAX_CELLS_PER_BOX:
             large[i] = True
-            n_large += 1
         else:
             entries += cells
-    # counting sort of the (cell, box) entries by cell number, in two passes (MSD radix) so that the counters
-    # of each pass stay in cache: first on the high bits of the cell number (<= 2048 buckets), then each bucket
-    # on its low bits; the entries carry their boxes along, so each cell's boxes end up contiguous.
-    n_cells = dims[0] * dims[1] * dims[2]
-    shift, n_buckets = radix_split(n_cells)
-    bucket_start = np.zeros(n_buckets + 1, dtype=np.int64)
+    keys = np.empty(entries, dtype=np.int64)
+    ids = np.empty(entries, dtype=np.int64)
+    t = 0
     for i in range(n):
         if large[i]:
             continue
@@ -83,45 +79,55 @@ def _grid_pairs_kernel(lo, hi, cell_size):
         for cx in range(x0, x1 + 1):
             for cy in range(y0, y1 + 1):
                 for cz in range(z0, z1 + 1):
-                    bucket_start[(((cx * dims[1] + cy) * dims[2] + cz) >> shift) + 1] += 1
+                    keys[t] = (cx * dims[1] + cy) * dims[2] + cz
+                    ids[t] = i
+                    t += 1
+    return keys, ids
+
+
+@njit
+def _sort_entries(lo, hi, keys, ids, n_cells):
+    """The entries sorted by cell: (start (n_cells + 1,), member, elo, ehi); cell c holds entries start[c] ..
+    start[c + 1] − 1, member[t] is the box of entry t and elo, ehi (entries, 3) its box, contiguous by cell.
+
+    Counting sort in two passes (MSD radix) so that the counters of each pass stay in cache: first on the high
+    bits of the cell number (<= 2048 buckets), then each bucket on its low bits; stable, so box order is kept.
+    """
+    entries = keys.shape[0]
+    shift, n_buckets = radix_split(n_cells)
+    bucket_start = np.zeros(n_buckets + 1, dtype=np.int64)
+    for t in range(entries):
+        bucket_start[(keys[t] >> shift) + 1] += 1
     for b in range(n_buckets):
         bucket_start[b + 1] += bucket_start[b]
     fill = bucket_start[:-1].copy()
     b_key = np.empty(entries, dtype=np.int64)
     b_id = np.empty(entries, dtype=np.int64)
-    b_lo = np.empty((entries, 3))
-    b_hi = np.empty((entries, 3))
-    for i in range(n):
-        if large[i]:
-            continue
-        x0, x1, y0, y1, z0, z1 = _cell_range(lo, hi, i, origin, inv, dims)
-        for cx in range(x0, x1 + 1):
-            for cy in range(y0, y1 + 1):
-                for cz in range(z0, z1 + 1):
-                    key = (cx * dims[1] + cy) * dims[2] + cz
-                    t = fill[key >> shift]
-                    fill[key >> shift] = t + 1
-                    b_key[t] = key
-                    b_id[t] = i
-                    for k in range(3):
-                        b_lo[t, k] = lo[i, k]
-                        b_hi[t, k] = hi[i, k]
+    for t in range(entries):
+        q = fill[keys[t] >> shift]
+        fill[keys[t] >> shift] = q + 1
+        b_key[q] = keys[t]
+        b_id[q] = ids[t]
     start = np.empty(n_cells + 1, dtype=np.int64)
-    member = np.empty(entries, dtype=np.int64)
-    elo = np.empty((entries, 3))  # the members' boxes, contiguous cell by cell
-    ehi = np.empty((entries, 3))
     dest = sort_within_buckets(b_key, bucket_start, shift, n_cells, start)
+    member = np.empty(entries, dtype=np.int64)
+    elo = np.empty((entries, 3))
+    ehi = np.empty((entries, 3))
     for t in range(entries):
         q = dest[t]
         member[q] = b_id[t]
         for k in range(3):
-            elo[q, k] = b_lo[t, k]
-            ehi[q, k] = b_hi[t, k]
+            elo[q, k] = lo[b_id[t], k]
+            ehi[q, k] = hi[b_id[t], k]
     start[n_cells] = entries
-    out = np.empty((max(n, 16), 2), dtype=np.int64)
-    count = 0
+    return start, member, elo, ehi
+
+
+@njit
+def _cell_pairs(start, member, elo, ehi, origin, inv, dims, out, count):
+    """Boxes sharing a cell, each pair reported only in the cell of the lower corner of its overlap; appends to
+    the pair buffer (out, count) and returns (out, count, tests)."""
     tests = 0
-    # boxes sharing a cell; report in the cell of the lower corner of the overlap only
     for cx in range(dims[0]):
         for cy in range(dims[1]):
             for cz in range(dims[2]):
@@ -133,27 +139,38 @@ def _grid_pairs_kernel(lo, hi, cell_size):
                             if (cell_of(max(elo[p, 0], elo[q, 0]), origin[0], inv, dims[0]) == cx
                                     and cell_of(max(elo[p, 1], elo[q, 1]), origin[1], inv, dims[1]) == cy
                                     and cell_of(max(elo[p, 2], elo[q, 2]), origin[2], inv, dims[2]) == cz):
-                                if count == out.shape[0]:
-                                    out = _grow(out, count + 1)
-                                out[count, 0] = member[p]
-                                out[count, 1] = member[q]
-                                count += 1
-    # boxes too large for the grid: against every box (once per pair of large boxes)
-    if n_large > 0:
-        for i in range(n):
-            if not large[i]:
+                                out, count = push_pair(out, count, member[p], member[q])
+    return out, count, tests
+
+
+@njit
+def _large_box_pairs(lo, hi, large, out, count):
+    """The boxes too large for the grid against every box (once per pair of large boxes); appends to the pair
+    buffer (out, count) and returns (out, count, tests)."""
+    tests = 0
+    for i in range(lo.shape[0]):
+        if not large[i]:
+            continue
+        for j in range(lo.shape[0]):
+            if j == i or (large[j] and j < i):
                 continue
-            for j in range(n):
-                if j == i or (large[j] and j < i):
-                    continue
-                tests += 1
-                if boxes_overlap(lo, hi, i, j):
-                    if count == out.shape[0]:
-                        out = _grow(out, count + 1)
-                    out[count, 0] = i
-                    out[count, 1] = j
-                    count += 1
-    return _canonical_pairs_kernel(out, count, n), tests
+            tests += 1
+            if boxes_overlap(lo, hi, i, j):
+                out, count = push_pair(out, count, i, j)
+    return out, count, tests
+
+
+@njit
+def _grid_pairs_kernel(lo, hi, cell_size):
+    # Ericson 7.1.3-7.1.6: each box goes into every cell it overlaps; boxes sharing a cell are tested.
+    n = lo.shape[0]
+    origin, inv, dims = _grid_layout(lo, hi, cell_size)
+    large = np.zeros(n, dtype=np.bool_)
+    keys, ids = _enter_boxes(lo, hi, origin, inv, dims, large)
+    start, member, elo, ehi = _sort_entries(lo, hi, keys, ids, dims[0] * dims[1] * dims[2])
+    out, count, tests = _cell_pairs(start, member, elo, ehi, origin, inv, dims, new_pair_buffer(n), 0)
+    out, count, large_tests = _large_box_pairs(lo, hi, large, out, count)
+    return canonicalise_pairs(out, count, n), tests + large_tests
 
 
 @njit
