@@ -27,11 +27,14 @@ from engine.broadphase.pairs import (
     as_boxes_3d,
     as_live_id,
     as_one_box,
+    as_threads,
     boxes_overlap,
     canonicalise_pairs,
     empty_pairs,
     new_pair_buffer,
     push_pair,
+    run_split,
+    split_work,
     with_tests,
 )
 
@@ -204,25 +207,15 @@ def _build_kernel(box_lo, box_hi, node_lo, node_hi, parent, child1, child2, heig
 
 
 @njit
-def tree_leaf_pairs(root, node_lo, node_hi, child1, child2, obj_of, obj_lo, obj_hi, obj_node, n_objects):
-    """All pairs of objects of a tree stored as index arrays whose exact boxes overlap: (pairs, tests).
-
-    Nodes: node_lo, node_hi (m, 3) float64 boxes; child1, child2 (m,) int64 (−1 at a leaf); obj_of (m,) int64
-    the object of a leaf; root the root node (−1: empty). Objects: obj_lo, obj_hi (n, 3) float64 exact boxes,
-    obj_node (n,) int64 the leaf of each object, ids 0..n_objects−1. A node slot is a live leaf only if it is a
-    leaf whose object points back to it: free slots are skipped whatever they hold. Returns canonical pairs
-    (int64 (k, 2)) and the number of box tests of the traversal.
-    """
+def _leaf_range_pairs(root, node_lo, node_hi, child1, child2, obj_of, obj_lo, obj_hi, obj_node, n_objects, first,
+                      last, out):
     # Ericson 6.5 / Box2D b2DynamicTree::Query: each object descends the nodes whose fat box overlaps its exact
-    # box; at a leaf holding object j > i the exact boxes are compared.
-    out = new_pair_buffer(n_objects)
+    # box; at a leaf holding object j > i the exact boxes are compared. The objects of the node slots first ..
+    # last − 1, in node order (leaves of a subtree are close: consecutive queries share branches).
     count = 0
     tests = 0
-    if root == -1:
-        return out[:0].copy(), tests
     stack = np.empty(node_lo.shape[0] + 1, dtype=np.int64)
-    for leaf in range(node_lo.shape[0]):
-        # objects in node order (leaves of a subtree are close): consecutive queries share branches
+    for leaf in range(first, last):
         if child1[leaf] != -1:
             continue
         i = obj_of[leaf]
@@ -246,6 +239,23 @@ def tree_leaf_pairs(root, node_lo, node_hi, child1, child2, obj_of, obj_lo, obj_
                 stack[top] = child1[node]
                 stack[top + 1] = child2[node]
                 top += 2
+    return out, count, tests
+
+
+@njit
+def tree_leaf_pairs(root, node_lo, node_hi, child1, child2, obj_of, obj_lo, obj_hi, obj_node, n_objects):
+    """All pairs of objects of a tree stored as index arrays whose exact boxes overlap: (pairs, tests).
+
+    Nodes: node_lo, node_hi (m, 3) float64 boxes; child1, child2 (m,) int64 (−1 at a leaf); obj_of (m,) int64
+    the object of a leaf; root the root node (−1: empty). Objects: obj_lo, obj_hi (n, 3) float64 exact boxes,
+    obj_node (n,) int64 the leaf of each object, ids 0..n_objects−1. A node slot is a live leaf only if it is a
+    leaf whose object points back to it: free slots are skipped whatever they hold. Returns canonical pairs
+    (int64 (k, 2)) and the number of box tests of the traversal.
+    """
+    if root == -1:
+        return new_pair_buffer(0)[:0].copy(), 0
+    out, count, tests = _leaf_range_pairs(root, node_lo, node_hi, child1, child2, obj_of, obj_lo, obj_hi, obj_node,
+                                          n_objects, 0, node_lo.shape[0], new_pair_buffer(n_objects))
     return canonicalise_pairs(out, count, n_objects), tests
 
 
@@ -581,13 +591,19 @@ class DynamicAABBTree:
         assert sorted(seen) == live.tolist()
 
 
-def tree_pairs(lo, hi, *, return_tests: bool = False):
+#: a thread makes the queries of at least this many tree nodes
+MIN_NODES_PER_THREAD = 2048
+
+
+def tree_pairs(lo, hi, *, return_tests: bool = False, threads: int = 1):
     """All pairs of overlapping closed boxes with an AABB tree built in batch (top-down, exact leaf boxes).
 
     lo, hi: (n, d), d in {1, 2, 3}, lo <= hi. Returns canonical pairs, int64 (k, 2); with
     ``return_tests=True``, ``(pairs, tests)`` where tests counts the box–box tests of the traversal (the object's
-    box against each node box visited; a leaf's box is its object's box).
+    box against each node box visited; a leaf's box is its object's box). threads: how many threads may share the
+    queries (the same answer, bit for bit).
     """
+    threads = as_threads(threads)
     lo3, hi3 = as_boxes_3d(lo, hi)
     n = lo3.shape[0]
     if n < 2:
@@ -602,5 +618,7 @@ def tree_pairs(lo, hi, *, return_tests: bool = False):
     leaf_of = np.empty(n, dtype=np.int64)
     obj_of = np.full(capacity, -1, dtype=np.int64)
     _build_kernel(lo3, hi3, node_lo, node_hi, parent, child1, child2, height, leaf_of, obj_of)
-    pairs, tests = tree_leaf_pairs(0, node_lo, node_hi, child1, child2, obj_of, lo3, hi3, leaf_of, n)
+    tree = (0, node_lo, node_hi, child1, child2, obj_of, lo3, hi3, leaf_of, n)
+    pairs, tests = run_split(lambda first, last: _leaf_range_pairs(*tree, first, last, new_pair_buffer(n)),
+                             split_work(np.arange(capacity + 1), threads, MIN_NODES_PER_THREAD), n)
     return with_tests(pairs, tests, return_tests)

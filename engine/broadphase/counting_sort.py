@@ -84,3 +84,48 @@ def sort_within_buckets(keys, bucket_start, shift, n_cells, start):
             dest[t] = local[u]
             local[u] += 1
     return dest
+
+
+@njit
+def radix_sort_pairs(keys, values, keys_tmp, values_tmp, n):
+    """Stable LSD radix sort of keys[:n] (non-negative integers), carrying values[:n] along.
+
+    Digits of at most 11 bits (2048 counters, in cache), as few as the largest key needs; the histograms of all
+    the digits are counted in one read pass, and a digit on which every key agrees is skipped. keys_tmp and
+    values_tmp are scratch arrays of the same dtypes and at least n entries. Returns (sorted keys, values): each
+    is one of the two buffers given, holding the sorted first n entries.
+    """
+    top = 0
+    for t in range(n):
+        top = max(top, keys[t])
+    bits = 0
+    while (top >> bits) > 0:
+        bits += 1
+    passes = (bits + 10) // 11
+    if passes == 0:
+        return keys, values
+    width = (bits + passes - 1) // passes
+    mask = (1 << width) - 1
+    hist = np.zeros((passes, mask + 1), dtype=np.int64)
+    for t in range(n):
+        k = keys[t]
+        for d in range(passes):
+            hist[d, (k >> (d * width)) & mask] += 1
+    src_k, src_v, dst_k, dst_v = keys, values, keys_tmp, values_tmp
+    for d in range(passes):
+        shift = d * width
+        if hist[d, (src_k[0] >> shift) & mask] == n:
+            continue  # every key has this digit: the order does not change
+        total = 0
+        for b in range(mask + 1):
+            count = hist[d, b]
+            hist[d, b] = total
+            total += count
+        for t in range(n):
+            b = (src_k[t] >> shift) & mask
+            p = hist[d, b]
+            hist[d, b] = p + 1
+            dst_k[p] = src_k[t]
+            dst_v[p] = src_v[t]
+        src_k, src_v, dst_k, dst_v = dst_k, dst_v, src_k, src_v
+    return src_k, src_v

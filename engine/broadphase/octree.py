@@ -21,11 +21,13 @@ from engine._config import njit
 from engine.bounding.aabb import enclose_aabbs
 from engine.broadphase.pairs import (
     as_boxes_3d,
+    as_threads,
     boxes_overlap,
-    canonicalise_pairs,
     empty_pairs,
     new_pair_buffer,
     push_pair,
+    run_split,
+    split_work,
     with_tests,
 )
 
@@ -110,15 +112,14 @@ def _build_octree_kernel(lo, hi, leaf_size):
 
 
 @njit
-def _octree_pairs_kernel(lo, hi, perm, node_lo, node_hi, first, last, child0, n_children):
+def _octree_pairs_kernel(lo, hi, perm, node_lo, node_hi, first, last, child0, n_children, t0, t1, out):
     # Ericson 7.3.3 / 6.5: each object descends the nodes whose (loose) bounds overlap its box; at a leaf it is
-    # tested against the objects with a larger index (each pair is found once).
-    n = lo.shape[0]
-    out = new_pair_buffer(n)
+    # tested against the objects with a larger index (each pair is found once). Objects perm[t0:t1]; returns
+    # the pair buffer (out, count) and the tests made.
     count = 0
     tests = 0
     stack = np.empty(node_lo.shape[0] + 1, dtype=np.int64)
-    for t in range(n):
+    for t in range(t0, t1):
         i = perm[t]  # leaf order: consecutive queries walk the same branches (cache-friendly)
         top = 1
         stack[0] = 0
@@ -139,10 +140,10 @@ def _octree_pairs_kernel(lo, hi, perm, node_lo, node_hi, first, last, child0, n_
                     if boxes_overlap(lo, hi, i, j):
                         out, count = push_pair(out, count, i, j)
             else:
-                for t in range(n_children[node]):
-                    stack[top] = child0[node] + t
+                for c in range(n_children[node]):
+                    stack[top] = child0[node] + c
                     top += 1
-    return canonicalise_pairs(out, count, n), tests
+    return out, count, tests
 
 
 def build_octree(lo, hi, leaf_size: int = 8):
@@ -160,18 +161,26 @@ def build_octree(lo, hi, leaf_size: int = 8):
     return _build_octree_kernel(lo3, hi3, int(leaf_size))
 
 
-def octree_pairs(lo, hi, leaf_size: int = 8, *, return_tests: bool = False):
+#: a thread makes the queries of at least this many objects
+MIN_OBJECTS_PER_THREAD = 2048
+
+
+def octree_pairs(lo, hi, leaf_size: int = 8, *, return_tests: bool = False, threads: int = 1):
     """All pairs of overlapping closed boxes with a loose octree (see the module docstring).
 
     lo, hi: (n, d), d in {1, 2, 3}, lo <= hi; leaf_size: objects per leaf before a cut. Returns canonical
     pairs, int64 (k, 2); with ``return_tests=True``, ``(pairs, tests)`` where tests counts the box–box tests
     of the traversal: the object against each node's loose bounds, and against the objects of the leaves.
+    threads: how many threads may share the queries (the same answer, bit for bit).
     """
+    threads = as_threads(threads)
     if isinstance(leaf_size, bool) or not isinstance(leaf_size, int | np.integer) or leaf_size < 1:
         raise ValueError(f"leaf_size must be an int >= 1, got {leaf_size!r}")
     lo3, hi3 = as_boxes_3d(lo, hi)
     if lo3.shape[0] < 2:
         return with_tests(empty_pairs(), 0, return_tests)
     tree = _build_octree_kernel(lo3, hi3, int(leaf_size))
-    pairs, tests = _octree_pairs_kernel(lo3, hi3, *tree)
+    n = lo3.shape[0]
+    pairs, tests = run_split(lambda t0, t1: _octree_pairs_kernel(lo3, hi3, *tree, t0, t1, new_pair_buffer(n)),
+                             split_work(np.arange(n + 1), threads, MIN_OBJECTS_PER_THREAD), n)
     return with_tests(pairs, tests, return_tests)

@@ -14,14 +14,20 @@ axis (which every box then overlaps), so each kernel is written once, in 3-D.
 """
 from __future__ import annotations
 
+from concurrent.futures import ThreadPoolExecutor
+
 import numpy as np
 
 from engine._config import njit
 from engine._validate import as_count, as_float_array
 
+#: the most threads a broad-phase call may ask for
+MAX_THREADS = 256
+
 __all__ = ["canonical_pairs", "empty_pairs", "as_boxes", "as_boxes_3d", "as_one_box", "as_live_id", "boxes_overlap",
            "with_tests",
-           "new_pair_buffer", "grow_pair_buffer", "push_pair", "canonicalise_pairs"]
+           "new_pair_buffer", "grow_pair_buffer", "push_pair", "record_pair", "canonicalise_pairs",
+           "as_threads", "split_work", "run_split"]
 
 
 def empty_pairs() -> np.ndarray:
@@ -62,6 +68,21 @@ def push_pair(buffer, count, i, j):
     buffer[count, 0] = i
     buffer[count, 1] = j
     return buffer, count + 1
+
+
+@njit(inline="always")
+def record_pair(buffer, count, i, j, keep):
+    """The pair buffer of a two-try sweep: writes the row (i, j) at row ``count`` while there is room, and
+    returns count + keep (``keep`` a bool, so the sweep has no branch on the test's outcome).
+
+    The caller gives a buffer it expects to be large enough; when the count it gets back exceeds the buffer's
+    rows, it sweeps again with a buffer of that many rows (growing inside the loop would make every write pay
+    for the possible copy).
+    """
+    if count < buffer.shape[0]:
+        buffer[count, 0] = i
+        buffer[count, 1] = j
+    return count + np.int64(keep)
 
 
 @njit
@@ -205,3 +226,40 @@ def boxes_overlap(lo, hi, i, j):
         if lo[i, k] > hi[j, k] or lo[j, k] > hi[i, k]:
             return False
     return True
+
+
+def as_threads(threads) -> int:
+    """The checked ``threads`` argument of a broad phase: an int in [1, MAX_THREADS]."""
+    return as_count(threads, "threads", minimum=1, maximum=MAX_THREADS)
+
+
+def split_work(work, threads: int, min_work: int) -> list[tuple[int, int]]:
+    """Cut the items 0..m−1, whose cumulative work is ``work`` ((m + 1,) non-decreasing, work[0] = 0), into at
+    most ``threads`` contiguous ranges (first, last) of about equal work, each of at least ``min_work`` (one
+    range when there is too little work to share)."""
+    m = len(work) - 1
+    parts = min(threads, max(1, int(work[-1]) // max(min_work, 1)))
+    if parts <= 1 or m <= 1:
+        return [(0, m)]
+    cuts = np.searchsorted(work, [work[-1] * t / parts for t in range(1, parts)])
+    bounds = sorted({0, m, *(int(c) for c in cuts)})
+    return list(zip(bounds[:-1], bounds[1:]))
+
+
+def run_split(sweep, ranges, n: int, extra=None):
+    """Run ``sweep(first, last) -> (buffer, count, tests)`` over the item ranges, one thread per range (the
+    kernels release the GIL), and merge them (and ``extra``, one more (buffer, count, tests) if given):
+    ``(canonical pairs of the n objects, total tests)``. The parts hold disjoint sets of pairs, so the result is
+    the same, bit for bit, as one call over all the items."""
+    if len(ranges) == 1 and extra is None:
+        buf, count, tests = sweep(*ranges[0])
+        return canonicalise_pairs(buf, count, n), int(tests)
+    if len(ranges) == 1:
+        parts = [sweep(*ranges[0])]
+    else:
+        with ThreadPoolExecutor(max_workers=len(ranges)) as pool:
+            parts = list(pool.map(lambda r: sweep(*r), ranges))
+    if extra is not None:
+        parts.append(extra)
+    merged = np.concatenate([buf[:count] for buf, count, _ in parts])
+    return canonicalise_pairs(merged, merged.shape[0], n), int(sum(t for _, _, t in parts))

@@ -24,16 +24,19 @@ import numpy as np
 
 from engine._config import njit
 from engine._validate import as_float_array
-from engine.broadphase.counting_sort import cell_of
+from engine.broadphase.counting_sort import cell_of, radix_sort_pairs
 from engine.broadphase.pairs import (
     as_boxes,
     as_boxes_3d,
     as_live_id,
     as_one_box,
+    as_threads,
     canonicalise_pairs,
     empty_pairs,
     new_pair_buffer,
     push_pair,
+    run_split,
+    split_work,
     with_tests,
 )
 
@@ -166,6 +169,8 @@ def sap_example_trace(begin=None, end=None, labels=None) -> str:
 # ---------------------------------------------------------------------------------------------------------
 # 3-D: sort on one axis, sweep it, prune on the others
 # ---------------------------------------------------------------------------------------------------------
+#: below this many boxes the columns are always a table (small scenes: at most m/8 columns, one below 32 boxes)
+SPARSE_MIN_BOXES = 256
 #: the coarse grid of columns over the two axes other than the sweep axis: origin, 1/size and count of each
 ColumnGrid = namedtuple("ColumnGrid", ["o1", "inv1", "k1", "o2", "inv2", "k2"])
 
@@ -184,8 +189,8 @@ def _axis_range(order, lo, hi, a):
 @njit
 def _column_count(span, extent_sum, m, kmax):
     """Columns along one axis: about span / (2 × the mean box extent), within [1, kmax]; a span so small that
-    span·1e-6 underflows to 0 (denormal coordinates) keeps one column."""
-    size = max(2.0 * extent_sum / m, span * 1e-6)
+    span / kmax underflows to 0 (denormal coordinates) keeps one column."""
+    size = max(2.0 * extent_sum / m, span / kmax)
     if span > 0.0 and size > 0.0:
         return int(min(kmax, max(1.0, span / size)))
     return 1
@@ -193,9 +198,15 @@ def _column_count(span, extent_sum, m, kmax):
 
 @njit
 def _choose_columns(order, lo, hi, a1, a2, ranges):
-    """The column grid (Terdiman's multi box pruning): columns about twice the mean box size, at most ~m/8,
-    halved on both axes until a box enters 4 columns on average. ``ranges`` (4, m) int64 receives the first and
-    last column of each box on a1 and a2 (in sweep order); returns (grid, number of (box, column) entries)."""
+    """The column grid (Terdiman's multi box pruning): columns about twice the mean box size, halved on both
+    axes until a box enters 4 columns on average. ``ranges`` (4, m) int64 receives the first and last column of
+    each box on a1 and a2 (in sweep order); returns (grid, number of (box, column) entries, sparse).
+
+    At most ~m/8 columns are stored as a table (dense); when the boxes would need more than 4 times the
+    ~sqrt(m/8) of that table along an axis (far-apart clusters: fewer columns would put a cluster in one
+    column), the columns keep their size, up to 2^30 per axis, and only the occupied ones are stored (sparse:
+    sorted 64-bit column keys), from SPARSE_MIN_BOXES boxes on.
+    """
     m = order.shape[0]
     ext1 = 0.0
     ext2 = 0.0
@@ -207,8 +218,12 @@ def _choose_columns(order, lo, hi, a1, a2, ranges):
     span1 = t1 - o1
     span2 = t2 - o2
     kmax = max(1, int(np.sqrt(m / 8.0)))
-    k1 = _column_count(span1, ext1, m, kmax)
-    k2 = _column_count(span2, ext2, m, kmax)
+    k1 = _column_count(span1, ext1, m, 1 << 30)
+    k2 = _column_count(span2, ext2, m, 1 << 30)
+    sparse = m >= SPARSE_MIN_BOXES and (k1 > 4 * kmax or k2 > 4 * kmax)
+    if not sparse:
+        k1 = min(k1, kmax)
+        k2 = min(k2, kmax)
     while True:  # (one column: inv = 0, every box in column 0, no 0·inf)
         grid = ColumnGrid(o1, k1 / span1 if k1 > 1 else 0.0, k1, o2, k2 / span2 if k2 > 1 else 0.0, k2)
         entries = 0
@@ -220,9 +235,20 @@ def _choose_columns(order, lo, hi, a1, a2, ranges):
             ranges[3, p] = cell_of(hi[o, a2], grid.o2, grid.inv2, k2)
             entries += (ranges[1, p] - ranges[0, p] + 1) * (ranges[3, p] - ranges[2, p] + 1)
         if entries <= 4 * m or (k1 == 1 and k2 == 1):
-            return grid, entries
+            return grid, entries, sparse
         k1 = max(1, k1 // 2)
         k2 = max(1, k2 // 2)
+
+
+@njit
+def _gather_entry(t, o, lo, hi, axis, a1, a2, ident, soa):
+    ident[t] = o
+    soa[0, t] = lo[o, axis]
+    soa[1, t] = hi[o, axis]
+    soa[2, t] = lo[o, a1]
+    soa[3, t] = hi[o, a1]
+    soa[4, t] = lo[o, a2]
+    soa[5, t] = hi[o, a2]
 
 
 @njit
@@ -246,61 +272,100 @@ def _fill_columns(order, lo, hi, axis, a1, a2, grid, ranges, entries):
     ident = np.empty(entries, dtype=np.int64)
     soa = np.empty((6, entries))
     for p in range(m):
-        o = order[p]
         for c1 in range(ranges[0, p], ranges[1, p] + 1):
             for c2 in range(ranges[2, p], ranges[3, p] + 1):
                 t = fill[c1 * grid.k2 + c2]
                 fill[c1 * grid.k2 + c2] = t + 1
-                ident[t] = o
-                soa[0, t] = lo[o, axis]
-                soa[1, t] = hi[o, axis]
-                soa[2, t] = lo[o, a1]
-                soa[3, t] = hi[o, a1]
-                soa[4, t] = lo[o, a2]
-                soa[5, t] = hi[o, a2]
+                _gather_entry(t, order[p], lo, hi, axis, a1, a2, ident, soa)
     return start, ident, soa
 
 
 @njit
-def _sweep_columns(grid, start, ident, soa, n_objects):
-    # Chapter SAP slide, box-pruning form: in each column, for entry p the entries q after it with b_q <= e_p
-    # are exactly those in the active list when p enters; test the two other axes, and report the pair only in
-    # the column holding the lower corner (max b^1, max b^2) of the two boxes, so exactly once.
-    b0, e0, b1, e1, b2, e2 = soa[0], soa[1], soa[2], soa[3], soa[4], soa[5]
-    out = new_pair_buffer(n_objects)
-    count = 0
-    tests = 0  # box tests on the two other axes: the pairs whose intervals overlap on the sweep axis
-    for c1 in range(grid.k1):
-        for c2 in range(grid.k2):
-            cell = c1 * grid.k2 + c2
-            end = start[cell + 1]
-            for p in range(start[cell], end):
-                end0 = e0[p]
-                lo1 = b1[p]
-                hi1 = e1[p]
-                lo2 = b2[p]
-                hi2 = e2[p]
-                q = p + 1
-                while q < end and b0[q] <= end0:
-                    tests += 1
-                    if (b1[q] <= hi1) & (lo1 <= e1[q]) & (b2[q] <= hi2) & (lo2 <= e2[q]):
-                        if (cell_of(max(lo1, b1[q]), grid.o1, grid.inv1, grid.k1) == c1
-                                and cell_of(max(lo2, b2[q]), grid.o2, grid.inv2, grid.k2) == c2):
-                            out, count = push_pair(out, count, ident[p], ident[q])
-                    q += 1
-    return canonicalise_pairs(out, count, n_objects), tests
+def _fill_columns_sparse(order, lo, hi, axis, a1, a2, grid, ranges, entries):
+    """``_fill_columns`` storing only the occupied columns: the entries' column keys c1 · k2 + c2 radix-sorted
+    (stable, so the sweep order is kept inside each column). Returns (column keys, start, ident, soa), column
+    i holding entries start[i] .. start[i + 1] − 1."""
+    keys = np.empty(entries, dtype=np.int64)
+    source = np.empty(entries, dtype=np.int64)
+    t = 0
+    for p in range(order.shape[0]):
+        for c1 in range(ranges[0, p], ranges[1, p] + 1):
+            for c2 in range(ranges[2, p], ranges[3, p] + 1):
+                keys[t] = c1 * grid.k2 + c2
+                source[t] = p
+                t += 1
+    keys, source = radix_sort_pairs(keys, source, np.empty(entries, dtype=np.int64),
+                                    np.empty(entries, dtype=np.int64), entries)
+    column_key = np.empty(entries, dtype=np.int64)
+    start = np.empty(entries + 1, dtype=np.int64)
+    ident = np.empty(entries, dtype=np.int64)
+    soa = np.empty((6, entries))
+    columns = 0
+    for t in range(entries):
+        if t == 0 or keys[t] != keys[t - 1]:
+            column_key[columns] = keys[t]
+            start[columns] = t
+            columns += 1
+        _gather_entry(t, order[source[t]], lo, hi, axis, a1, a2, ident, soa)
+    start[columns] = entries
+    return column_key[:columns].copy(), start[: columns + 1].copy(), ident, soa
 
 
 @njit
-def _sweep_sorted_kernel(order, lo, hi, axis, n_objects):
+def _sweep_columns(grid, column_key, start, ident, soa, first, last, out):
+    # Chapter SAP slide, box-pruning form: in each column, for entry p the entries q after it with b_q <= e_p
+    # are exactly those in the active list when p enters; test the two other axes, and report the pair only in
+    # the column holding the lower corner (max b^1, max b^2) of the two boxes, so exactly once.
+    # Columns first .. last − 1 (column i has key column_key[i] = c1 · k2 + c2); returns (out, count, tests).
+    b0, e0, b1, e1, b2, e2 = soa[0], soa[1], soa[2], soa[3], soa[4], soa[5]
+    count = 0
+    tests = 0  # box tests on the two other axes: the pairs whose intervals overlap on the sweep axis
+    for cell in range(first, last):
+        c1 = column_key[cell] // grid.k2
+        c2 = column_key[cell] - c1 * grid.k2
+        end = start[cell + 1]
+        for p in range(start[cell], end):
+            end0 = e0[p]
+            lo1 = b1[p]
+            hi1 = e1[p]
+            lo2 = b2[p]
+            hi2 = e2[p]
+            q = p + 1
+            while q < end and b0[q] <= end0:
+                tests += 1
+                if (b1[q] <= hi1) & (lo1 <= e1[q]) & (b2[q] <= hi2) & (lo2 <= e2[q]):
+                    if (cell_of(max(lo1, b1[q]), grid.o1, grid.inv1, grid.k1) == c1
+                            and cell_of(max(lo2, b2[q]), grid.o2, grid.inv2, grid.k2) == c2):
+                        out, count = push_pair(out, count, ident[p], ident[q])
+                q += 1
+    return out, count, tests
+
+
+@njit
+def _prepare_columns(order, lo, hi, axis):
     # Chapter SAP slide in 3-D, box-pruning form (Ericson 7.5.2): boxes sorted by b on `axis`, swept per column
     # of a coarse grid over the two other axes (Terdiman's multi box pruning) so that each run stays short.
     a1 = (axis + 1) % 3
     a2 = (axis + 2) % 3
     ranges = np.empty((4, order.shape[0]), dtype=np.int64)
-    grid, entries = _choose_columns(order, lo, hi, a1, a2, ranges)
+    grid, entries, sparse = _choose_columns(order, lo, hi, a1, a2, ranges)
+    if sparse:
+        return (grid, *_fill_columns_sparse(order, lo, hi, axis, a1, a2, grid, ranges, entries))
     start, ident, soa = _fill_columns(order, lo, hi, axis, a1, a2, grid, ranges, entries)
-    return _sweep_columns(grid, start, ident, soa, n_objects)
+    return grid, np.arange(grid.k1 * grid.k2), start, ident, soa
+
+
+#: a thread sweeps at least this many (box, column) entries
+MIN_ENTRIES_PER_THREAD = 4096
+
+
+def _sweep_sorted(order, lo, hi, axis: int, n_objects: int, threads: int = 1):
+    """Sweep-and-prune of the boxes (n, 3) lo, hi sorted along ``axis`` by ``order``: (canonical pairs, tests);
+    ``threads`` > 1 sweeps disjoint ranges of columns on that many threads."""
+    grid, column_key, start, ident, soa = _prepare_columns(order, lo, hi, axis)
+    ranges = split_work(start, threads, MIN_ENTRIES_PER_THREAD)
+    return run_split(lambda first, last: _sweep_columns(grid, column_key, start, ident, soa, first, last,
+                                                        new_pair_buffer(n_objects)), ranges, n_objects)
 
 
 def _widest_axis(lo, hi) -> int:
@@ -327,13 +392,15 @@ def _centre_variance(lo, hi):
     return var
 
 
-def sap_pairs(lo, hi, axis: int | None = None, *, return_tests: bool = False):
+def sap_pairs(lo, hi, axis: int | None = None, *, return_tests: bool = False, threads: int = 1):
     """All pairs of overlapping closed boxes by sweep-and-prune.
 
     lo, hi: (n, d), d in {1, 2, 3}, lo <= hi. axis: the sweep axis (default: the axis of largest spread of the
     box centres). Returns canonical pairs, int64 (k, 2); with ``return_tests=True``, ``(pairs, tests)`` where
-    tests counts the box tests made (pairs overlapping on the sweep axis within a column).
+    tests counts the box tests made (pairs overlapping on the sweep axis within a column). threads: how many
+    threads may share the sweep (the same answer, bit for bit).
     """
+    threads = as_threads(threads)
     lo3, hi3 = as_boxes_3d(lo, hi)
     d = np.shape(lo)[1]
     if axis is not None:
@@ -346,7 +413,7 @@ def sap_pairs(lo, hi, axis: int | None = None, *, return_tests: bool = False):
         return with_tests(empty_pairs(), 0, return_tests)
     axis = _widest_axis(lo3, hi3) if axis is None else int(axis)
     order = np.argsort(lo3[:, axis], kind="stable")
-    pairs, tests = _sweep_sorted_kernel(order, lo3, hi3, axis, n)
+    pairs, tests = _sweep_sorted(order, lo3, hi3, axis, n, threads)
     return with_tests(pairs, tests, return_tests)
 
 
@@ -487,4 +554,4 @@ class IncrementalSAP:
         if self._order.shape[0] < 2:
             return empty_pairs()
         self.last_swaps = int(_insertion_sort_order(self._order, self._lo, self.axis))
-        return _sweep_sorted_kernel(self._order, self._lo, self._hi, self.axis, self._size)[0]
+        return _sweep_sorted(self._order, self._lo, self._hi, self.axis, self._size)[0]
