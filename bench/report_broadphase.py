@@ -66,7 +66,7 @@ def broadphase_markdown(df: pd.DataFrame, info: dict, quick: bool) -> str:
     lines = ["# Broad phase: scaling and peers", "",
              f"{info['date']} · commit `{info['commit']}` · {info['machine']}"
              + (" · **quick mode** (N <= 1e4)" if quick else ""), "",
-             "Workloads (DESIGN.md §7): **W1** Terdiman's box pruning (centres integers in [−2048, 2048)³, "
+             "Workloads (`engine.workloads`): **W1** Terdiman's box pruning (centres integers in [−2048, 2048)³, "
              "half-extents integers in [0, 127]); **W2** equal spheres uniform in a cube at packing fraction η, "
              "all exact overlapping pairs (ours: `sphere_pairs(method)`; peers: scipy cKDTree build + query_pairs, "
              "python-fcl's and coal's DynamicAABBTree managers); **scaling** `find_pairs` on the bounding boxes "
@@ -184,7 +184,7 @@ def matrix_configs(quick: bool = False) -> list[dict]:
 
 
 def time_find_pairs(cfg: dict) -> dict:
-    """One timing task: ``find_pairs`` on the bounding boxes of W2 spheres (DESIGN.md §7), seeded; a warm-up
+    """One timing task: ``find_pairs`` on the bounding boxes of W2 spheres (engine.workloads), seeded; a warm-up
     call (compilation, caches), then ``repeats`` timed calls (perf_counter; minimum and median)."""
     import time
 
@@ -210,7 +210,7 @@ def matrix_markdown(df: pd.DataFrame, info: dict, quick: bool, where: str, failu
              f"{info['date']} · commit `{info['commit']}` · {info['machine']}" + (" · **quick mode**" if quick else ""),
              "",
              "`find_pairs(lo, hi, method)` on the bounding boxes of N equal spheres uniform in a cube at packing "
-             "fraction η (DESIGN.md §7, W2), one seeded scene per seed. Each configuration is one task of a "
+             "fraction η (W2 of `engine.workloads`), one seeded scene per seed. Each configuration is one task of a "
              f"distributed timing sweep ({where}): a warm-up call, then the minimum of the timed calls; a timing "
              "worker runs one task at a time on one thread, so no sibling task disturbs it. Below, per (method, N, "
              "η): the median over the seeds of the minimum time, the spread (max/min) between seeds, and the "

@@ -1,4 +1,4 @@
-"""Benchmarks of the broad phase on DESIGN.md section 7's workloads, peers measured in the same run.
+"""Benchmarks of the broad phase on the standard workloads of engine.workloads, peers measured in the same run.
 
 - W1 (Terdiman's box pruning): N = 10,000 and 100,000 boxes, centres integers in [−2048, 2048)³, half-extents
   integers in [0, 127]; every method of ``find_pairs``; ``extra_info["cycles_per_box"]`` = time × nominal clock / N
