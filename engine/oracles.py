@@ -18,9 +18,27 @@ __all__ = ["free_fall_impacts", "reference_impacts"]
 G = 9.81
 
 
-def reference_impacts(height, mass, drag, restitution, n_impacts, quadratic_drag=0.0, ground=0.0, gravity=G):
-    """Impact times by scipy.integrate.solve_ivp (RK45, rtol = atol = 1e-12) with a terminal event at y = ground,
-    restarted after each impact with v -> -e v: the same physics through an independent integrator."""
+def reference_impacts(height: float, mass: float, drag: float, restitution: float, n_impacts: int,
+                      quadratic_drag: float = 0.0, ground: float = 0.0, gravity: float = G) -> np.ndarray:
+    """Impact times of a falling particle by an independent integrator.
+
+    ``scipy.integrate.solve_ivp`` (RK45, rtol = atol = 1e-12) with a terminal event at y = ``ground``, restarted
+    after each impact with v → −e·v: the physics of :func:`engine.drop_particle` through other code.
+
+    Parameters
+    ----------
+    height, mass, drag, restitution : float
+        As for :func:`engine.drop_particle`.
+    n_impacts : int
+        How many impacts to locate.
+    quadratic_drag, ground, gravity : float, optional
+        The quadratic drag coefficient, the ground's height, g.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n_impacts,), float64
+        The impact times (s).
+    """
 
     def rhs(t, Y):
         y, v = Y
@@ -39,6 +57,11 @@ def reference_impacts(height, mass, drag, restitution, n_impacts, quadratic_drag
     return np.array(times)
 
 
-def free_fall_impacts(height, n_impacts, gravity=G):
-    """No drag, e = 1: the k-th impact at sqrt(2h/g)(2k + 1)."""
+def free_fall_impacts(height: float, n_impacts: int, gravity: float = G) -> np.ndarray:
+    """Exact impact times without drag and with e = 1: the k-th impact (k = 0, 1, ...) at sqrt(2h/g)(2k + 1).
+
+    Returns
+    -------
+    numpy.ndarray, shape (n_impacts,), float64
+    """
     return np.sqrt(2.0 * height / gravity) * (2.0 * np.arange(n_impacts) + 1.0)
