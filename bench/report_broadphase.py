@@ -172,7 +172,8 @@ def broadphase_plot(df: pd.DataFrame, out: Path | None = None):
     panels = [p for p in panels if ((df["workload"] == p[0]) & np.isclose(df["packing_fraction"], p[1])).any()]
     if not panels:
         return None
-    methods = sorted(df["method"].unique())
+    plotted = df[df["workload"].isin([p[0] for p in panels])]
+    methods = sorted(plotted["method"].unique())
     colours = {m: colormaps["tab10"](i % 10) for i, m in enumerate(methods)}
     fig = Figure(figsize=(5.2 * len(panels), 4.8), dpi=110)
     axes = fig.subplots(1, len(panels), squeeze=False)
