@@ -62,7 +62,7 @@ def grow_pair_buffer(buffer, needed):
     return out
 
 
-@njit
+@njit(inline="always")
 def push_pair(buffer, count, i, j):
     """Append the row (i, j) to the pair buffer holding ``count`` rows; returns (buffer, count + 1).
 
@@ -240,6 +240,10 @@ def run_split(sweep, ranges, n: int, extra=None):
     kernels release the GIL), and merge them (and ``extra``, one more (buffer, count, tests) if given):
     ``(canonical pairs of the n objects, total tests)``. The parts hold disjoint sets of pairs, so the result is
     the same, bit for bit, as one call over all the items."""
+    if extra is not None and extra[1] == 0:
+        tests_extra = int(extra[2])
+        pairs, tests = run_split(sweep, ranges, n)  # nothing to merge but the tests
+        return pairs, tests + tests_extra
     if len(ranges) == 1 and extra is None:
         buf, count, tests = sweep(*ranges[0])
         return canonicalise_pairs(buf, count, n), int(tests)
