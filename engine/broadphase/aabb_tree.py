@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import numpy as np
 
+import engine.broadphase.pairs as pair_buffer
 from engine._config import njit
 from engine._validate import as_nonnegative
 from engine.bounding.aabb import enclose_aabbs
@@ -29,12 +30,7 @@ from engine.broadphase.pairs import (
     as_one_box,
     as_threads,
     boxes_overlap,
-    canonicalise_pairs,
     empty_pairs,
-    new_pair_buffer,
-    push_pair,
-    run_split,
-    split_work,
     with_tests,
 )
 
@@ -234,7 +230,7 @@ def _leaf_range_pairs(root, node_lo, node_hi, child1, child2, obj_of, obj_lo, ob
             if child1[node] == -1:
                 j = obj_of[node]
                 if j > i and boxes_overlap(obj_lo, obj_hi, i, j):
-                    out, count = push_pair(out, count, i, j)
+                    out, count = pair_buffer.push_pair(out, count, i, j)
             else:
                 stack[top] = child1[node]
                 stack[top + 1] = child2[node]
@@ -253,10 +249,10 @@ def tree_leaf_pairs(root, node_lo, node_hi, child1, child2, obj_of, obj_lo, obj_
     (int64 (k, 2)) and the number of box tests of the traversal.
     """
     if root == -1:
-        return new_pair_buffer(0)[:0].copy(), 0
+        return pair_buffer.new_pair_buffer(0)[:0].copy(), 0
     out, count, tests = _leaf_range_pairs(root, node_lo, node_hi, child1, child2, obj_of, obj_lo, obj_hi, obj_node,
-                                          n_objects, 0, node_lo.shape[0], new_pair_buffer(n_objects))
-    return canonicalise_pairs(out, count, n_objects), tests
+                                          n_objects, 0, node_lo.shape[0], pair_buffer.new_pair_buffer(n_objects))
+    return pair_buffer.canonicalise_pairs(out, count, n_objects), tests
 
 
 @njit
@@ -619,6 +615,7 @@ def tree_pairs(lo, hi, *, return_tests: bool = False, threads: int = 1):
     obj_of = np.full(capacity, -1, dtype=np.int64)
     _build_kernel(lo3, hi3, node_lo, node_hi, parent, child1, child2, height, leaf_of, obj_of)
     tree = (0, node_lo, node_hi, child1, child2, obj_of, lo3, hi3, leaf_of, n)
-    pairs, tests = run_split(lambda first, last: _leaf_range_pairs(*tree, first, last, new_pair_buffer(n)),
-                             split_work(np.arange(capacity + 1), threads, MIN_NODES_PER_THREAD), n)
+    ranges = pair_buffer.split_work(np.arange(capacity + 1), threads, MIN_NODES_PER_THREAD)
+    pairs, tests = pair_buffer.run_split(
+        lambda first, last: _leaf_range_pairs(*tree, first, last, pair_buffer.new_pair_buffer(n)), ranges, n)
     return with_tests(pairs, tests, return_tests)

@@ -8,16 +8,9 @@ from __future__ import annotations
 
 import numpy as np
 
+import engine.broadphase.pairs as pair_buffer
 from engine._config import njit
-from engine.broadphase.pairs import (
-    as_boxes_3d,
-    as_threads,
-    boxes_overlap,
-    empty_pairs,
-    run_split,
-    split_work,
-    with_tests,
-)
+from engine.broadphase.pairs import as_boxes_3d, as_threads, boxes_overlap, empty_pairs, with_tests
 
 __all__ = ["brute_force_pairs"]
 
@@ -64,6 +57,6 @@ def brute_force_pairs(lo, hi, *, return_tests: bool = False, threads: int = 1):
     if n < 2:
         return with_tests(empty_pairs(), 0, return_tests)
     work = np.concatenate([[0], np.cumsum(np.arange(n - 1, -1, -1))])  # tests of the rows before each row
-    pairs, tests = run_split(lambda first, last: _brute_force_kernel(lo3, hi3, first, last), split_work(work, threads,
-                             MIN_TESTS_PER_THREAD), n)
+    ranges = pair_buffer.split_work(work, threads, MIN_TESTS_PER_THREAD)
+    pairs, tests = pair_buffer.run_split(lambda first, last: _brute_force_kernel(lo3, hi3, first, last), ranges, n)
     return with_tests(pairs, tests, return_tests)

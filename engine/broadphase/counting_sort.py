@@ -88,7 +88,8 @@ def sort_within_buckets(keys, bucket_start, shift, n_cells, start):
 
 @njit
 def radix_sort_pairs(keys, values, keys_tmp, values_tmp, n):
-    """Stable LSD radix sort of keys[:n] (non-negative integers), carrying values[:n] along.
+    """Stable LSD radix sort of keys[:n] (non-negative integers), carrying values[:n] along (values and
+    values_tmp may both be empty: keys only).
 
     Digits of at most 11 bits (2048 counters, in cache), as few as the largest key needs; the histograms of all
     the digits are counted in one read pass, and a digit on which every key agrees is skipped. keys_tmp and
@@ -121,11 +122,13 @@ def radix_sort_pairs(keys, values, keys_tmp, values_tmp, n):
             count = hist[d, b]
             hist[d, b] = total
             total += count
+        carry = src_v.shape[0] > 0
         for t in range(n):
             b = (src_k[t] >> shift) & mask
             p = hist[d, b]
             hist[d, b] = p + 1
             dst_k[p] = src_k[t]
-            dst_v[p] = src_v[t]
+            if carry:
+                dst_v[p] = src_v[t]
         src_k, src_v, dst_k, dst_v = dst_k, dst_v, src_k, src_v
     return src_k, src_v

@@ -17,19 +17,10 @@ from __future__ import annotations
 
 import numpy as np
 
+import engine.broadphase.pairs as pair_buffer
 from engine._config import njit
 from engine.bounding.aabb import enclose_aabbs
-from engine.broadphase.pairs import (
-    as_boxes_3d,
-    as_threads,
-    boxes_overlap,
-    empty_pairs,
-    new_pair_buffer,
-    push_pair,
-    run_split,
-    split_work,
-    with_tests,
-)
+from engine.broadphase.pairs import as_boxes_3d, as_threads, boxes_overlap, empty_pairs, with_tests
 
 __all__ = ["octree_pairs", "build_octree"]
 
@@ -138,7 +129,7 @@ def _octree_pairs_kernel(lo, hi, perm, node_lo, node_hi, first, last, child0, n_
                         continue
                     tests += 1
                     if boxes_overlap(lo, hi, i, j):
-                        out, count = push_pair(out, count, i, j)
+                        out, count = pair_buffer.push_pair(out, count, i, j)
             else:
                 for c in range(n_children[node]):
                     stack[top] = child0[node] + c
@@ -181,6 +172,7 @@ def octree_pairs(lo, hi, leaf_size: int = 8, *, return_tests: bool = False, thre
         return with_tests(empty_pairs(), 0, return_tests)
     tree = _build_octree_kernel(lo3, hi3, int(leaf_size))
     n = lo3.shape[0]
-    pairs, tests = run_split(lambda t0, t1: _octree_pairs_kernel(lo3, hi3, *tree, t0, t1, new_pair_buffer(n)),
-                             split_work(np.arange(n + 1), threads, MIN_OBJECTS_PER_THREAD), n)
+    ranges = pair_buffer.split_work(np.arange(n + 1), threads, MIN_OBJECTS_PER_THREAD)
+    pairs, tests = pair_buffer.run_split(
+        lambda t0, t1: _octree_pairs_kernel(lo3, hi3, *tree, t0, t1, pair_buffer.new_pair_buffer(n)), ranges, n)
     return with_tests(pairs, tests, return_tests)

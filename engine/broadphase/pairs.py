@@ -1,12 +1,16 @@
-"""Canonical pair arrays, the common output of every broad phase (see below).
+"""Canonical pair arrays and the pair buffer, the common output of every broad phase.
 
 "pairs" is always an int64 array of shape (k, 2) with ``i < j`` in every row, rows in lexicographic order and
 no duplicate row.  Every broad-phase kernel gathers its candidate pairs in a *pair buffer* — an int64 (capacity, 2)
-array and a row count, made by :func:`new_pair_buffer` and appended to by :func:`push_pair` (which doubles the
-buffer when it is full) — in whatever order its traversal meets them, and hands the buffer to
-:func:`canonicalise_pairs`, which puts the rows in that one form in O(n + k): a counting sort on the smaller index,
-then a small sort of each bucket on the larger index, dropping repeats. :func:`canonical_pairs` is the same
-operation at the public boundary (validated).
+array and a row count — in whatever order its traversal meets them: :func:`new_pair_buffer` makes one,
+:func:`push_pair` appends a row (doubling the buffer when it is full). The two hottest sweeps (sap's columns and
+the sphere columns) record branch-free instead — the *two-try record*: write the row while there is room, add the
+test's outcome to the count, and sweep again with a buffer of that count (:func:`work_pair_buffer`) if it was
+short; it is written out in them, since any helper call that takes the buffer costs a reference-count update per
+pair (measured 2.5x slower). The kernel hands the buffer to :func:`canonicalise_pairs`, which puts the rows in
+that one form in O(k): one integer key per pair, a radix sort, repeats dropped. :func:`canonical_pairs` is the
+same operation at the public boundary (validated).
+:func:`split_work` and :func:`run_split` share a kernel's work among threads and merge their buffers.
 
 This module also holds the checks shared by the broad phases: :func:`as_boxes` validates ``lo``/``hi`` box
 arrays at the public boundary, and :func:`as_boxes_3d` pads 1-D and 2-D boxes to 3-D with a zero-width extra
@@ -14,20 +18,22 @@ axis (which every box then overlaps), so each kernel is written once, in 3-D.
 """
 from __future__ import annotations
 
+import threading
 from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
 from engine._config import njit
 from engine._validate import as_count, as_float_array
+from engine.broadphase.counting_sort import radix_sort_pairs
 
 #: the most threads a broad-phase call may ask for
 MAX_THREADS = 256
 
 __all__ = ["canonical_pairs", "empty_pairs", "as_boxes", "as_boxes_3d", "as_one_box", "as_live_id", "boxes_overlap",
            "with_tests",
-           "new_pair_buffer", "grow_pair_buffer", "push_pair", "record_pair", "canonicalise_pairs",
-           "as_threads", "split_work", "run_split"]
+           "new_pair_buffer", "grow_pair_buffer", "push_pair", "canonicalise_pairs",
+           "as_threads", "split_work", "run_split", "work_pair_buffer"]
 
 
 def empty_pairs() -> np.ndarray:
@@ -56,7 +62,7 @@ def grow_pair_buffer(buffer, needed):
     return out
 
 
-@njit
+@njit(inline="always")
 def push_pair(buffer, count, i, j):
     """Append the row (i, j) to the pair buffer holding ``count`` rows; returns (buffer, count + 1).
 
@@ -70,68 +76,37 @@ def push_pair(buffer, count, i, j):
     return buffer, count + 1
 
 
-@njit(inline="always")
-def record_pair(buffer, count, i, j, keep):
-    """The pair buffer of a two-try sweep: writes the row (i, j) at row ``count`` while there is room, and
-    returns count + keep (``keep`` a bool, so the sweep has no branch on the test's outcome).
-
-    The caller gives a buffer it expects to be large enough; when the count it gets back exceeds the buffer's
-    rows, it sweeps again with a buffer of that many rows (growing inside the loop would make every write pay
-    for the possible copy).
-    """
-    if count < buffer.shape[0]:
-        buffer[count, 0] = i
-        buffer[count, 1] = j
-    return count + np.int64(keep)
-
-
 @njit
 def canonicalise_pairs(candidates, count, n):
     """Canonical pairs (int64 (k, 2), a new array) of the first ``count`` rows of the pair buffer ``candidates``
     (int64 (capacity, 2); objects numbered 0..n-1).
 
-    Counting sort on i = min(row) (one bucket per object), then each bucket sorted on j = max(row) and its
-    repeats dropped; rows with i == j (a self-test, which the chapter excludes) are dropped too.
+    Each row (a, b) with a != b becomes the integer key min(a, b) · 2^s + max(a, b) (2^s > n − 1); the keys are
+    radix-sorted (``counting_sort.radix_sort_pairs``: a few linear passes, no comparison sort), repeats dropped
+    and the rows decoded. Rows with a == b (a self-test, which the chapter excludes) are dropped.
     """
-    start = np.zeros(n + 1, dtype=np.int64)
-    for t in range(count):
-        a = candidates[t, 0]
-        b = candidates[t, 1]
-        start[min(a, b) + 1] += 1
-    for i in range(n):
-        start[i + 1] += start[i]
-    fill = start[:n].copy()
-    second = np.empty(count, dtype=np.int64)
-    for t in range(count):
-        a = candidates[t, 0]
-        b = candidates[t, 1]
-        i = min(a, b)
-        second[fill[i]] = max(a, b)
-        fill[i] += 1
-    out = np.empty((count, 2), dtype=np.int64)
+    shift = 1
+    while (1 << shift) < n:
+        shift += 1
+    keys = np.empty(count, dtype=np.int64)
     k = 0
-    for i in range(n):
-        s = start[i]
-        e = start[i + 1]
-        if e - s > 24:
-            second[s:e] = np.sort(second[s:e])
-        else:  # insertion sort: buckets are tiny in practice
-            for p in range(s + 1, e):
-                v = second[p]
-                q = p - 1
-                while q >= s and second[q] > v:
-                    second[q + 1] = second[q]
-                    q -= 1
-                second[q + 1] = v
-        previous = -1
-        for p in range(s, e):
-            j = second[p]
-            if j != previous and j != i:
-                out[k, 0] = i
-                out[k, 1] = j
-                k += 1
-            previous = j
-    return out[:k].copy()
+    for t in range(count):
+        a = candidates[t, 0]
+        b = candidates[t, 1]
+        if a != b:
+            keys[k] = (min(a, b) << shift) | max(a, b)
+            k += 1
+    no_values = np.empty(0, dtype=np.int64)
+    keys, _ = radix_sort_pairs(keys, no_values, np.empty(k, dtype=np.int64), no_values, k)
+    out = np.empty((k, 2), dtype=np.int64)
+    rows = 0
+    low = (1 << shift) - 1
+    for t in range(k):
+        if t == 0 or keys[t] != keys[t - 1]:
+            out[rows, 0] = keys[t] >> shift
+            out[rows, 1] = keys[t] & low
+            rows += 1
+    return out[:rows].copy()
 
 
 def canonical_pairs(pairs, n: int | None = None) -> np.ndarray:
@@ -228,6 +203,20 @@ def boxes_overlap(lo, hi, i, j):
     return True
 
 
+_WORK = threading.local()  # per-thread pair buffers of the two-try sweeps, reused between calls
+
+
+def work_pair_buffer(rows: int) -> np.ndarray:
+    """This thread's reusable pair buffer, int64 (at least ``rows``, 2) (grown by 25 %, never shrunk): a sweep
+    that records into it keeps the size its last call needed, so it seldom sweeps twice, and fresh pages are not
+    faulted in at every call. Its rows are overwritten by the next sweep on this thread: copy what you keep."""
+    buf = getattr(_WORK, "pairs", None)
+    if buf is None or buf.shape[0] < rows:
+        buf = np.empty((max(16, rows + rows // 4), 2), dtype=np.int64)
+        _WORK.pairs = buf
+    return buf
+
+
 def as_threads(threads) -> int:
     """The checked ``threads`` argument of a broad phase: an int in [1, MAX_THREADS]."""
     return as_count(threads, "threads", minimum=1, maximum=MAX_THREADS)
@@ -251,6 +240,10 @@ def run_split(sweep, ranges, n: int, extra=None):
     kernels release the GIL), and merge them (and ``extra``, one more (buffer, count, tests) if given):
     ``(canonical pairs of the n objects, total tests)``. The parts hold disjoint sets of pairs, so the result is
     the same, bit for bit, as one call over all the items."""
+    if extra is not None and extra[1] == 0:
+        tests_extra = int(extra[2])
+        pairs, tests = run_split(sweep, ranges, n)  # nothing to merge but the tests
+        return pairs, tests + tests_extra
     if len(ranges) == 1 and extra is None:
         buf, count, tests = sweep(*ranges[0])
         return canonicalise_pairs(buf, count, n), int(tests)

@@ -17,7 +17,7 @@ Data-oriented passes:
    sorted float arrays (structure of arrays);
 3. the sweeps, on integer keys: a touching pair's fx differ by at most X_STEPS + 1 (the layout's reach). Each
    column's keys stay more than a reach below the next column's and a sentinel key ends the array, so no sweep
-   needs a bounds check; pairs are recorded branch-free (``pairs.record_pair``).
+   needs a bounds check; pairs are recorded branch-free (the two-try record of ``pairs``).
 """
 from __future__ import annotations
 
@@ -27,7 +27,6 @@ import numpy as np
 
 from engine._config import njit
 from engine.broadphase.counting_sort import cell_of, radix_sort_pairs
-from engine.broadphase.pairs import record_pair
 
 __all__ = ["X_STEPS", "ColumnLayout", "column_layout", "sort_into_columns", "sweep_columns"]
 
@@ -166,11 +165,12 @@ def _neighbour_starts(col, layout, keys, m, col_ids, col_start, bases, starts):
 @njit
 def sweep_columns(layout, keys, m, sx, sy, sz, sr, sid, col_ids, col_start, first, last, buf, count):
     """The sweeps from home columns col_ids[first:last] (see the module docstring): records the touching pairs
-    (original sphere ids) in ``buf`` from row ``count`` on (``pairs.record_pair``) and returns the new count,
+    (original sphere ids) in ``buf`` from row ``count`` on (the two-try record) and returns the new count,
     which exceeds buf's rows when it was too small."""
     bases = np.empty(5, dtype=np.int64)  # run 0: the home column itself; runs 1-4: its forward neighbours
     starts = np.empty(5, dtype=np.int64)
     reach = layout.reach
+    capacity = buf.shape[0]
     for h in range(first, last):
         if col_start[h] == col_start[h + 1]:
             continue
@@ -201,6 +201,9 @@ def sweep_columns(layout, keys, m, sx, sy, sz, sr, sid, col_ids, col_start, firs
                     s = pr + sr[q]
                     hit = ((ddx * ddx + ddy * ddy + ddz * ddz <= s * s) & (abs(ddx) <= s) & (abs(ddy) <= s)
                            & (abs(ddz) <= s))
-                    count = record_pair(buf, count, sid[p], sid[q], hit)
+                    if count < capacity:  # the two-try record of engine.broadphase.pairs
+                        buf[count, 0] = sid[p]
+                        buf[count, 1] = sid[q]
+                    count += np.int64(hit)
                     q += 1
     return count

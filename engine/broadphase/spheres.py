@@ -26,18 +26,11 @@ from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
+import engine.broadphase.pairs as pair_buffer
 from engine._config import njit
 from engine._validate import MAX_MAGNITUDE, as_choice, as_float_array, as_nonnegative
 from engine.bounding.sphere import spheres_touch
-from engine.broadphase.pairs import (
-    as_threads,
-    canonical_pairs,
-    canonicalise_pairs,
-    empty_pairs,
-    new_pair_buffer,
-    push_pair,
-    split_work,
-)
+from engine.broadphase.pairs import as_threads, canonical_pairs, empty_pairs
 from engine.broadphase.sphere_columns import column_layout, home_columns, sort_into_columns, sweep_columns
 
 __all__ = ["sphere_pairs", "spheres_overlap_pairs"]
@@ -82,7 +75,7 @@ def _large_sphere_pairs(c, r, large, out, count):
             if j == i or (large[j] and j < i):
                 continue
             if _spheres_touch(c, r, i, j):
-                out, count = push_pair(out, count, i, j)
+                out, count = pair_buffer.push_pair(out, count, i, j)
     return out, count
 
 
@@ -112,17 +105,18 @@ def _sphere_grid_pairs(c, r, large, cell_size, equal_radii, threads):
                                       np.iinfo(key_type).max)
     col_ids, col_start = home_columns(skeys, m, layout)
     grid = (layout, skeys, m, *sorted_arrays, sid, col_ids, col_start)
-    chunks = split_work(col_start, threads, MIN_SPHERES_PER_THREAD)
+    chunks = pair_buffer.split_work(col_start, threads, MIN_SPHERES_PER_THREAD)
     if len(chunks) == 1:
-        buf, count = _sweep_chunk(grid, chunks[0], _work_pairs(max(16, n)))
+        buf, count = _sweep_chunk(grid, chunks[0], pair_buffer.work_pair_buffer(max(16, n)))
     else:
         with ThreadPoolExecutor(max_workers=len(chunks)) as pool:
-            parts = list(pool.map(lambda chunk: _sweep_chunk(grid, chunk, new_pair_buffer(n // len(chunks))), chunks))
+            rows = n // len(chunks)
+            parts = list(pool.map(lambda chunk: _sweep_chunk(grid, chunk, pair_buffer.new_pair_buffer(rows)), chunks))
         buf = np.concatenate([b[:k] for b, k in parts])
         count = buf.shape[0]
     if not equal_radii:
         buf, count = _large_sphere_pairs(c, r, large, buf, count)
-    return canonicalise_pairs(buf, count, n)
+    return pair_buffer.canonicalise_pairs(buf, count, n)
 
 
 def _sweep_chunk(grid, chunk, buf):
@@ -133,15 +127,6 @@ def _sweep_chunk(grid, chunk, buf):
         buf = np.empty((count, 2), dtype=np.int64)
         count = sweep_columns(*grid, chunk[0], chunk[1], buf, 0)
     return buf, count
-
-
-def _work_pairs(rows: int) -> np.ndarray:
-    """A per-thread (rows, 2) int64 work buffer for candidate pairs."""
-    buf = getattr(_WORK, "pairs", None)
-    if buf is None or buf.shape[0] < rows:
-        buf = np.empty((max(16, rows + rows // 4), 2), dtype=np.int64)
-        _WORK.pairs = buf
-    return buf
 
 
 @njit

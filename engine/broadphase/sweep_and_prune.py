@@ -22,23 +22,11 @@ from collections import namedtuple
 
 import numpy as np
 
+import engine.broadphase.pairs as pair_buffer
 from engine._config import njit
 from engine._validate import as_float_array
 from engine.broadphase.counting_sort import cell_of, radix_sort_pairs
-from engine.broadphase.pairs import (
-    as_boxes,
-    as_boxes_3d,
-    as_live_id,
-    as_one_box,
-    as_threads,
-    canonicalise_pairs,
-    empty_pairs,
-    new_pair_buffer,
-    push_pair,
-    run_split,
-    split_work,
-    with_tests,
-)
+from engine.broadphase.pairs import as_boxes, as_boxes_3d, as_live_id, as_one_box, as_threads, empty_pairs, with_tests
 
 __all__ = ["sweep_intervals", "sap_pairs", "sap_example_trace", "IncrementalSAP", "SLIDE_EXAMPLE"]
 
@@ -85,13 +73,13 @@ def _sweep_intervals_kernel(begin, end):
     active = np.empty(n, dtype=np.int64)
     slot = np.empty(n, dtype=np.int64)
     n_active = 0
-    out = new_pair_buffer(n)
+    out = pair_buffer.new_pair_buffer(n)
     count = 0
     for t in range(2 * n):
         i = interval[t]
         if not is_end[t]:
             for a in range(n_active):
-                out, count = push_pair(out, count, active[a], i)
+                out, count = pair_buffer.push_pair(out, count, active[a], i)
             active[n_active] = i
             slot[i] = n_active
             n_active += 1
@@ -101,7 +89,7 @@ def _sweep_intervals_kernel(begin, end):
             last = active[n_active]
             active[s] = last
             slot[last] = s
-    return canonicalise_pairs(out, count, n)
+    return pair_buffer.canonicalise_pairs(out, count, n)
 
 
 def _as_intervals(begin, end):
@@ -240,9 +228,26 @@ def _choose_columns(order, lo, hi, a1, a2, ranges):
         k2 = max(1, k2 // 2)
 
 
+#: the sort keys: b on the sweep axis mapped to integers 0 .. 2^31 − 1 (monotone), and the sentinel above them
+KEY_STEPS = 1 << 31
+SENTINEL = 1 << 62
+
+#: the sweep axis' integer key map: key(v) = cell_of(v, origin, scale, KEY_STEPS) (monotone in v)
+SweepKeys = namedtuple("SweepKeys", ["origin", "scale"])
+
+
 @njit
-def _gather_entry(t, o, lo, hi, axis, a1, a2, ident, soa):
+def sweep_keys(order, lo, hi, axis):
+    """The SweepKeys of the boxes along ``axis``: their range mapped onto 0 .. KEY_STEPS − 1."""
+    origin, top = _axis_range(order, lo, hi, axis)
+    span = top - origin
+    return SweepKeys(origin, KEY_STEPS / span if span > 0.0 else 0.0)
+
+
+@njit
+def _gather_entry(t, o, lo, hi, axis, a1, a2, keys, ident, key_b, soa):
     ident[t] = o
+    key_b[t] = cell_of(lo[o, axis], keys.origin, keys.scale, KEY_STEPS)
     soa[0, t] = lo[o, axis]
     soa[1, t] = hi[o, axis]
     soa[2, t] = lo[o, a1]
@@ -252,16 +257,18 @@ def _gather_entry(t, o, lo, hi, axis, a1, a2, ident, soa):
 
 
 @njit
-def _fill_columns(order, lo, hi, axis, a1, a2, grid, ranges, entries):
+def _fill_columns(order, lo, hi, axis, a1, a2, grid, ranges, entries, keys):
     """Counting sort of the (box, column) entries by column, keeping the sweep order inside each column.
 
-    Returns (start, ident, soa): column c holds entries start[c] .. start[c + 1] − 1; ident[t] is the box of
-    entry t and soa (6, entries) its b, e on the sweep axis, then on a1, then on a2 (structure of arrays: each
-    column's sorted intervals are contiguous).
+    Returns (start, ident, key_b, soa): column c holds entries start[c] .. start[c + 1] − 2 and a sentinel at
+    start[c + 1] − 1 (key_b = SENTINEL: it ends every sweep of the column without a bounds check); ident[t] is
+    the box of entry t, key_b[t] the integer key of its b on the sweep axis, soa (6, slots) its b, e on the sweep
+    axis, then on a1, then on a2 (structure of arrays: each column's intervals are contiguous).
     """
     m = order.shape[0]
     n_cells = grid.k1 * grid.k2
-    start = np.zeros(n_cells + 1, dtype=np.int64)
+    start = np.ones(n_cells + 1, dtype=np.int64)  # one sentinel per column
+    start[0] = 0
     for p in range(m):
         for c1 in range(ranges[0, p], ranges[1, p] + 1):
             for c2 in range(ranges[2, p], ranges[3, p] + 1):
@@ -269,90 +276,122 @@ def _fill_columns(order, lo, hi, axis, a1, a2, grid, ranges, entries):
     for c in range(n_cells):
         start[c + 1] += start[c]
     fill = start[:n_cells].copy()
-    ident = np.empty(entries, dtype=np.int64)
-    soa = np.empty((6, entries))
+    slots = entries + n_cells
+    ident = np.empty(slots, dtype=np.int64)
+    key_b = np.empty(slots, dtype=np.int64)
+    soa = np.zeros((6, slots))
     for p in range(m):
         for c1 in range(ranges[0, p], ranges[1, p] + 1):
             for c2 in range(ranges[2, p], ranges[3, p] + 1):
                 t = fill[c1 * grid.k2 + c2]
                 fill[c1 * grid.k2 + c2] = t + 1
-                _gather_entry(t, order[p], lo, hi, axis, a1, a2, ident, soa)
-    return start, ident, soa
+                _gather_entry(t, order[p], lo, hi, axis, a1, a2, keys, ident, key_b, soa)
+    for c in range(n_cells):
+        key_b[start[c + 1] - 1] = SENTINEL
+    return start, ident, key_b, soa
 
 
 @njit
-def _fill_columns_sparse(order, lo, hi, axis, a1, a2, grid, ranges, entries):
+def _fill_columns_sparse(order, lo, hi, axis, a1, a2, grid, ranges, entries, keys):
     """``_fill_columns`` storing only the occupied columns: the entries' column keys c1 · k2 + c2 radix-sorted
-    (stable, so the sweep order is kept inside each column). Returns (column keys, start, ident, soa), column
-    i holding entries start[i] .. start[i + 1] − 1."""
-    keys = np.empty(entries, dtype=np.int64)
+    (stable, so the sweep order is kept inside each column). Returns (column keys, start, ident, key_b, soa),
+    column i holding entries start[i] .. start[i + 1] − 2 and its sentinel."""
+    column_of = np.empty(entries, dtype=np.int64)
     source = np.empty(entries, dtype=np.int64)
     t = 0
     for p in range(order.shape[0]):
         for c1 in range(ranges[0, p], ranges[1, p] + 1):
             for c2 in range(ranges[2, p], ranges[3, p] + 1):
-                keys[t] = c1 * grid.k2 + c2
+                column_of[t] = c1 * grid.k2 + c2
                 source[t] = p
                 t += 1
-    keys, source = radix_sort_pairs(keys, source, np.empty(entries, dtype=np.int64),
-                                    np.empty(entries, dtype=np.int64), entries)
+    column_of, source = radix_sort_pairs(column_of, source, np.empty(entries, dtype=np.int64),
+                                         np.empty(entries, dtype=np.int64), entries)
     column_key = np.empty(entries, dtype=np.int64)
     start = np.empty(entries + 1, dtype=np.int64)
-    ident = np.empty(entries, dtype=np.int64)
-    soa = np.empty((6, entries))
+    ident = np.empty(2 * entries, dtype=np.int64)
+    key_b = np.empty(2 * entries, dtype=np.int64)
+    soa = np.zeros((6, 2 * entries))
     columns = 0
     for t in range(entries):
-        if t == 0 or keys[t] != keys[t - 1]:
-            column_key[columns] = keys[t]
-            start[columns] = t
+        if t == 0 or column_of[t] != column_of[t - 1]:
+            if columns > 0:
+                key_b[t + columns - 1] = SENTINEL  # ends the previous column
+            column_key[columns] = column_of[t]
+            start[columns] = t + columns
             columns += 1
-        _gather_entry(t, order[source[t]], lo, hi, axis, a1, a2, ident, soa)
-    start[columns] = entries
-    return column_key[:columns].copy(), start[: columns + 1].copy(), ident, soa
+        _gather_entry(t + columns - 1, order[source[t]], lo, hi, axis, a1, a2, keys, ident, key_b, soa)
+    key_b[entries + columns - 1] = SENTINEL
+    start[columns] = entries + columns
+    return column_key[:columns].copy(), start[: columns + 1].copy(), ident, key_b, soa
 
 
 @njit
-def _sweep_columns(grid, column_key, start, ident, soa, first, last, out):
+def _sweep_columns(grid, keys, column_key, start, ident, key_b, soa, first, last, out):
     # Chapter SAP slide, box-pruning form: in each column, for entry p the entries q after it with b_q <= e_p
     # are exactly those in the active list when p enters; test the two other axes, and report the pair only in
-    # the column holding the lower corner (max b^1, max b^2) of the two boxes, so exactly once.
-    # Columns first .. last − 1 (column i has key column_key[i] = c1 · k2 + c2); returns (out, count, tests).
+    # the column holding the lower corner (max b^1, max b^2) of the two boxes, so exactly once. The entries are
+    # in the order of their integer keys, so the sweep runs while key(b_q) <= key(e_p) (a superset, as the key
+    # map is monotone) and tests the sweep axis exactly too; the column's sentinel stops it.
+    # Columns first .. last − 1 (column i has key column_key[i] = c1 · k2 + c2); the pairs are recorded in out
+    # (the two-try record); returns (count, tests), count > len(out) when out was too small.
     b0, e0, b1, e1, b2, e2 = soa[0], soa[1], soa[2], soa[3], soa[4], soa[5]
     count = 0
     tests = 0  # box tests on the two other axes: the pairs whose intervals overlap on the sweep axis
+    capacity = out.shape[0]
     for cell in range(first, last):
         c1 = column_key[cell] // grid.k2
         c2 = column_key[cell] - c1 * grid.k2
-        end = start[cell + 1]
-        for p in range(start[cell], end):
+        for p in range(start[cell], start[cell + 1] - 1):
+            lo0 = b0[p]
             end0 = e0[p]
             lo1 = b1[p]
             hi1 = e1[p]
             lo2 = b2[p]
             hi2 = e2[p]
+            key_end = cell_of(end0, keys.origin, keys.scale, KEY_STEPS)
             q = p + 1
-            while q < end and b0[q] <= end0:
-                tests += 1
-                if (b1[q] <= hi1) & (lo1 <= e1[q]) & (b2[q] <= hi2) & (lo2 <= e2[q]):
-                    if (cell_of(max(lo1, b1[q]), grid.o1, grid.inv1, grid.k1) == c1
-                            and cell_of(max(lo2, b2[q]), grid.o2, grid.inv2, grid.k2) == c2):
-                        out, count = push_pair(out, count, ident[p], ident[q])
+            while key_b[q] <= key_end:
+                overlap0 = (b0[q] <= end0) & (lo0 <= e0[q])
+                tests += overlap0
+                keep = (overlap0 & (b1[q] <= hi1) & (lo1 <= e1[q]) & (b2[q] <= hi2) & (lo2 <= e2[q])
+                        & (cell_of(max(lo1, b1[q]), grid.o1, grid.inv1, grid.k1) == c1)
+                        & (cell_of(max(lo2, b2[q]), grid.o2, grid.inv2, grid.k2) == c2))
+                if count < capacity:  # the two-try record of engine.broadphase.pairs
+                    out[count, 0] = ident[p]
+                    out[count, 1] = ident[q]
+                count += np.int64(keep)
                 q += 1
-    return out, count, tests
+    return count, tests
 
 
 @njit
 def _prepare_columns(order, lo, hi, axis):
-    # Chapter SAP slide in 3-D, box-pruning form (Ericson 7.5.2): boxes sorted by b on `axis`, swept per column
-    # of a coarse grid over the two other axes (Terdiman's multi box pruning) so that each run stays short.
+    # Chapter SAP slide in 3-D, box-pruning form (Ericson 7.5.2): boxes in the order of their key on `axis`,
+    # swept per column of a coarse grid over the two other axes (Terdiman's multi box pruning) so that each run
+    # stays short.
     a1 = (axis + 1) % 3
     a2 = (axis + 2) % 3
+    keys = sweep_keys(order, lo, hi, axis)
     ranges = np.empty((4, order.shape[0]), dtype=np.int64)
     grid, entries, sparse = _choose_columns(order, lo, hi, a1, a2, ranges)
     if sparse:
-        return (grid, *_fill_columns_sparse(order, lo, hi, axis, a1, a2, grid, ranges, entries))
-    start, ident, soa = _fill_columns(order, lo, hi, axis, a1, a2, grid, ranges, entries)
-    return grid, np.arange(grid.k1 * grid.k2), start, ident, soa
+        return (grid, keys, *_fill_columns_sparse(order, lo, hi, axis, a1, a2, grid, ranges, entries, keys))
+    start, ident, key_b, soa = _fill_columns(order, lo, hi, axis, a1, a2, grid, ranges, entries, keys)
+    return grid, keys, np.arange(grid.k1 * grid.k2), start, ident, key_b, soa
+
+
+@njit
+def sweep_order(lo, hi, axis):
+    """The boxes (n, 3) in the order of their integer sweep keys on ``axis`` (ties by index): int64 (n,), by
+    one radix sort of 31-bit keys (Terdiman's integer-mapped keys) instead of a comparison sort of floats."""
+    n = lo.shape[0]
+    everyone = np.arange(n)
+    keys = sweep_keys(everyone, lo, hi, axis)
+    key_b = np.empty(n, dtype=np.int64)
+    for i in range(n):
+        key_b[i] = cell_of(lo[i, axis], keys.origin, keys.scale, KEY_STEPS)
+    return radix_sort_pairs(key_b, everyone, np.empty(n, dtype=np.int64), np.empty(n, dtype=np.int64), n)[1].copy()
 
 
 #: a thread sweeps at least this many (box, column) entries
@@ -360,12 +399,23 @@ MIN_ENTRIES_PER_THREAD = 4096
 
 
 def _sweep_sorted(order, lo, hi, axis: int, n_objects: int, threads: int = 1):
-    """Sweep-and-prune of the boxes (n, 3) lo, hi sorted along ``axis`` by ``order``: (canonical pairs, tests);
-    ``threads`` > 1 sweeps disjoint ranges of columns on that many threads."""
-    grid, column_key, start, ident, soa = _prepare_columns(order, lo, hi, axis)
-    ranges = split_work(start, threads, MIN_ENTRIES_PER_THREAD)
-    return run_split(lambda first, last: _sweep_columns(grid, column_key, start, ident, soa, first, last,
-                                                        new_pair_buffer(n_objects)), ranges, n_objects)
+    """Sweep-and-prune of the boxes (n, 3) lo, hi in sweep-key order ``order`` along ``axis``: (canonical
+    pairs, tests); ``threads`` > 1 sweeps disjoint ranges of columns on that many threads."""
+    grid, keys, column_key, start, ident, key_b, soa = _prepare_columns(order, lo, hi, axis)
+    ranges = pair_buffer.split_work(start, threads, MIN_ENTRIES_PER_THREAD)
+    # one range: this thread's reusable buffer; several: a buffer of its own per range (a pool thread may run
+    # two ranges one after the other, and the merge reads every range's buffer at the end)
+    buffer = pair_buffer.work_pair_buffer if len(ranges) == 1 else pair_buffer.new_pair_buffer
+
+    def sweep(first, last):
+        out = buffer(start[last] - start[first])
+        count, tests = _sweep_columns(grid, keys, column_key, start, ident, key_b, soa, first, last, out)
+        if count > out.shape[0]:  # too many pairs for the buffer: again, with room for all of them
+            out = buffer(count)
+            count, tests = _sweep_columns(grid, keys, column_key, start, ident, key_b, soa, first, last, out)
+        return out, count, tests
+
+    return pair_buffer.run_split(sweep, ranges, n_objects)
 
 
 def _widest_axis(lo, hi) -> int:
@@ -412,8 +462,7 @@ def sap_pairs(lo, hi, axis: int | None = None, *, return_tests: bool = False, th
     if n < 2:
         return with_tests(empty_pairs(), 0, return_tests)
     axis = _widest_axis(lo3, hi3) if axis is None else int(axis)
-    order = np.argsort(lo3[:, axis], kind="stable")
-    pairs, tests = _sweep_sorted(order, lo3, hi3, axis, n, threads)
+    pairs, tests = _sweep_sorted(sweep_order(lo3, hi3, axis), lo3, hi3, axis, n, threads)
     return with_tests(pairs, tests, return_tests)
 
 

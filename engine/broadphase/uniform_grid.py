@@ -23,20 +23,11 @@ from __future__ import annotations
 
 import numpy as np
 
+import engine.broadphase.pairs as pair_buffer
 from engine._config import njit
 from engine._validate import as_positive
 from engine.broadphase.counting_sort import cell_of, grid_dims, radix_sort_pairs, radix_split, sort_within_buckets
-from engine.broadphase.pairs import (
-    as_boxes_3d,
-    as_threads,
-    boxes_overlap,
-    empty_pairs,
-    new_pair_buffer,
-    push_pair,
-    run_split,
-    split_work,
-    with_tests,
-)
+from engine.broadphase.pairs import as_boxes_3d, as_threads, boxes_overlap, empty_pairs, with_tests
 
 __all__ = ["grid_pairs", "default_cell_size"]
 
@@ -189,7 +180,7 @@ def _cell_pairs(cell_key, start, member, elo, ehi, origin, inv, dims, first, las
                     if (cell_of(max(elo[p, 0], elo[q, 0]), origin[0], inv, dims[0]) == cx
                             and cell_of(max(elo[p, 1], elo[q, 1]), origin[1], inv, dims[1]) == cy
                             and cell_of(max(elo[p, 2], elo[q, 2]), origin[2], inv, dims[2]) == cz):
-                        out, count = push_pair(out, count, member[p], member[q])
+                        out, count = pair_buffer.push_pair(out, count, member[p], member[q])
     return out, count, tests
 
 
@@ -207,7 +198,7 @@ def _large_box_pairs(lo, hi, large, out):
                 continue
             tests += 1
             if boxes_overlap(lo, hi, i, j):
-                out, count = push_pair(out, count, i, j)
+                out, count = pair_buffer.push_pair(out, count, i, j)
     return out, count, tests
 
 
@@ -292,8 +283,9 @@ def grid_pairs(lo, hi, cell_size: float | None = None, *, return_tests: bool = F
             size = fine  # far-apart clusters: the spacing term would put a cluster in a cell; store occupied cells
     n = lo3.shape[0]
     origin, inv, dims, large, cell_key, start, member, elo, ehi = _prepare_grid(lo3, hi3, size)
-    pairs, tests = run_split(lambda first, last: _cell_pairs(cell_key, start, member, elo, ehi, origin, inv, dims,
-                                                             first, last, new_pair_buffer(n)),
-                             split_work(start, threads, MIN_ENTRIES_PER_THREAD), n,
-                             extra=_large_box_pairs(lo3, hi3, large, new_pair_buffer(16)))
+    ranges = pair_buffer.split_work(start, threads, MIN_ENTRIES_PER_THREAD)
+    large_pairs = _large_box_pairs(lo3, hi3, large, pair_buffer.new_pair_buffer(16))
+    pairs, tests = pair_buffer.run_split(
+        lambda first, last: _cell_pairs(cell_key, start, member, elo, ehi, origin, inv, dims, first, last,
+                                        pair_buffer.new_pair_buffer(n)), ranges, n, extra=large_pairs)
     return with_tests(pairs, tests, return_tests)
