@@ -162,6 +162,21 @@ def _neighbour_starts(col, layout, keys, m, col_ids, col_start, bases, starts):
     return col * layout.nxf
 
 
+#: below this sum of radii, squared distances underflow (to subnormals or 0) and the test is made at scale
+TINY_REACH = 1e-150
+
+
+@njit(inline="always")
+def touching_at_scale(dx, dy, dz, s):
+    """|d|² <= s² with d and s divided by their largest magnitude first (a pair of spheres far below 1e-150,
+    whose squared distance would underflow; the same test as engine.bounding.sphere.spheres_touch)."""
+    big = max(s, abs(dx), abs(dy), abs(dz))
+    if big == 0.0:
+        return True
+    x, y, z, t = dx / big, dy / big, dz / big, s / big
+    return x * x + y * y + z * z <= t * t
+
+
 @njit
 def sweep_columns(layout, keys, m, sx, sy, sz, sr, sid, col_ids, col_start, first, last, buf, count):
     """The sweeps from home columns col_ids[first:last] (see the module docstring): records the touching pairs
@@ -201,6 +216,8 @@ def sweep_columns(layout, keys, m, sx, sy, sz, sr, sid, col_ids, col_start, firs
                     s = pr + sr[q]
                     hit = ((ddx * ddx + ddy * ddy + ddz * ddz <= s * s) & (abs(ddx) <= s) & (abs(ddy) <= s)
                            & (abs(ddz) <= s))
+                    if hit and s < TINY_REACH:  # squares of these magnitudes underflow: test at scale
+                        hit = touching_at_scale(ddx, ddy, ddz, s)
                     if count < capacity:  # the two-try record of engine.broadphase.pairs
                         buf[count, 0] = sid[p]
                         buf[count, 1] = sid[q]
