@@ -35,6 +35,8 @@ prepended; remote workers need the same checkout (``pip install -e .`` and the r
 
 Serial mode (``client=None`` in ``run_sweep``) runs the same functions in this process with the same store,
 resume and retry rules: the reference the distributed run is tested against (properties/test_sweep_dask.py).
+The fault-tolerance promises (a worker or the client SIGKILLed mid-sweep, a configuration that always fails)
+are tested on a real scheduler and workers in properties/test_sweep_faults.py.
 """
 from __future__ import annotations
 
@@ -209,6 +211,10 @@ def run_sweep(sweep: Sweep, store: RowStore, client=None, *, on_row: Callable[[d
     result = SweepResult(rows=[], resumed=resumed)
     progress = _Progress(sweep.name, len(sweep.configs), len(resumed), stream)
 
+    def fail(cfg, error):
+        result.failures.append((cfg, error))
+        progress.failure(f"{sweep.key(cfg)}: {error}")
+
     def keep(cfg, row):
         row = {**row, **{f: cfg[f] for f in sweep.key_fields}}  # the configuration's key identifies the row
         store.append(row, sweep.version)
@@ -218,52 +224,57 @@ def run_sweep(sweep: Sweep, store: RowStore, client=None, *, on_row: Callable[[d
         if on_row is not None:
             on_row(row)
 
-    def fail(cfg, error):
-        result.failures.append((cfg, error))
-        progress.failure(f"{sweep.key(cfg)}: {error}")
-
     if client is None:
-        for cfg in todo:
-            for attempt in range(sweep.retries + 1):
-                try:
-                    row = sweep.function(dict(cfg))
-                except Exception as exc:  # noqa: BLE001 - any failure of a task is recorded, as Dask would
-                    if attempt == sweep.retries:
-                        fail(cfg, f"{type(exc).__name__}: {exc}")
-                else:
-                    keep(cfg, row)
-                    break
+        _run_serially(sweep, todo, keep, fail)
     elif todo:
-        from distributed import as_completed
-
-        resources = _timing_resources(client) if sweep.kind == "timing" else None
-        futures = {}
-        for cfg in todo:
-            fut = client.submit(sweep.function, dict(cfg), retries=sweep.retries, pure=False, resources=resources)
-            futures[fut] = cfg
-        try:
-            for fut in as_completed(list(futures)):
-                cfg = futures.pop(fut)
-                if fut.status == "finished":
-                    keep(cfg, fut.result())
-                else:
-                    try:
-                        exc = fut.exception()
-                    except Exception as err:  # noqa: BLE001 - cancelled, or the scheduler gave up on it
-                        exc = err
-                    fail(cfg, f"{type(exc).__name__}: {exc}")
-                fut.release()
-        finally:  # interrupted: the tasks still running are cancelled; the stored rows stay
-            if futures:
-                with contextlib.suppress(Exception):
-                    client.cancel(list(futures))
-
+        _run_on_cluster(sweep, todo, client, keep, fail)
     result.rows = [stored[sweep.key(c)] for c in sweep.configs if sweep.key(c) in stored]
     for r in result.rows:
         r.pop("_version", None)
     if failures_path is not None:
         write_failures(result.failures, failures_path)
     return result
+
+
+def _run_serially(sweep: Sweep, todo: list[dict], keep, fail) -> None:
+    """Each configuration in this process, retried ``sweep.retries`` times as the scheduler would."""
+    for cfg in todo:
+        for attempt in range(sweep.retries + 1):
+            try:
+                row = sweep.function(dict(cfg))
+            except Exception as exc:  # noqa: BLE001 - any failure of a task is recorded, as Dask would
+                if attempt == sweep.retries:
+                    fail(cfg, f"{type(exc).__name__}: {exc}")
+            else:
+                keep(cfg, row)
+                break
+
+
+def _run_on_cluster(sweep: Sweep, todo: list[dict], client, keep, fail) -> None:
+    """One task per configuration (retried by the scheduler), each result handled as it completes."""
+    from distributed import as_completed
+
+    resources = _timing_resources(client) if sweep.kind == "timing" else None
+    futures = {}
+    for cfg in todo:
+        fut = client.submit(sweep.function, dict(cfg), retries=sweep.retries, pure=False, resources=resources)
+        futures[fut] = cfg
+    try:
+        for fut in as_completed(list(futures)):
+            cfg = futures.pop(fut)
+            # not fut.status: a result held by a worker that died since it finished is "lost" for a moment, then
+            # computed again; result() waits for that, and raises what the task raised after its retries
+            try:
+                row = fut.result()
+            except Exception as exc:  # noqa: BLE001 - the task's error, KilledWorker, or cancelled
+                fail(cfg, f"{type(exc).__name__}: {exc}")
+            else:
+                keep(cfg, row)
+            fut.release()
+    finally:  # interrupted: the tasks still running are cancelled; the stored rows stay
+        if futures:
+            with contextlib.suppress(Exception):
+                client.cancel(list(futures))
 
 
 def write_failures(failures: list[tuple[dict, str]], path: Path | str) -> None:

@@ -1,0 +1,233 @@
+"""The report's sweeps survive faults (bench/sweep.py): what README promises, on real processes of this machine.
+
+A real ``dask scheduler`` and ``dask worker`` processes on 127.0.0.1 (properties/sweep_cluster.py), tiny sweeps
+of cheap pure-Python tasks that count their calls (one line per call in a per-configuration file, written by
+whichever process ran it), and real SIGKILLs:
+- a worker process killed mid-sweep (its nanny restarts it), and a whole worker (nanny and process) killed:
+  every configuration stored exactly once, no failure;
+- the client (the driving process) killed mid-sweep, then rerun: no stored row is computed again, and the rows
+  equal those of an uninterrupted run;
+- a configuration that always raises, and one that kills its worker at every attempt: listed in
+  ``<name>.failures.csv`` after their attempts, every other configuration completes.
+Oracle: the configurations themselves (each stored once, rows a pure function of the configuration) and the
+call counts.
+"""
+from __future__ import annotations
+
+import csv
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import pytest
+
+pytest.importorskip("distributed")
+
+from bench.sweep import RowStore, Sweep, run_sweep  # noqa: E402
+from properties.sweep_cluster import (  # noqa: E402
+    ROOT,
+    Cluster,
+    _environment,
+    calls_of,
+    counted_configs,
+    counted_row,
+    counted_row_with_pid,
+    counted_sweep,
+    raising_row,
+    worker_killing_row,
+)
+
+#: a task that kills its worker is rerun this many times before the scheduler gives up on it (KilledWorker)
+ALLOWED_FAILURES = 2
+QUIET = open(os.devnull, "w")  # noqa: SIM115 - the sweeps' progress lines are not what these tests read
+
+
+@pytest.fixture(scope="module")
+def cluster(tmp_path_factory):
+    c = Cluster(tmp_path_factory.mktemp("cluster"), n_workers=2,
+                env={"DASK_DISTRIBUTED__SCHEDULER__ALLOWED_FAILURES": str(ALLOWED_FAILURES)})
+    try:
+        yield c
+    finally:
+        c.close()
+
+
+@pytest.fixture
+def client(cluster):
+    cluster.wait_for_workers(2)  # a test that killed a worker leaves the next one a full cluster
+    with cluster.client() as c:
+        yield c
+
+
+def stored_lines(store: RowStore) -> list[dict]:
+    """Every line of the store that is a row (whatever its version)."""
+    rows = []
+    for line in store.path.read_bytes().split(b"\n"):
+        try:
+            rows.append(json.loads(line))
+        except (UnicodeDecodeError, json.JSONDecodeError):
+            pass
+    return rows
+
+
+def assert_every_config_stored_once(sweep: Sweep, store: RowStore) -> None:
+    keys = [sweep.key(r) for r in stored_lines(store)]
+    assert sorted(keys) == sorted(sweep.key(c) for c in sweep.configs), "a configuration missing or stored twice"
+
+
+# ------------------------------------------------------------------------------------------------------------
+# a worker dies
+# ------------------------------------------------------------------------------------------------------------
+
+
+def test_worker_process_killed_mid_sweep_every_config_stored_once(client, tmp_path):
+    """SIGKILL of a worker process while both workers hold finished results the client has not fetched yet:
+    those results are lost with it and computed again; each configuration is still stored exactly once."""
+    calls = tmp_path / "calls"
+    calls.mkdir()
+    sweep = Sweep("kill_worker", counted_row_with_pid, counted_configs(calls, 40, 0.02), ("i",))
+    store = RowStore(tmp_path / "kill_worker.jsonl")
+    victim = sorted(client.run(os.getpid).values())[0]
+    killed = []
+
+    def kill_once(row):
+        if not killed and len(list(calls.iterdir())) >= 6:
+            time.sleep(0.5)  # the workers go on: finished results pile up in their memory
+            os.kill(victim, signal.SIGKILL)
+            killed.append(row)
+            time.sleep(0.2)  # the scheduler tells the client that the victim's results are lost
+
+    result = run_sweep(sweep, store, client, on_row=kill_once, stream=QUIET)
+    assert killed, "the kill never happened"
+    assert result.complete, result.failures
+    assert [r["i"] for r in result.rows] == list(range(40))
+    assert all(r["square"] == r["i"] ** 2 for r in result.rows)
+    lost = [i for i in range(40) if victim in calls_of(calls, i) and len(calls_of(calls, i)) > 1]
+    assert lost, "the kill lost no work: the test did not kill mid-sweep"
+    assert_every_config_stored_once(sweep, store)
+
+
+def test_whole_worker_killed_the_others_finish_the_sweep(cluster, client, tmp_path):
+    """A third worker (nanny and worker process) SIGKILLed as a group mid-sweep: it never comes back; the two
+    others finish; every configuration stored exactly once."""
+    extra = cluster.add_worker()
+    cluster.wait_for_workers(3)
+    calls = tmp_path / "calls"
+    calls.mkdir()
+    sweep = Sweep("kill_machine", counted_row, counted_configs(calls, 24, 0.1), ("i",))
+    store = RowStore(tmp_path / "kill_machine.jsonl")
+    killed = []
+
+    def kill_group(row):
+        if not killed and len(stored_lines(store)) >= 4:
+            cluster.kill_group(extra)
+            killed.append(row)
+
+    result = run_sweep(sweep, store, client, on_row=kill_group, stream=QUIET)
+    assert killed and extra.returncode == -signal.SIGKILL
+    assert result.complete, result.failures
+    assert [r["i"] for r in result.rows] == list(range(24))
+    assert_every_config_stored_once(sweep, store)
+    assert len(client.scheduler_info()["workers"]) == 2
+
+
+# ------------------------------------------------------------------------------------------------------------
+# the client dies
+# ------------------------------------------------------------------------------------------------------------
+
+
+def drive(cluster: Cluster, store, calls, n: int, sleep: float) -> subprocess.Popen:
+    return subprocess.Popen([sys.executable, "-m", "properties.sweep_cluster", "drive", str(store), cluster.address,
+                             str(calls), str(n), str(sleep)], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            env=_environment(), cwd=str(ROOT), text=True)
+
+
+def finish(proc: subprocess.Popen) -> dict:
+    out, err = proc.communicate(timeout=120)
+    assert proc.returncode == 0, err
+    return json.loads(out)
+
+
+def test_client_killed_mid_sweep_rerun_recomputes_no_stored_row(cluster, tmp_path):
+    n, sleep = 16, 0.25
+    reference = finish(drive(cluster, tmp_path / "reference.jsonl", _folder(tmp_path / "calls_ref"), n, sleep))
+    assert reference["failures"] == [] and len(reference["rows"]) == n
+
+    calls = _folder(tmp_path / "calls")
+    store = RowStore(tmp_path / "interrupted.jsonl")
+    first = drive(cluster, store.path, calls, n, sleep)
+    deadline = time.monotonic() + 60
+    while not (store.path.exists() and len(store.read()) >= 4):
+        assert first.poll() is None, first.communicate()[1]
+        assert time.monotonic() < deadline, "the first run stored nothing"
+        time.sleep(0.02)
+    first.send_signal(signal.SIGKILL)
+    first.communicate(timeout=30)
+    assert first.returncode == -signal.SIGKILL
+    before = {r["i"] for r in store.read()}
+    assert 4 <= len(before) < n, "the client was not killed mid-sweep"
+
+    again = finish(drive(cluster, store.path, calls, n, sleep))
+    sweep = counted_sweep(calls, n, sleep)
+    assert sorted(again["resumed"]) == sorted(sweep.key({"i": i}) for i in before)
+    assert sorted(again["computed"]) == sorted(sweep.key({"i": i}) for i in set(range(n)) - before)
+    for i in before:
+        assert len(calls_of(calls, i)) == 1, f"stored configuration {i} ran again"
+    assert all(len(calls_of(calls, i)) >= 1 for i in range(n))
+    assert again["rows"] == reference["rows"]
+    assert_every_config_stored_once(sweep, store)
+
+
+def _folder(path):
+    path.mkdir()
+    return path
+
+
+# ------------------------------------------------------------------------------------------------------------
+# configurations that keep failing
+# ------------------------------------------------------------------------------------------------------------
+
+
+def read_failures(path) -> list[dict]:
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def test_always_raising_config_is_listed_after_its_retries(client, tmp_path):
+    calls = _folder(tmp_path / "calls")
+    configs = [dict(i=i, bad=[2, 5], calls=str(calls)) for i in range(9)]
+    sweep = Sweep("raising", raising_row, configs, ("i",), retries=2)
+    store = RowStore(tmp_path / "raising.jsonl")
+    failures_csv = tmp_path / "raising.failures.csv"
+    result = run_sweep(sweep, store, client, failures_path=failures_csv, stream=QUIET)
+    assert sorted(c["i"] for c, _ in result.failures) == [2, 5]
+    assert [r["i"] for r in result.rows] == [0, 1, 3, 4, 6, 7, 8]
+    assert [len(calls_of(calls, i)) for i in range(9)] == [1, 1, 3, 1, 1, 3, 1, 1, 1]  # 1 run + 2 retries
+    listed = read_failures(failures_csv)
+    assert sorted(int(r["i"]) for r in listed) == [2, 5]
+    assert all(f"configuration {r['i']} always fails" in r["error"] and "ValueError" in r["error"] for r in listed)
+    # rerun: only the failing configurations are tried again (and fail again); the others are resumed
+    again = run_sweep(sweep, store, client, failures_path=failures_csv, stream=QUIET)
+    assert again.computed == [] and sorted(c["i"] for c, _ in again.failures) == [2, 5]
+    assert [len(calls_of(calls, i)) for i in range(9)] == [1, 1, 6, 1, 1, 6, 1, 1, 1]
+    assert sorted(int(r["i"]) for r in read_failures(failures_csv)) == [2, 5]
+    assert_every_config_stored_once(Sweep("good", raising_row, [c for c in configs if c["i"] not in (2, 5)],
+                                          ("i",)), store)
+
+
+def test_config_that_kills_its_worker_is_listed_and_the_others_complete(cluster, client, tmp_path):
+    calls = _folder(tmp_path / "calls")
+    configs = [dict(i=i, poison=4, sleep=0.05, calls=str(calls)) for i in range(10)]
+    sweep = Sweep("poison", worker_killing_row, configs, ("i",))
+    store = RowStore(tmp_path / "poison.jsonl")
+    failures_csv = tmp_path / "poison.failures.csv"
+    result = run_sweep(sweep, store, client, failures_path=failures_csv, stream=QUIET)
+    assert [c["i"] for c, _ in result.failures] == [4]
+    assert "KilledWorker" in result.failures[0][1]
+    assert len(calls_of(calls, 4)) == ALLOWED_FAILURES + 1
+    assert [r["i"] for r in result.rows] == [0, 1, 2, 3, 5, 6, 7, 8, 9]
+    assert [int(r["i"]) for r in read_failures(failures_csv)] == [4]
+    cluster.wait_for_workers(2)  # the nannies brought the workers back
