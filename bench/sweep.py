@@ -35,8 +35,8 @@ prepended; remote workers need the same checkout (``pip install -e .`` and the r
 
 Serial mode (``client=None`` in ``run_sweep``) runs the same functions in this process with the same store,
 resume and retry rules: the reference the distributed run is tested against (properties/test_sweep_dask.py).
-The fault-tolerance promises (a worker or the client SIGKILLed mid-sweep, a configuration that always fails)
-are tested on a real scheduler and workers in properties/test_sweep_faults.py.
+The fault-tolerance promises (a worker or the client SIGKILLed mid-sweep, a store torn by a crash, a
+configuration that always fails) are tested on a real scheduler and workers in properties/test_sweep_faults.py.
 """
 from __future__ import annotations
 
@@ -99,23 +99,31 @@ class Sweep:
 class RowStore:
     """The rows of one sweep, one JSON line each, appended (flush + fsync) as each task completes.
 
-    ``path`` is the store (``<out>/.sweeps/<name>.jsonl`` in the report). A truncated last line (a crash in the
-    middle of a write) is ignored on reading. Rows carry the sweep's ``version`` under ``_version``.
+    ``path`` is the store (``<out>/.sweeps/<name>.jsonl`` in the report). Rows carry the sweep's ``version``
+    under ``_version``. A line that is not a whole JSON object — the last line cut short by a crash in the middle
+    of a write, or bytes a crash left behind (zeros, undecodable text) — is not a row: ``read`` skips it and
+    lists its line number (1-based) in ``torn_lines``, so its configuration simply runs again.
     """
 
     def __init__(self, path: Path | str):
         self.path = Path(path)
+        self.torn_lines: list[int] = []
 
     def read(self, version: str = "") -> list[dict]:
+        self.torn_lines = []
         if not self.path.exists():
             return []
         rows = []
-        for line in self.path.read_text().splitlines():
+        for number, line in enumerate(self.path.read_bytes().split(b"\n"), start=1):
+            if not line:
+                continue  # the end of the file after the last newline
             try:
-                row = json.loads(line)
-            except json.JSONDecodeError:
-                continue  # a line cut short by a crash: its task is simply run again
-            if isinstance(row, dict) and row.get("_version", "") == version:
+                row = json.loads(line.decode("utf-8"))
+            except (UnicodeDecodeError, json.JSONDecodeError):
+                row = None
+            if not isinstance(row, dict):
+                self.torn_lines.append(number)
+            elif row.get("_version", "") == version:
                 rows.append(row)
         return rows
 
@@ -149,12 +157,13 @@ def _jsonable(value):
 class SweepResult:
     """rows: every stored row of the sweep, in the order of its configs (resumed ones included);
     computed: keys run in this call; resumed: keys found in the store; failures: (config, error text) of the
-    tasks that failed after their retries."""
+    tasks that failed after their retries; torn_lines: the store's lines that were not rows (see RowStore)."""
 
     rows: list[dict]
     computed: list[str] = field(default_factory=list)
     resumed: list[str] = field(default_factory=list)
     failures: list[tuple[dict, str]] = field(default_factory=list)
+    torn_lines: list[int] = field(default_factory=list)
 
     @property
     def complete(self) -> bool:
@@ -188,10 +197,12 @@ class _Progress:
         self.done += 1
         self.show()
 
+    def note(self, message: str):
+        print(("\n" if self.tty else "") + f"[sweep {self.name}] {message}", file=self.stream, flush=True)
+
     def failure(self, message: str):
         self.failed += 1
-        print(("\n" if self.tty else "") + f"[sweep {self.name}] FAILED after retries: {message}", file=self.stream,
-              flush=True)
+        self.note(f"FAILED after retries: {message}")
         self.show()
 
 
@@ -203,21 +214,32 @@ def run_sweep(sweep: Sweep, store: RowStore, client=None, *, on_row: Callable[[d
     same rules. on_row(row) is called after each row is stored (the tests use it to interrupt or kill).
     failures_path: where to write the failed configurations (CSV; removed when none failed).
     Returns the stored rows in the order of ``sweep.configs``; never raises for a failing task (only for an
-    interruption, after which every completed row is in the store).
+    interruption, after which every completed row is in the store). A task whose row cannot be stored (not a
+    dict, or holding a value JSON cannot store) is a failed configuration; nothing of it is written.
+    Stored lines that are not rows (``RowStore.torn_lines``: a write cut short by a crash) are reported and
+    skipped, so their configurations run again; so are rows lacking one of the key fields.
     """
-    stored = {sweep.key(r): r for r in store.read(sweep.version)}
+    stored = {sweep.key(r): r for r in store.read(sweep.version) if all(f in r for f in sweep.key_fields)}
     todo = [c for c in sweep.configs if sweep.key(c) not in stored]
     resumed = [sweep.key(c) for c in sweep.configs if sweep.key(c) in stored]
-    result = SweepResult(rows=[], resumed=resumed)
+    result = SweepResult(rows=[], resumed=resumed, torn_lines=list(store.torn_lines))
     progress = _Progress(sweep.name, len(sweep.configs), len(resumed), stream)
+    if result.torn_lines:
+        progress.note(f"{store.path}: line(s) {result.torn_lines} are not whole rows (a write cut short by a "
+                      "crash): skipped, their configurations run again unless stored on another line")
 
     def fail(cfg, error):
         result.failures.append((cfg, error))
         progress.failure(f"{sweep.key(cfg)}: {error}")
 
     def keep(cfg, row):
+        if not isinstance(row, dict):
+            return fail(cfg, f"TypeError: the task returned a {type(row).__name__}, not a dict")
         row = {**row, **{f: cfg[f] for f in sweep.key_fields}}  # the configuration's key identifies the row
-        store.append(row, sweep.version)
+        try:
+            store.append(row, sweep.version)
+        except (TypeError, ValueError) as exc:  # refused before anything is written
+            return fail(cfg, f"{type(exc).__name__}: {exc}")
         stored[sweep.key(cfg)] = {**row, "_version": sweep.version}
         result.computed.append(sweep.key(cfg))
         progress.row()

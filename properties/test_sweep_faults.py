@@ -7,8 +7,11 @@ whichever process ran it), and real SIGKILLs:
   every configuration stored exactly once, no failure;
 - the client (the driving process) killed mid-sweep, then rerun: no stored row is computed again, and the rows
   equal those of an uninterrupted run;
+- a store whose last line was cut by a crash during a write (any cut of the line, zeros, undecodable bytes): the
+  line is reported, its configuration runs again, every row is read back once;
 - a configuration that always raises, and one that kills its worker at every attempt: listed in
-  ``<name>.failures.csv`` after their attempts, every other configuration completes.
+  ``<name>.failures.csv`` after their attempts, every other configuration completes;
+- rows that cannot be stored, and stored rows that lack a key field: failures, or simply not resumed.
 Oracle: the configurations themselves (each stored once, rows a pure function of the configuration) and the
 call counts.
 """
@@ -23,6 +26,8 @@ import sys
 import time
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 pytest.importorskip("distributed")
 
@@ -36,6 +41,7 @@ from properties.sweep_cluster import (  # noqa: E402
     counted_row,
     counted_row_with_pid,
     counted_sweep,
+    pure_row,
     raising_row,
     worker_killing_row,
 )
@@ -187,6 +193,90 @@ def _folder(path):
 
 
 # ------------------------------------------------------------------------------------------------------------
+# a crash in the middle of a write
+# ------------------------------------------------------------------------------------------------------------
+
+
+def store_row(store: RowStore, sweep: Sweep, i: int) -> None:
+    """Append configuration i's row as run_sweep does (its row, then its key fields)."""
+    store.append({**pure_row(i), "i": i}, sweep.version)
+
+
+def line_bytes(sweep: Sweep, i: int, folder) -> bytes:
+    """The bytes RowStore.append writes for configuration i's row (written to a scratch store, read back)."""
+    scratch = RowStore(folder / "scratch.jsonl")
+    store_row(scratch, sweep, i)
+    line = scratch.path.read_bytes()
+    scratch.path.unlink()
+    return line
+
+
+def torn_tails():
+    """What a crash during the append of the last line leaves: a prefix of the line (fraction of its bytes),
+    or zeros where the data never reached the disk, or bytes that do not decode."""
+    prefix = st.floats(0.0, 1.0).map(lambda f: ("prefix", f))
+    zeros = st.integers(1, 80).map(lambda k: ("zeros", k))
+    garbage = st.floats(0.0, 1.0).map(lambda f: ("undecodable", f))
+    return st.one_of(prefix, zeros, garbage)
+
+
+def cut(line: bytes, tail) -> bytes:
+    kind, amount = tail
+    if kind == "zeros":
+        return b"\0" * amount
+    if kind == "prefix":
+        return line[: round(amount * len(line))]
+    return line[: round(amount * (len(line) - 1))] + b"\xff\xfe"  # cut before the newline, then junk
+
+
+@settings(max_examples=60)
+@given(n_stored=st.integers(0, 5), tail=torn_tails())
+def test_torn_last_line_is_reported_and_its_row_recomputed(tmp_path_factory, n_stored, tail):
+    folder = tmp_path_factory.mktemp("torn")
+    calls = _folder(folder / "calls")
+    sweep = Sweep("torn", counted_row, counted_configs(calls, 6, 0.0), ("i",), version="v1")
+    reference = run_sweep(sweep, RowStore(folder / "reference.jsonl"), stream=QUIET).rows
+    store = RowStore(folder / "torn.jsonl")
+    for i in range(n_stored):
+        store_row(store, sweep, i)
+    line = line_bytes(sweep, n_stored, folder)
+    torn = cut(line, tail)
+    with open(store.path, "ab") as f:
+        f.write(torn)
+    for p in calls.iterdir():
+        p.unlink()
+    whole = torn in (line, line[:-1])  # the row's JSON is complete (the newline alone may be missing)
+    blank = torn == b""
+    result = run_sweep(sweep, store, stream=QUIET)
+    assert result.rows == reference
+    assert result.torn_lines == ([] if whole or blank else [n_stored + 1])
+    missing = set(range(n_stored + (1 if whole else 0), 6))
+    assert sorted(result.computed) == sorted(sweep.key({"i": i}) for i in missing)
+    for i in range(6):
+        assert len(calls_of(calls, i)) == (1 if i in missing else 0)
+    # the store read back afterwards: every row once, the torn line (now inside the file) still skipped
+    assert_every_config_stored_once(sweep, store)
+    again = run_sweep(sweep, store, stream=QUIET)
+    assert again.computed == [] and again.rows == reference
+
+
+def test_torn_store_on_the_cluster(client, tmp_path):
+    """The same repair when the rows come from workers: the torn row is recomputed there, nothing else."""
+    calls = _folder(tmp_path / "calls")
+    sweep = Sweep("torn_cluster", counted_row, counted_configs(calls, 8, 0.0), ("i",))
+    store = RowStore(tmp_path / "torn_cluster.jsonl")
+    for i in range(3):
+        store_row(store, sweep, i)
+    with open(store.path, "ab") as f:
+        f.write(line_bytes(sweep, 3, tmp_path)[:17])
+    result = run_sweep(sweep, store, client, stream=QUIET)
+    assert result.complete and result.torn_lines == [4]
+    assert sorted(r["i"] for r in result.rows) == list(range(8))
+    assert [len(calls_of(calls, i)) for i in range(8)] == [0, 0, 0, 1, 1, 1, 1, 1]
+    assert_every_config_stored_once(sweep, store)
+
+
+# ------------------------------------------------------------------------------------------------------------
 # configurations that keep failing
 # ------------------------------------------------------------------------------------------------------------
 
@@ -231,3 +321,34 @@ def test_config_that_kills_its_worker_is_listed_and_the_others_complete(cluster,
     assert [r["i"] for r in result.rows] == [0, 1, 2, 3, 5, 6, 7, 8, 9]
     assert [int(r["i"]) for r in read_failures(failures_csv)] == [4]
     cluster.wait_for_workers(2)  # the nannies brought the workers back
+
+
+def test_unstorable_rows_are_failures_and_nothing_of_them_is_written(tmp_path):
+    """A task that returns something else than a dict, or a row JSON cannot hold: a failure of that
+    configuration (nothing appended for it), the sweep goes on."""
+    sweep = Sweep("unstorable", _odd_row, [dict(i=i) for i in range(5)], ("i",), retries=0)
+    store = RowStore(tmp_path / "unstorable.jsonl")
+    result = run_sweep(sweep, store, failures_path=tmp_path / "unstorable.failures.csv", stream=QUIET)
+    assert sorted(c["i"] for c, _ in result.failures) == [1, 3]
+    assert [r["i"] for r in result.rows] == [0, 2, 4]
+    assert sorted(r["i"] for r in stored_lines(store)) == [0, 2, 4] and store.torn_lines == []
+    assert sorted(int(r["i"]) for r in read_failures(tmp_path / "unstorable.failures.csv")) == [1, 3]
+
+
+def _odd_row(cfg: dict):
+    if cfg["i"] == 1:
+        return [cfg["i"]]
+    if cfg["i"] == 3:
+        return {"value": object()}
+    return {"square": cfg["i"] ** 2}
+
+
+def test_rows_without_the_key_fields_are_not_resumed(tmp_path):
+    """A stored row of the same version but without a key field (the sweep's key changed, the version did not):
+    not a row of this sweep; its configurations run, nothing crashes."""
+    sweep = Sweep("rekeyed", _odd_row, [dict(i=i) for i in (0, 2)], ("i",))
+    store = RowStore(tmp_path / "rekeyed.jsonl")
+    store.append({"j": 0, "square": -1})
+    result = run_sweep(sweep, store, stream=QUIET)
+    assert result.complete and result.resumed == [] and sorted(result.computed) == ["[0]", "[2]"]
+    assert [r["square"] for r in result.rows] == [0, 4]
