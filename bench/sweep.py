@@ -14,7 +14,9 @@ collects them with ``as_completed``:
   e.g. another commit, are not reused) and only runs the missing ones;
 - **failures**: a task that raises is retried ``retries`` times by the scheduler; if it still fails, it is
   reported on the console and in ``<name>.failures.csv`` and the sweep goes on: no completed row is lost, and a
-  rerun retries only the failed configurations;
+  rerun retries only the failed configurations. A task the scheduler gave up on because its workers kept dying
+  under it (``KilledWorker``: it may only have been queued behind one that crashes its worker) is run once
+  more alone before it is reported;
 - **progress**: a counter line (done / total, failures, resumed, elapsed), on one line in a terminal.
 
 Where the tasks run (``sweep_client``): ``--scheduler tcp://HOST:8786`` (``python -m bench.report``) or the environment
@@ -273,11 +275,19 @@ def _run_serially(sweep: Sweep, todo: list[dict], keep, fail) -> None:
 
 
 def _run_on_cluster(sweep: Sweep, todo: list[dict], client, keep, fail) -> None:
-    """One task per configuration (retried by the scheduler), each result handled as it completes."""
-    from distributed import as_completed
+    """One task per configuration (retried by the scheduler), each result handled as it completes.
+
+    A worker that dies takes with it every task it holds (the running one and those queued behind it), and the
+    scheduler gives up on a task whose workers died under it more than ``allowed-failures`` times
+    (``KilledWorker``): so a configuration that kills its worker can get innocent ones reported with it. Each
+    configuration that ended in ``KilledWorker`` is therefore run once more on its own, after the others, and is
+    reported only if it fails alone too.
+    """
+    from distributed import KilledWorker, as_completed
 
     resources = _timing_resources(client) if sweep.kind == "timing" else None
     futures = {}
+    suspects = []
     for cfg in todo:
         fut = client.submit(sweep.function, dict(cfg), retries=sweep.retries, pure=False, resources=resources)
         futures[fut] = cfg
@@ -288,10 +298,23 @@ def _run_on_cluster(sweep: Sweep, todo: list[dict], client, keep, fail) -> None:
             # computed again; result() waits for that, and raises what the task raised after its retries
             try:
                 row = fut.result()
-            except Exception as exc:  # noqa: BLE001 - the task's error, KilledWorker, or cancelled
+            except KilledWorker:
+                suspects.append(cfg)
+            except Exception as exc:  # noqa: BLE001 - the task's error, or cancelled
                 fail(cfg, f"{type(exc).__name__}: {exc}")
             else:
                 keep(cfg, row)
+            fut.release()
+        for cfg in suspects:  # alone: nothing else runs on its worker
+            fut = client.submit(sweep.function, dict(cfg), retries=sweep.retries, pure=False, resources=resources)
+            futures[fut] = cfg
+            try:
+                row = fut.result()
+            except Exception as exc:  # noqa: BLE001 - KilledWorker again, the task's error, or cancelled
+                fail(cfg, f"{type(exc).__name__}: {exc} (run alone after a worker died under it)")
+            else:
+                keep(cfg, row)
+            del futures[fut]
             fut.release()
     finally:  # interrupted: the tasks still running are cancelled; the stored rows stay
         if futures:

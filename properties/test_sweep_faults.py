@@ -9,8 +9,9 @@ whichever process ran it), and real SIGKILLs:
   equal those of an uninterrupted run;
 - a store whose last line was cut by a crash during a write (any cut of the line, zeros, undecodable bytes): the
   line is reported, its configuration runs again, every row is read back once;
-- a configuration that always raises, and one that kills its worker at every attempt: listed in
-  ``<name>.failures.csv`` after their attempts, every other configuration completes;
+- a configuration that always raises, and one that kills its worker at every attempt (taking the tasks queued
+  behind it down with it): listed in ``<name>.failures.csv`` after their attempts, every other configuration
+  completes;
 - rows that cannot be stored, and stored rows that lack a key field: failures, or simply not resumed.
 Oracle: the configurations themselves (each stored once, rows a pure function of the configuration) and the
 call counts.
@@ -46,15 +47,14 @@ from properties.sweep_cluster import (  # noqa: E402
     worker_killing_row,
 )
 
-#: a task that kills its worker is rerun this many times before the scheduler gives up on it (KilledWorker)
-ALLOWED_FAILURES = 2
+#: the poison test's scheduler gives up on a task (KilledWorker) as soon as a worker dies under it
+ALLOWED_FAILURES = 0
 QUIET = open(os.devnull, "w")  # noqa: SIM115 - the sweeps' progress lines are not what these tests read
 
 
 @pytest.fixture(scope="module")
 def cluster(tmp_path_factory):
-    c = Cluster(tmp_path_factory.mktemp("cluster"), n_workers=2,
-                env={"DASK_DISTRIBUTED__SCHEDULER__ALLOWED_FAILURES": str(ALLOWED_FAILURES)})
+    c = Cluster(tmp_path_factory.mktemp("cluster"), n_workers=2)
     try:
         yield c
     finally:
@@ -308,19 +308,30 @@ def test_always_raising_config_is_listed_after_its_retries(client, tmp_path):
                                           ("i",)), store)
 
 
-def test_config_that_kills_its_worker_is_listed_and_the_others_complete(cluster, client, tmp_path):
-    calls = _folder(tmp_path / "calls")
-    configs = [dict(i=i, poison=4, sleep=0.05, calls=str(calls)) for i in range(10)]
-    sweep = Sweep("poison", worker_killing_row, configs, ("i",))
-    store = RowStore(tmp_path / "poison.jsonl")
-    failures_csv = tmp_path / "poison.failures.csv"
-    result = run_sweep(sweep, store, client, failures_path=failures_csv, stream=QUIET)
-    assert [c["i"] for c, _ in result.failures] == [4]
-    assert "KilledWorker" in result.failures[0][1]
-    assert len(calls_of(calls, 4)) == ALLOWED_FAILURES + 1
-    assert [r["i"] for r in result.rows] == [0, 1, 2, 3, 5, 6, 7, 8, 9]
-    assert [int(r["i"]) for r in read_failures(failures_csv)] == [4]
-    cluster.wait_for_workers(2)  # the nannies brought the workers back
+def test_config_that_kills_its_worker_is_listed_and_the_others_complete(tmp_path):
+    """On a scheduler that gives up on a task at the first death of its worker (allowed-failures = 0, the worst
+    case), so that every task queued on the poisoned worker ends in KilledWorker with it: only the configuration
+    that kills its worker is listed (run once, then once more alone), every other one completes."""
+    cluster = Cluster(tmp_path / "cluster", n_workers=2,
+                      env={"DASK_DISTRIBUTED__SCHEDULER__ALLOWED_FAILURES": str(ALLOWED_FAILURES)})
+    try:
+        calls = _folder(tmp_path / "calls")
+        configs = [dict(i=i, poison=4, sleep=0.05, calls=str(calls)) for i in range(12)]
+        sweep = Sweep("poison", worker_killing_row, configs, ("i",))
+        store = RowStore(tmp_path / "poison.jsonl")
+        failures_csv = tmp_path / "poison.failures.csv"
+        with cluster.client() as client:
+            result = run_sweep(sweep, store, client, failures_path=failures_csv, stream=QUIET)
+        assert [c["i"] for c, _ in result.failures] == [4]
+        assert "KilledWorker" in result.failures[0][1] and "run alone" in result.failures[0][1]
+        assert len(calls_of(calls, 4)) == 2 * (ALLOWED_FAILURES + 1)
+        assert [r["i"] for r in result.rows] == [i for i in range(12) if i != 4]
+        assert [int(r["i"]) for r in read_failures(failures_csv)] == [4]
+        assert_every_config_stored_once(Sweep("good", worker_killing_row, [c for c in configs if c["i"] != 4],
+                                              ("i",)), store)
+        cluster.wait_for_workers(2)  # the nannies brought the workers back
+    finally:
+        cluster.close()
 
 
 def test_unstorable_rows_are_failures_and_nothing_of_them_is_written(tmp_path):
