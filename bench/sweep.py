@@ -38,7 +38,8 @@ prepended; remote workers need the same checkout (``pip install -e .`` and the r
 Serial mode (``client=None`` in ``run_sweep``) runs the same functions in this process with the same store,
 resume and retry rules: the reference the distributed run is tested against (properties/test_sweep_dask.py).
 The fault-tolerance promises (a worker or the client SIGKILLed mid-sweep, a store torn by a crash, a
-configuration that always fails) are tested on a real scheduler and workers in properties/test_sweep_faults.py.
+configuration that always fails, workers compiling the engine's kernels at once into one numba cache) are tested
+on a real scheduler and workers in properties/test_sweep_faults.py.
 """
 from __future__ import annotations
 

@@ -7,7 +7,9 @@
   ``PYTHONPATH``); pure Python and cheap, each one appending a line to a per-configuration file per call, so that
   the tests count how often a configuration really ran, across processes;
 - ``python -m properties.sweep_cluster drive STORE SCHEDULER CALLS [N [SLEEP]]``: a driving process (the client)
-  that runs the counted sweep into ``STORE`` and prints its rows as JSON; the client-kill test SIGKILLs it.
+  that runs the counted sweep into ``STORE`` and prints its rows as JSON; the client-kill test SIGKILLs it;
+- ``python -m properties.sweep_cluster compile``: a process that calls engine entry points (compiling their kernels
+  or loading them from the numba cache) and prints a digest of the answers and the kernels it compiled.
 Not a test module (no ``test_`` prefix): nothing here is collected.
 """
 from __future__ import annotations
@@ -200,5 +202,36 @@ def drive(argv: list[str]) -> None:
                "failures": [[c, e] for c, e in result.failures]}, sys.stdout)
 
 
+def compile_probe(argv: list[str]) -> None:
+    """``compile``: small calls of the engine's entry points; prints a digest of the answers and which engine
+    kernels this process really compiled (numba's compile event fires for a compilation, not for a kernel
+    loaded from the cache)."""
+    import numba.core.event
+
+    compiled = []
+
+    class CountCompilations(numba.core.event.Listener):
+        def on_start(self, event):
+            if getattr(event.data["dispatcher"].py_func, "__module__", "").startswith("engine."):
+                compiled.append(event.data["dispatcher"].py_func.__qualname__)
+
+        def on_end(self, event):
+            pass
+
+    numba.core.event.register("numba:compile", CountCompilations())
+    import numpy as np
+
+    import engine
+
+    rng = np.random.default_rng(7)
+    centre = rng.uniform(0.0, 10.0, size=(300, 3))
+    half = rng.uniform(0.0, 0.5, size=(300, 3))
+    answers = {"sap": engine.find_pairs(centre - half, centre + half, method="sap").tolist(),
+               "spheres": engine.sphere_pairs(centre, 0.4, method="grid").tolist()}
+    digest = hashlib.sha256(json.dumps(answers).encode()).hexdigest()
+    json.dump({"digest": digest, "pairs": [len(v) for v in answers.values()], "compiled": sorted(compiled),
+               "cache_dir": engine._config.CACHE_DIR}, sys.stdout)
+
+
 if __name__ == "__main__":
-    {"drive": drive}[sys.argv[1]](sys.argv[2:])
+    {"drive": drive, "compile": compile_probe}[sys.argv[1]](sys.argv[2:])

@@ -12,9 +12,12 @@ whichever process ran it), and real SIGKILLs:
 - a configuration that always raises, and one that kills its worker at every attempt (taking the tasks queued
   behind it down with it): listed in ``<name>.failures.csv`` after their attempts, every other configuration
   completes;
-- rows that cannot be stored, and stored rows that lack a key field: failures, or simply not resumed.
+- rows that cannot be stored, and stored rows that lack a key field: failures, or simply not resumed;
+- processes compiling the same engine kernels at once into an empty numba cache (as the workers of one machine
+  do): identical answers, and a later process loads every kernel from that cache (compiles nothing) and gets
+  the same answers.
 Oracle: the configurations themselves (each stored once, rows a pure function of the configuration) and the
-call counts.
+call counts. The whole file takes about 1.5 minutes, most of it the cold compilation.
 """
 from __future__ import annotations
 
@@ -363,3 +366,38 @@ def test_rows_without_the_key_fields_are_not_resumed(tmp_path):
     result = run_sweep(sweep, store, stream=QUIET)
     assert result.complete and result.resumed == [] and sorted(result.computed) == ["[0]", "[2]"]
     assert [r["square"] for r in result.rows] == [0, 4]
+
+
+# ------------------------------------------------------------------------------------------------------------
+# workers compiling the same kernels at once
+# ------------------------------------------------------------------------------------------------------------
+
+
+def compile_in_processes(count: int, cache) -> list[tuple[dict, str]]:
+    env = _environment({"NUMBA_CACHE_DIR": str(cache), "COLLDET_COMPILE_NOTICE": "1"})
+    procs = [subprocess.Popen([sys.executable, "-m", "properties.sweep_cluster", "compile"], stdout=subprocess.PIPE,
+                              stderr=subprocess.PIPE, env=env, cwd=str(ROOT), text=True) for _ in range(count)]
+    done = []
+    for proc in procs:
+        out, err = proc.communicate(timeout=600)
+        assert proc.returncode == 0, err
+        done.append((json.loads(out), err))
+    return done
+
+
+def test_concurrent_cold_compilation_leaves_a_sound_cache(tmp_path):
+    cache = tmp_path / "numba"
+    cold = compile_in_processes(3, cache)
+    answers = {out["digest"] for out, _ in cold}
+    assert len(answers) == 1, "processes compiling at once disagree"
+    assert all(out["pairs"][0] > 0 and out["pairs"][1] > 0 for out, _ in cold)
+    assert all(out["compiled"] for out, _ in cold), "a cold process compiled nothing: the cache was not empty"
+    assert all(err.count("colldet: compiling the engine's kernels") == 1 for _, err in cold)
+    (warm, err), = compile_in_processes(1, cache)
+    assert warm["compiled"] == [], f"the next process recompiled {warm['compiled']}: the cache is not sound"
+    assert err == ""  # no compile notice: every kernel came from the cache
+    assert warm["digest"] in answers
+    # one folder for all (the engine's, under NUMBA_CACHE_DIR), holding numba's index files
+    assert {out["cache_dir"] for out, _ in [*cold, (warm, err)]} == {warm["cache_dir"]}
+    assert warm["cache_dir"].startswith(str(cache) + os.sep)
+    assert any(name.endswith(".nbi") for _, _, files in os.walk(cache) for name in files)
