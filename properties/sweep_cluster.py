@@ -90,7 +90,7 @@ def counted_configs(calls: str | Path, n: int, sleep: float) -> list[dict]:
 # ------------------------------------------------------------------------------------------------------------
 
 
-def _environment(extra: dict | None = None) -> dict:
+def subprocess_environment(extra: dict | None = None) -> dict:
     paths = [str(ROOT), *[p for p in os.environ.get("PYTHONPATH", "").split(os.pathsep) if p]]
     return {**os.environ, "PYTHONPATH": os.pathsep.join(paths), **(extra or {})}
 
@@ -126,7 +126,7 @@ class Cluster:
     def _start(self, args: list[str], name: str, env: dict | None = None) -> subprocess.Popen:
         log = open(self.folder / f"{name}.log", "wb")  # noqa: SIM115 - closed with the process
         proc = subprocess.Popen([sys.executable, "-m", "distributed.cli.dask_" + args[0], *args[1:]],
-                                stdout=log, stderr=subprocess.STDOUT, env=_environment(env), cwd=str(ROOT),
+                                stdout=log, stderr=subprocess.STDOUT, env=subprocess_environment(env), cwd=str(ROOT),
                                 start_new_session=True)
         log.close()
         self.processes.append(proc)

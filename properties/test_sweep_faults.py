@@ -39,7 +39,6 @@ from bench.sweep import RowStore, Sweep, run_sweep  # noqa: E402
 from properties.sweep_cluster import (  # noqa: E402
     ROOT,
     Cluster,
-    _environment,
     calls_of,
     counted_configs,
     counted_row,
@@ -47,6 +46,7 @@ from properties.sweep_cluster import (  # noqa: E402
     counted_sweep,
     pure_row,
     raising_row,
+    subprocess_environment,
     worker_killing_row,
 )
 
@@ -124,6 +124,9 @@ def test_whole_worker_killed_the_others_finish_the_sweep(cluster, client, tmp_pa
     others finish; every configuration stored exactly once."""
     extra = cluster.add_worker()
     cluster.wait_for_workers(3)
+    names = {address: w["name"] for address, w in client.scheduler_info()["workers"].items()}
+    extra_name = f"w{len(cluster.workers) - 1}"
+    extra_pid = [pid for address, pid in client.run(os.getpid).items() if names[address] == extra_name]
     calls = tmp_path / "calls"
     calls.mkdir()
     sweep = Sweep("kill_machine", counted_row, counted_configs(calls, 24, 0.1), ("i",))
@@ -137,6 +140,9 @@ def test_whole_worker_killed_the_others_finish_the_sweep(cluster, client, tmp_pa
 
     result = run_sweep(sweep, store, client, on_row=kill_group, stream=QUIET)
     assert killed and extra.returncode == -signal.SIGKILL
+    assert len(extra_pid) == 1
+    lost = [i for i in range(24) if extra_pid[0] in calls_of(calls, i) and len(calls_of(calls, i)) > 1]
+    assert lost, "the kill lost no work: the test did not kill mid-sweep"
     assert result.complete, result.failures
     assert [r["i"] for r in result.rows] == list(range(24))
     assert_every_config_stored_once(sweep, store)
@@ -151,7 +157,7 @@ def test_whole_worker_killed_the_others_finish_the_sweep(cluster, client, tmp_pa
 def drive(cluster: Cluster, store, calls, n: int, sleep: float) -> subprocess.Popen:
     return subprocess.Popen([sys.executable, "-m", "properties.sweep_cluster", "drive", str(store), cluster.address,
                              str(calls), str(n), str(sleep)], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                            env=_environment(), cwd=str(ROOT), text=True)
+                            env=subprocess_environment(), cwd=str(ROOT), text=True)
 
 
 def finish(proc: subprocess.Popen) -> dict:
@@ -374,7 +380,7 @@ def test_rows_without_the_key_fields_are_not_resumed(tmp_path):
 
 
 def compile_in_processes(count: int, cache) -> list[tuple[dict, str]]:
-    env = _environment({"NUMBA_CACHE_DIR": str(cache), "COLLDET_COMPILE_NOTICE": "1"})
+    env = subprocess_environment({"NUMBA_CACHE_DIR": str(cache), "COLLDET_COMPILE_NOTICE": "1"})
     procs = [subprocess.Popen([sys.executable, "-m", "properties.sweep_cluster", "compile"], stdout=subprocess.PIPE,
                               stderr=subprocess.PIPE, env=env, cwd=str(ROOT), text=True) for _ in range(count)]
     done = []
