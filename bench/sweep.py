@@ -287,36 +287,36 @@ def _run_on_cluster(sweep: Sweep, todo: list[dict], client, keep, fail) -> None:
     from distributed import KilledWorker, as_completed
 
     resources = _timing_resources(client) if sweep.kind == "timing" else None
-    futures = {}
-    suspects = []
-    for cfg in todo:
+    futures: dict = {}
+    suspects: list[dict] = []
+
+    def submit(cfg):
         fut = client.submit(sweep.function, dict(cfg), retries=sweep.retries, pure=False, resources=resources)
         futures[fut] = cfg
-    try:
-        for fut in as_completed(list(futures)):
-            cfg = futures.pop(fut)
-            # not fut.status: a result held by a worker that died since it finished is "lost" for a moment, then
-            # computed again; result() waits for that, and raises what the task raised after its retries
-            try:
-                row = fut.result()
-            except KilledWorker:
+        return fut
+
+    def collect(fut, alone: bool):
+        cfg = futures.pop(fut)
+        # not fut.status: a result held by a worker that died since it finished is "lost" for a moment, then
+        # computed again; result() waits for that, and raises what the task raised after its retries
+        try:
+            row = fut.result()
+        except KilledWorker as exc:
+            if alone:
+                fail(cfg, f"KilledWorker: {exc} (run alone after a worker died under it)")
+            else:
                 suspects.append(cfg)
-            except Exception as exc:  # noqa: BLE001 - the task's error, or cancelled
-                fail(cfg, f"{type(exc).__name__}: {exc}")
-            else:
-                keep(cfg, row)
-            fut.release()
+        except Exception as exc:  # noqa: BLE001 - the task's error, or cancelled
+            fail(cfg, f"{type(exc).__name__}: {exc}")
+        else:
+            keep(cfg, row)
+        fut.release()
+
+    try:
+        for fut in as_completed([submit(cfg) for cfg in todo]):
+            collect(fut, alone=False)
         for cfg in suspects:  # alone: nothing else runs on its worker
-            fut = client.submit(sweep.function, dict(cfg), retries=sweep.retries, pure=False, resources=resources)
-            futures[fut] = cfg
-            try:
-                row = fut.result()
-            except Exception as exc:  # noqa: BLE001 - KilledWorker again, the task's error, or cancelled
-                fail(cfg, f"{type(exc).__name__}: {exc} (run alone after a worker died under it)")
-            else:
-                keep(cfg, row)
-            del futures[fut]
-            fut.release()
+            collect(submit(cfg), alone=True)
     finally:  # interrupted: the tasks still running are cancelled; the stored rows stay
         if futures:
             with contextlib.suppress(Exception):
