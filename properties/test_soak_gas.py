@@ -10,7 +10,8 @@ and, periodic, the total momentum is conserved (no wall pushes). Checked every 1
 independent code: scipy's cKDTree (minimum image when periodic) for the overlaps, math.fsum for the energy, on
 the public state (``positions``, ``velocities``, ``masses``, ``collisions``, ``time``).
 
-Length: CI runs 1e5 collisions per case (seconds). The long soak, 1e7 collisions per case, runs with
+Length: CI runs 1e5 collisions per case (seconds; 3e3 with the kernels interpreted, NUMBA_DISABLE_JIT=1, as
+mutation testing runs them). The long soak, 1e7 collisions per case, runs with
 ``SOAK=long`` (or under the ``nightly`` Hypothesis profile): ``SOAK=long pytest properties -m soak -s`` or
 ``tox -e soak``; each case prints its figures (collisions, wall time, max drift, max overlap, max excursion).
 """
@@ -27,7 +28,8 @@ from scipy.spatial import cKDTree
 from engine.gas import EventDrivenGas, radius_for_packing
 
 LONG = os.environ.get("SOAK", "").lower() == "long" or os.environ.get("HYPOTHESIS_PROFILE") == "nightly"
-COLLISIONS = 10_000_000 if LONG else 100_000
+INTERPRETED = os.environ.get("NUMBA_DISABLE_JIT", "0") not in ("", "0")  # mutation testing: kernels in Python
+COLLISIONS = 10_000_000 if LONG else 3_000 if INTERPRETED else 100_000
 CHECKS = 100 if LONG else 10
 ENERGY_DRIFT = 1e-10  # relative
 OVERLAP = 1e-9  # fraction of σ_ij
@@ -125,7 +127,7 @@ def test_event_driven_gas_soak(case):
     worst = {"drift": 0.0, "overlap": -math.inf, "excursion": -math.inf, "momentum": 0.0}
     per_check = COLLISIONS // CHECKS
     step = 0.01  # then adapted, so that about per_check collisions separate two checks
-    started = time.perf_counter()
+    started, cpu = time.perf_counter(), time.process_time()
     for _ in range(20 * CHECKS):
         last = gas.collisions
         t_next = gas.time + step
@@ -137,8 +139,9 @@ def test_event_driven_gas_soak(case):
         gained = gas.collisions - last
         step *= min(10.0, per_check / gained) if gained else 10.0
     assert gas.collisions >= COLLISIONS, f"only {gas.collisions:,} collisions in {20 * CHECKS} check intervals"
-    seconds = time.perf_counter() - started
+    seconds, cpu = time.perf_counter() - started, time.process_time() - cpu
     print(f"\n[soak {case}] n={n} eta={eta} {gas.collisions:,} collisions ({gas.events:,} events) in {seconds:.1f} s "
-          f"({gas.collisions / seconds:,.0f}/s), t={gas.time:.4g}; max energy drift {worst['drift']:.2e}, "
+          f"wall, {cpu:.1f} s CPU ({gas.collisions / cpu:,.0f}/s CPU), t={gas.time:.4g}; "
+          f"max energy drift {worst['drift']:.2e}, "
           f"max overlap {worst['overlap']:.2e} σ, max excursion {worst['excursion']:.2e} σ (negative: none), "
           f"max momentum drift {worst['momentum']:.2e}")
