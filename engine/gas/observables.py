@@ -143,16 +143,18 @@ def mean_and_standard_error(values) -> tuple[float, float]:
     return float(x.mean()), float(x.std(ddof=1) / math.sqrt(x.shape[0]))
 
 
-def plot_speed_histogram(speeds, path, title: str = "") -> None:
-    """Histogram of scaled speeds against the Maxwell–Boltzmann density, written as a PNG at ``path``."""
-    import matplotlib
+def plot_speed_histogram(speeds, path=None, title: str = ""):
+    """Histogram of scaled speeds (n,) against the Maxwell–Boltzmann density; returns the matplotlib Figure.
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    The figure is built without pyplot (the caller's matplotlib backend is left alone) and written as a PNG at
+    ``path`` when one is given.
+    """
+    from matplotlib.figure import Figure
     from scipy import stats
 
     u = _speeds(speeds)
-    fig, ax = plt.subplots(figsize=(6, 4))
+    fig = Figure(figsize=(6, 4))
+    ax = fig.subplots()
     ax.hist(u, bins=60, density=True, alpha=0.6, label=f"simulation ({u.shape[0]} speeds)")
     x = np.linspace(0.0, max(4.5, float(u.max())), 400)
     ax.plot(x, stats.maxwell.pdf(x), "k-", lw=2, label="Maxwell–Boltzmann")
@@ -161,5 +163,6 @@ def plot_speed_histogram(speeds, path, title: str = "") -> None:
     ax.set_title(title)
     ax.legend()
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    if path is not None:
+        fig.savefig(path, dpi=110)
+    return fig
