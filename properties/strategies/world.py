@@ -4,11 +4,12 @@ from __future__ import annotations
 import numpy as np
 from hypothesis import strategies as st
 
-from engine.world import Box, Capsule, ConvexPolyhedron, Plane, Sphere
+from engine.world import Box, Capsule, ConvexPolyhedron, HeightCurve, Plane, Sphere
 
 from .geometry import rotations, seeds
 
-__all__ = ["positions", "sizes", "spheres", "boxes", "capsules", "hulls", "bodies", "velocities", "poses"]
+__all__ = ["positions", "sizes", "spheres", "boxes", "capsules", "hulls", "bodies", "velocities", "poses", "planes",
+           "curves"]
 
 #: a scene of side ~8 with shapes of size ~0.3-1.5: a moderate density, pairs of every kind meet
 positions = st.tuples(*[st.floats(-4.0, 4.0, allow_nan=False) | st.integers(-4, 4).map(float)] * 3).map(np.array)
@@ -45,3 +46,14 @@ bodies = st.one_of(spheres(), boxes(), capsules(), hulls())
 velocities = st.tuples(*[st.floats(-6.0, 6.0, allow_nan=False) | st.just(0.0)] * 3).map(np.array)
 poses = st.tuples(positions, st.none() | rotations())
 planes = st.floats(-5.0, 0.0, allow_nan=False).map(Plane)
+
+
+def _wave(level, amplitude, wavenumber):
+    def f(x):
+        return level + amplitude * np.sin(wavenumber * x)
+    return f
+
+
+#: curved grounds y <= level + a sin(k x)
+curves = st.builds(lambda level, a, k: HeightCurve(_wave(level, a, k), samples=64), st.floats(-5.0, -1.0),
+                   st.floats(0.1, 1.5), st.floats(0.3, 2.0))
