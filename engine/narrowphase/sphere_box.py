@@ -25,7 +25,17 @@ import numpy as np
 from .._config import njit
 from .._validate import as_float_array, as_positive
 from ..bounding.aabb import as_rotation_matrix
-from .contacts import EDGE, FACE, VERTEX, contact_rows, contact_set_from_rows, feature_key, write_pair, write_point
+from .contacts import (
+    EDGE,
+    FACE,
+    VERTEX,
+    contact_rows,
+    contact_set_from_rows,
+    feature_key,
+    unit_vector,
+    write_pair,
+    write_point,
+)
 
 __all__ = ["contact_sphere_box", "contact_sphere_box_pair", "box_feature_key"]
 
@@ -95,7 +105,7 @@ def contact_sphere_box(p, r, c, rot, e, rows, p_row, flip):
         vy += delta * rot[1, k]
         vz += delta * rot[2, k]
     dist = math.sqrt(vx * vx + vy * vy + vz * vz)
-    nx, ny, nz = vx / dist, vy / dist, vz / dist
+    nx, ny, nz = unit_vector(vx, vy, vz)
     separation = dist - r
     lift = 0.5 * (dist + r)
     key = box_feature_key(clamped, sign[0], sign[1], sign[2])
