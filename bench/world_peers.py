@@ -4,13 +4,15 @@ A frame is: upload every body's pose, detect, read the contacts.
 - ``EngineFrame`` — ``World.update(ids, centers, rotations=quaternions)`` + ``World.contacts()``;
 - ``MuJoCoFrame`` — one free body per shape in an MJCF model (spheres, boxes, capsules, meshes whose convex hull
   MuJoCo computes; the ground a ``plane`` geom turned to face +y); write ``qpos`` (position, quaternion w x y z),
-  ``mj_kinematics`` + ``mj_collision``, read ``d.contact`` (``geom``, ``dist``);
+  ``mj_kinematics`` + ``mj_collision``, read ``d.contact`` (``geom``, ``dist``). Its broad phase reserves about
+  4 n² bytes of the model's arena (``MUJOCO_MAX_BODIES`` bounds the scenes it is given);
 - ``BulletFrame`` — pybullet in DIRECT mode, one multibody of mass 1 per shape (capsules along z, hulls as
   ``GEOM_MESH`` convex hulls; the ground a static ``GEOM_PLANE`` of normal +y), ``resetBasePositionAndOrientation``
   per body (quaternion x y z w), ``performCollisionDetection``, ``getContactPoints``.
-Each ``frame.penetrating(threshold)`` returns the pairs (k, 2) of body indices (the ground is index n) whose
-deepest contact is deeper than ``threshold`` and that depth (k,): MuJoCo's and Bullet's depths are per contact
-point (the largest is taken), the engine's the pair's minimum translation distance.
+Each frame has ``upload(centers, quaternions)``, ``detect()`` and ``read()``; ``frame.penetrating(threshold)``
+returns the pairs (k, 2) of body indices (the ground is index n) whose deepest contact is deeper than
+``threshold`` and that depth (k,): MuJoCo's and Bullet's depths are per contact point (the largest is taken), the
+engine's the pair's minimum translation distance. ``agreement`` compares two such answers.
 
 ``exact_depth(shape_a, pose_a, shape_b, pose_b)``: the penetration depth as the distance from the origin to the
 boundary of the Minkowski difference A − B (Qhull on the differences of the cores' points, plus the radii).
@@ -59,6 +61,9 @@ class EngineFrame:
         self.last = self.world.contacts()
         return self.last
 
+    def read(self):
+        return self.last
+
     def penetrating(self, threshold: float = 1e-6):
         c = self.last if self.last is not None else self.detect()
         keep = c.depth > threshold
@@ -95,6 +100,10 @@ def _mjcf(scene: FrameScene) -> str:
             f'<worldbody>{ground}{"".join(bodies)}</worldbody></mujoco>')
 
 
+#: the largest scene handed to MuJoCo here: its arena grows as 4 n² bytes (40 GB at n = 1e5)
+MUJOCO_MAX_BODIES = 20_000
+
+
 class MuJoCoFrame:
     """MuJoCo on a scene: free bodies, ``mj_kinematics`` + ``mj_collision`` per frame."""
 
@@ -119,7 +128,6 @@ class MuJoCoFrame:
     def detect(self):
         self.mujoco.mj_kinematics(self.model, self.data)
         self.mujoco.mj_collision(self.model, self.data)
-        return self.read()
 
     def read(self):
         con = self.data.contact
@@ -180,10 +188,12 @@ class BulletFrame:
 
     def detect(self):
         self.p.performCollisionDetection(physicsClientId=self.client)
+
+    def read(self):
         return self.p.getContactPoints(physicsClientId=self.client)
 
     def penetrating(self, threshold: float = 1e-6):
-        points = self.p.getContactPoints(physicsClientId=self.client)
+        points = self.read()
         if not points:
             return np.empty((0, 2), np.int64), np.empty(0)
         pairs = np.array([(self.index[c[1]], self.index[c[2]]) for c in points], np.int64)
@@ -199,22 +209,20 @@ def frame_peers(scene: FrameScene, broad_phase: str = "tree"):
     return [EngineFrame(scene, broad_phase), MuJoCoFrame(scene), BulletFrame(scene)]
 
 
-def time_stages(frame, poses) -> dict:
-    """Minimum over the poses of each stage of one frame: ``{"upload": s, "detect": s, "contacts": s}``
-    (perf_counter seconds; MuJoCo's and Bullet's "detect" covers broad and narrow phase, "contacts" reads them)."""
-    best = {"upload": np.inf, "detect": np.inf, "contacts": np.inf}
+def time_stages(frame, poses, clock=time.perf_counter) -> dict:
+    """Minimum over the poses of each stage of one frame: ``{"upload": s, "detect": s, "read": s, "frame": s}``
+    (MuJoCo's and Bullet's "detect" is their broad and narrow phase, "read" the reading of their contacts; the
+    engine's "detect" is ``contacts()``, which returns them)."""
+    best = {"upload": np.inf, "detect": np.inf, "read": np.inf, "frame": np.inf}
     for centers, quats in poses:
-        t0 = time.perf_counter()
+        t0 = clock()
         frame.upload(centers, quats)
-        t1 = time.perf_counter()
-        got = frame.detect()
-        t2 = time.perf_counter()
-        if isinstance(frame, MuJoCoFrame):
-            frame.read()
-        elif isinstance(frame, BulletFrame):
-            len(got)
-        t3 = time.perf_counter()
-        for key, value in (("upload", t1 - t0), ("detect", t2 - t1), ("contacts", t3 - t2)):
+        t1 = clock()
+        frame.detect()
+        t2 = clock()
+        frame.read()
+        t3 = clock()
+        for key, value in (("upload", t1 - t0), ("detect", t2 - t1), ("read", t3 - t2), ("frame", t3 - t0)):
             best[key] = min(best[key], value)
     return best
 
@@ -255,4 +263,16 @@ def exact_depth(shape_a, pose_a, shape_b, pose_b) -> float:
 
 
 __all__ = ["EngineFrame", "MuJoCoFrame", "BulletFrame", "frame_peers", "time_stages", "exact_depth",
-           "core_points"]
+           "core_points", "MUJOCO_MAX_BODIES", "agreement"]
+
+
+def agreement(reference, peer) -> dict:
+    """Pair sets and depths of two ``penetrating()`` answers ``(pairs, depth)``: counts of the pairs both find,
+    only the reference finds, only the peer finds, and the median / max |depth difference| on the common pairs."""
+    ref = {tuple(p): d for p, d in zip(reference[0].tolist(), reference[1].tolist())}
+    other = {tuple(p): d for p, d in zip(peer[0].tolist(), peer[1].tolist())}
+    common = sorted(set(ref) & set(other))
+    diff = np.array([abs(ref[p] - other[p]) for p in common]) if common else np.zeros(1)
+    return {"common": len(common), "reference_only": len(set(ref) - set(other)),
+            "peer_only": len(set(other) - set(ref)), "depth_diff_median": float(np.median(diff)),
+            "depth_diff_max": float(diff.max())}

@@ -36,7 +36,7 @@ from engine import (
     gjk_distance,
 )
 from engine.narrowphase import gjk_distance_batch
-from engine.narrowphase.contacts import DEFERRED, TOUCHING, contact_rows
+from engine.narrowphase.contacts import DEFERRED, TOUCHING, contact_rows, kernel_scratch
 from engine.workloads import quaternion_matrices
 from engine.world.dispatch import DEFERRED_ROWS, OVERLAP_TABLE, answer_pairs, table_array
 from engine.world.shapes import BOX, as_rotation
@@ -98,7 +98,7 @@ def reference_pairs(world):
     rows = contact_rows(allp.shape[0])
     store = world._store.view()
     table = table_array(OVERLAP_TABLE)
-    answer_pairs(store, allp, table, rows)
+    answer_pairs(store, allp, table, rows, kernel_scratch(store.points.shape[1]))
     deferred = np.flatnonzero(rows.status == DEFERRED)
     codes = table[store.kind[allp[deferred, 0]], store.kind[allp[deferred, 1]]]
     for code in np.unique(codes).tolist():

@@ -88,7 +88,7 @@ halves = st.tuples(*[st.floats(0.05, 1.0, allow_nan=False)] * 3).map(np.array)
 # ---------------------------------------------------------------------------------------------------------------
 
 @given(vectors, vectors, radii, vectors, vectors, radii, st.sampled_from(["ss", "sc", "cc"]), kernel_scales)
-@settings(max_examples=300)
+@settings(max_examples=200)
 def test_round_cores_agree_with_gjk(a0, a1, ra, b0, b1, rb, kinds, scale):
     a1 = a0 if kinds[0] == "s" else a1
     b1 = b0 if kinds[1] == "s" else b1
@@ -117,8 +117,8 @@ def test_parallel_capsules_exact(direction, length, ra, rb, shift, offset, scale
     cs = contact_segments_pair(a0, a1, ra * scale, b0, b1, rb * scale)
     assert abs(cs.normal[0] @ u) <= 1e-15
     assert abs(cs.separation[0] - (gap - (ra + rb) * scale)) <= 1e-15 * 8 * scale
-    if cs.separation[0] <= 0 and gap > 1e-9 * scale:  # (a smaller offset is round-off of the construction)
-        np.testing.assert_allclose(cs.normal[0], w, atol=1e-12)
+    if cs.separation[0] <= 0 and gap > 0:  # the direction of an offset of size gap, to the round-off of a0 ... b1
+        np.testing.assert_allclose(cs.normal[0], w, rtol=0, atol=1e-12 + 1e-14 * scale / gap)
         assert cs.points.shape[0] == 2 and cs.kind == ["cylinder-cylinder"]
 
 
@@ -127,7 +127,7 @@ def test_parallel_capsules_exact(direction, length, ra, rb, shift, offset, scale
 # ---------------------------------------------------------------------------------------------------------------
 
 @given(vectors, radii, degenerate_rotations, halves, kernel_scales)
-@settings(max_examples=300)
+@settings(max_examples=200)
 def test_sphere_box_agrees_with_gjk_epa(p, r, rot, half, scale):
     p, r, half = 1.5 * p * scale, r * scale, half * scale
     cs = contact_sphere_box_pair(p, r, np.zeros(3), rot, half)
@@ -176,7 +176,7 @@ def box_pairs(draw):
 
 
 @given(box_pairs())
-@settings(max_examples=300)
+@settings(max_examples=200)
 def test_box_box_agrees_with_epa(boxes):
     ca, ra, ha, cb, rb, hb, scale = boxes
     cs = contact_box_box_pair(ca, ra, ha, cb, rb, hb)

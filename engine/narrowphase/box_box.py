@@ -39,6 +39,7 @@ from .contacts import (
     contact_rows,
     contact_set_from_rows,
     feature_key,
+    kernel_scratch,
     key_kind,
     point_id,
     reduce_manifold,
@@ -59,61 +60,60 @@ TIE = 1e-12
 
 
 @njit
-def sat_box_box(ca, Ra, ea, cb, Rb, eb):
-    """Ericson 4.4.1 with depths: boxes (centre (3,), rotation (3, 3) whose columns are the axes, half extents
-    (3,)). Returns (overlap, axis, penetration, nx, ny, nz): axis 0-2 a face of A, 3-5 of B, 6 + 3 i + j the
-    edge pair A_i × B_j; n the unit axis from A towards B (world); penetration >= 0 when they overlap, else
-    minus the gap along the separating axis found (a lower bound of their distance)."""
-    R = np.empty((3, 3))
-    for i in range(3):
-        for j in range(3):
-            R[i, j] = Ra[0, i] * Rb[0, j] + Ra[1, i] * Rb[1, j] + Ra[2, i] * Rb[2, j]
-    dx, dy, dz = cb[0] - ca[0], cb[1] - ca[1], cb[2] - ca[2]
-    t = np.empty(3)
-    for i in range(3):
-        t[i] = dx * Ra[0, i] + dy * Ra[1, i] + dz * Ra[2, i]
+def sat_box_box(centers, rotations, halves, i, j, R, t):
+    """Ericson 4.4.1 with depths: box i against box j of the arrays ``centers`` (n, 3), ``rotations`` (n, 3, 3)
+    (columns = the box axes), ``halves`` (n, 3); R (3, 3), t (>= 3,) scratch. Returns (overlap, axis,
+    penetration, nx, ny, nz): axis 0-2 a face of i, 3-5 of j, 6 + 3 a + b the edge pair A_a × B_b; n the unit
+    axis from i towards j (world); penetration >= 0 when they overlap, else minus the gap along the separating
+    axis found (a lower bound of their distance)."""
+    Ra, Rb, ea, eb = rotations[i], rotations[j], halves[i], halves[j]
+    for a in range(3):
+        for b in range(3):
+            R[a, b] = Ra[0, a] * Rb[0, b] + Ra[1, a] * Rb[1, b] + Ra[2, a] * Rb[2, b]
+    dx, dy, dz = centers[j, 0] - centers[i, 0], centers[j, 1] - centers[i, 1], centers[j, 2] - centers[i, 2]
+    for a in range(3):
+        t[a] = dx * Ra[0, a] + dy * Ra[1, a] + dz * Ra[2, a]
     tie = TIE * (ea[0] + ea[1] + ea[2] + eb[0] + eb[1] + eb[2])
     best = np.inf
     axis = -1
-    lx = ly = lz = 0.0  # the best axis in A's frame, oriented from A to B
-    for i in range(3):  # faces of A
-        tl = t[i]
-        overlap = ea[i] + eb[0] * abs(R[i, 0]) + eb[1] * abs(R[i, 1]) + eb[2] * abs(R[i, 2]) - abs(tl)
+    lx = ly = lz = 0.0  # the best axis in i's frame, oriented from i to j
+    for a in range(3):  # faces of A
+        tl = t[a]
+        overlap = ea[a] + eb[0] * abs(R[a, 0]) + eb[1] * abs(R[a, 1]) + eb[2] * abs(R[a, 2]) - abs(tl)
         if overlap < 0.0:
-            return False, i, overlap, 0.0, 0.0, 0.0
+            return False, a, overlap, 0.0, 0.0, 0.0
         if overlap < best - tie:
-            best, axis = overlap, i
+            best, axis = overlap, a
             s = 1.0 if tl >= 0.0 else -1.0
-            lx, ly, lz = s * (i == 0), s * (i == 1), s * (i == 2)
-    for j in range(3):  # faces of B
-        tl = t[0] * R[0, j] + t[1] * R[1, j] + t[2] * R[2, j]
-        overlap = ea[0] * abs(R[0, j]) + ea[1] * abs(R[1, j]) + ea[2] * abs(R[2, j]) + eb[j] - abs(tl)
+            lx, ly, lz = s * (a == 0), s * (a == 1), s * (a == 2)
+    for b in range(3):  # faces of B
+        tl = t[0] * R[0, b] + t[1] * R[1, b] + t[2] * R[2, b]
+        overlap = ea[0] * abs(R[0, b]) + ea[1] * abs(R[1, b]) + ea[2] * abs(R[2, b]) + eb[b] - abs(tl)
         if overlap < 0.0:
-            return False, 3 + j, overlap, 0.0, 0.0, 0.0
+            return False, 3 + b, overlap, 0.0, 0.0, 0.0
         if overlap < best - tie:
-            best, axis = overlap, 3 + j
+            best, axis = overlap, 3 + b
             s = 1.0 if tl >= 0.0 else -1.0
-            lx, ly, lz = s * R[0, j], s * R[1, j], s * R[2, j]
-    for i in range(3):  # edges: L = A_i × B_j, in A's frame L[i] = 0, L[i1] = −R[i2, j], L[i2] = R[i1, j]
-        i1, i2 = (i + 1) % 3, (i + 2) % 3
-        for j in range(3):
-            j1, j2 = (j + 1) % 3, (j + 2) % 3
-            tl = t[i2] * R[i1, j] - t[i1] * R[i2, j]
-            reach = (ea[i1] * abs(R[i2, j]) + ea[i2] * abs(R[i1, j]) + eb[j1] * abs(R[i, j2])
-                     + eb[j2] * abs(R[i, j1]))
-            slack = PARALLEL_EPS * (ea[i1] + ea[i2] + eb[j1] + eb[j2])
+            lx, ly, lz = s * R[0, b], s * R[1, b], s * R[2, b]
+    for a in range(3):  # edges: L = A_a × B_b, in A's frame L[a] = 0, L[a1] = −R[a2, b], L[a2] = R[a1, b]
+        a1, a2 = (a + 1) % 3, (a + 2) % 3
+        for b in range(3):
+            b1, b2 = (b + 1) % 3, (b + 2) % 3
+            tl = t[a2] * R[a1, b] - t[a1] * R[a2, b]
+            reach = (ea[a1] * abs(R[a2, b]) + ea[a2] * abs(R[a1, b]) + eb[b1] * abs(R[a, b2])
+                     + eb[b2] * abs(R[a, b1]))
+            slack = PARALLEL_EPS * (ea[a1] + ea[a2] + eb[b1] + eb[b2])
             if abs(tl) > reach + slack:
-                return False, 6 + 3 * i + j, reach - abs(tl), 0.0, 0.0, 0.0
-            length = math.sqrt(R[i1, j] * R[i1, j] + R[i2, j] * R[i2, j])
+                return False, 6 + 3 * a + b, reach - abs(tl), 0.0, 0.0, 0.0
+            length = math.sqrt(R[a1, b] * R[a1, b] + R[a2, b] * R[a2, b])
             if length > EDGE_AXIS_MIN:
                 overlap = max(reach - abs(tl), 0.0) / length
                 if overlap < best - tie:
-                    best, axis = overlap, 6 + 3 * i + j
+                    best, axis = overlap, 6 + 3 * a + b
                     s = (1.0 if tl >= 0.0 else -1.0) / length
-                    v = np.zeros(3)
-                    v[i1] = -s * R[i2, j]
-                    v[i2] = s * R[i1, j]
-                    lx, ly, lz = v[0], v[1], v[2]
+                    lx = 0.0 if a == 0 else (-s * R[a2, b] if a1 == 0 else s * R[a1, b])
+                    ly = 0.0 if a == 1 else (-s * R[a2, b] if a1 == 1 else s * R[a1, b])
+                    lz = 0.0 if a == 2 else (-s * R[a2, b] if a1 == 2 else s * R[a1, b])
     nx = lx * Ra[0, 0] + ly * Ra[0, 1] + lz * Ra[0, 2]
     ny = lx * Ra[1, 0] + ly * Ra[1, 1] + lz * Ra[1, 2]
     nz = lx * Ra[2, 0] + ly * Ra[2, 1] + lz * Ra[2, 2]
@@ -121,14 +121,20 @@ def sat_box_box(ca, Ra, ea, cb, Rb, eb):
 
 
 @njit
-def overlap_box_box(ca, Ra, ea, cb, Rb, eb):
-    """True when the two boxes overlap (touching counts): the SAT of ``sat_box_box``."""
-    return sat_box_box(ca, Ra, ea, cb, Rb, eb)[0]
+def overlap_box_box(centers, rotations, halves, i, j, scratch):
+    """True when boxes i and j overlap (touching counts): the SAT of ``sat_box_box``."""
+    return sat_box_box(centers, rotations, halves, i, j, scratch.mat, scratch.vec)[0]
 
 
 @njit(inline="always")
-def _signs_key(region, signs):
-    return box_feature_key(region, signs[0], signs[1], signs[2])
+def _signs_key(region, s0, s1, s2):
+    return box_feature_key(region, s0, s1, s2)
+
+
+@njit(inline="always")
+def _with(a, value, s0, s1, s2):
+    """(s0, s1, s2) with component a set to value."""
+    return (value if a == 0 else s0), (value if a == 1 else s1), (value if a == 2 else s2)
 
 
 @njit
@@ -144,18 +150,15 @@ def _incident_quad(cr, Rr, er, i, nrx, nry, nrz, ci, Ri, ei, poly, tags):
         if dot > best:
             best, a = dot, m
     tau = -1 if Ri[0, a] * nrx + Ri[1, a] * nry + Ri[2, a] * nrz > 0.0 else 1
-    b1, b2 = (a + 1) % 3, (a + 2) % 3
-    if b1 > b2:
-        b1, b2 = b2, b1
-    j, k = (i + 1) % 3, (i + 2) % 3
-    if j > k:
-        j, k = k, j
+    b1, b2 = min((a + 1) % 3, (a + 2) % 3), max((a + 1) % 3, (a + 2) % 3)
+    j, k = min((i + 1) % 3, (i + 2) % 3), max((i + 1) % 3, (i + 2) % 3)
     ref_face = _ref_face_key(Rr, i, nrx, nry, nrz)
-    signs = np.zeros(3, np.int64)
     for m in range(4):
         s1 = -1 if m == 0 or m == 3 else 1
         s2 = -1 if m <= 1 else 1
-        signs[a], signs[b1], signs[b2] = tau, s1, s2
+        g0, g1, g2 = _with(b2, s2, 0, 0, 0)
+        g0, g1, g2 = _with(b1, s1, g0, g1, g2)
+        g0, g1, g2 = _with(a, tau, g0, g1, g2)
         wx = ci[0] + tau * ei[a] * Ri[0, a] + s1 * ei[b1] * Ri[0, b1] + s2 * ei[b2] * Ri[0, b2]
         wy = ci[1] + tau * ei[a] * Ri[1, a] + s1 * ei[b1] * Ri[1, b1] + s2 * ei[b2] * Ri[1, b2]
         wz = ci[2] + tau * ei[a] * Ri[2, a] + s1 * ei[b1] * Ri[2, b1] + s2 * ei[b2] * Ri[2, b2]
@@ -165,14 +168,13 @@ def _incident_quad(cr, Rr, er, i, nrx, nry, nrz, ci, Ri, ei, poly, tags):
         poly[m, 2], poly[m, 3], poly[m, 4] = wx, wy, wz
         poly[m, 5] = er[i] - (rx * nrx + ry * nry + rz * nrz)
         tags[m, 0] = ref_face
-        tags[m, 1] = _signs_key(3, signs)
-        # the edge to the next corner runs along b1 (m = 0, 2) or b2 (m = 1, 3)
-        signs[b1 if m % 2 == 0 else b2] = 0
+        tags[m, 1] = _signs_key(3, g0, g1, g2)
+        # the edge to the next corner runs along b1 (m = 0, 2) or b2 (m = 1, 3): that sign is free
         tags[m, 2] = 0
-        tags[m, 3] = _signs_key(2, signs)
-    signs[:] = 0
-    signs[a] = tau
-    return _signs_key(1, signs)
+        e0, e1, e2 = _with(b1 if m % 2 == 0 else b2, 0, g0, g1, g2)
+        tags[m, 3] = _signs_key(2, e0, e1, e2)
+    f0, f1, f2 = _with(a, tau, 0, 0, 0)
+    return _signs_key(1, f0, f1, f2)
 
 
 @njit(inline="always")
@@ -182,12 +184,12 @@ def _ref_face_key(Rr, i, nrx, nry, nrz):
 
 
 @njit
-def _clip_side(poly, tags, n, side, bound, axes, ref_signs, inc_face, out, out_tags):
+def _clip_side(poly, tags, n, side, bound, j, k, face_axis, face_sign, inc_face, out, out_tags):
     """Sutherland–Hodgman step: the part of the polygon poly[:n] with sign·coordinate <= bound (side 0: x <=
-    e_j, 1: x >= −e_j, 2: y <= e_k, 3: y >= −e_k; ``axes`` = (j, k) the reference box's axes along x and y),
-    into out[:m]; returns m. A new point gets its id: an incident edge crossing the side is (the reference edge
-    on that side, incident edge); a reference side crossing it is a corner of the reference face (reference
-    vertex, incident face)."""
+    e_j, 1: x >= −e_j, 2: y <= e_k, 3: y >= −e_k; j, k the reference box's axes along x and y, its face on axis
+    ``face_axis`` at side ``face_sign``), into out[:m]; returns m. A new point gets its id: an incident edge
+    crossing the side is (the reference edge on that side, incident edge); a reference side crossing it is a
+    corner of the reference face (reference vertex, incident face)."""
     c = side // 2
     sign = 1 if side % 2 == 0 else -1
     m = 0
@@ -196,25 +198,28 @@ def _clip_side(poly, tags, n, side, bound, axes, ref_signs, inc_face, out, out_t
         pin = sign * poly[v, c] <= bound
         qin = sign * poly[w, c] <= bound
         if pin:
-            out[m] = poly[v]
-            out_tags[m] = tags[v]
+            for col in range(6):
+                out[m, col] = poly[v, col]
+            for col in range(4):
+                out_tags[m, col] = tags[v, col]
             m += 1
         if pin != qin:
             u = (bound - sign * poly[v, c]) / (sign * poly[w, c] - sign * poly[v, c])
             for col in range(6):
                 out[m, col] = poly[v, col] + u * (poly[w, col] - poly[v, col])
             out[m, c] = sign * bound
-            signs = ref_signs.copy()
-            signs[axes[c]] = sign
+            s0, s1, s2 = _with(face_axis, face_sign, 0, 0, 0)
+            s0, s1, s2 = _with(j if c == 0 else k, sign, s0, s1, s2)
             if tags[v, 2] == 0:  # an incident edge crosses this side
-                out_tags[m, 0] = _signs_key(2, signs)
+                out_tags[m, 0] = _signs_key(2, s0, s1, s2)
                 out_tags[m, 1] = tags[v, 3]
             elif tags[v, 3] // 2 != c:  # an earlier side crosses this one: a corner of the reference face
-                signs[axes[tags[v, 3] // 2]] = 1 if tags[v, 3] % 2 == 0 else -1
-                out_tags[m, 0] = _signs_key(3, signs)
+                other = 1 if tags[v, 3] % 2 == 0 else -1
+                v0, v1, v2 = _with(j if c == 1 else k, other, s0, s1, s2)
+                out_tags[m, 0] = _signs_key(3, v0, v1, v2)
                 out_tags[m, 1] = inc_face
             else:  # (round-off) a side parallel to this one
-                out_tags[m, 0] = _signs_key(2, signs)
+                out_tags[m, 0] = _signs_key(2, s0, s1, s2)
                 out_tags[m, 1] = inc_face
             # from here the polygon runs along this side (leaving) or on along the crossed edge (entering)
             out_tags[m, 2] = 1 if pin else tags[v, 2]
@@ -224,31 +229,22 @@ def _clip_side(poly, tags, n, side, bound, axes, ref_signs, inc_face, out, out_t
 
 
 @njit
-def _face_contact(cr, Rr, er, i, nrx, nry, nrz, ci, Ri, ei, ref_is_a, rows, p, flip, depth):
+def _face_contact(cr, Rr, er, i, nrx, nry, nrz, ci, Ri, ei, ref_is_a, rows, p, flip, depth, scratch):
     """The manifold of a face axis: reference face i of box r (outward normal nr, towards box i), incident face
     of box i clipped by its side planes. Writes row p (``ref_is_a``: the reference box is the kernel's A)."""
-    poly = np.empty((9, 6))
-    work = np.empty((9, 6))
-    tags = np.zeros((9, 4), np.int64)
-    work_tags = np.zeros((9, 4), np.int64)
+    poly, work, tags, work_tags = scratch.poly, scratch.work, scratch.tags, scratch.work_tags
     inc_face = _incident_quad(cr, Rr, er, i, nrx, nry, nrz, ci, Ri, ei, poly, tags)
-    j, k = (i + 1) % 3, (i + 2) % 3
-    if j > k:
-        j, k = k, j
-    axes = np.array([j, k])
-    ref_signs = np.zeros(3, np.int64)
-    ref_signs[i] = 1 if Rr[0, i] * nrx + Rr[1, i] * nry + Rr[2, i] * nrz > 0.0 else -1
+    j, k = min((i + 1) % 3, (i + 2) % 3), max((i + 1) % 3, (i + 2) % 3)
+    face_sign = 1 if Rr[0, i] * nrx + Rr[1, i] * nry + Rr[2, i] * nrz > 0.0 else -1
     n = 4
     for side in range(4):
         bound = er[j] if side < 2 else er[k]
-        n = _clip_side(poly, tags, n, side, bound, axes, ref_signs, inc_face, work, work_tags)
+        n = _clip_side(poly, tags, n, side, bound, j, k, i, face_sign, inc_face, work, work_tags)
         poly, work = work, poly
         tags, work_tags = work_tags, tags
         if n == 0:
             break
-    pts = np.empty((9, 3))
-    deep = np.empty(9)
-    ids = np.empty(9, np.int64)
+    pts, deep, ids = scratch.pts, scratch.deep, scratch.ids
     count = 0
     for v in range(n):  # the points below the reference face
         if poly[v, 5] >= 0.0:
@@ -258,12 +254,13 @@ def _face_contact(cr, Rr, er, i, nrx, nry, nrz, ci, Ri, ei, ref_is_a, rows, p, f
             count += 1
     if count == 0:  # round-off clipped everything: the reference face's centre, at the SAT depth
         count = 1
-        for c in range(3):
-            pts[0, c] = cr[c] + er[i] * ref_signs[i] * Rr[c, i] - depth * (nrx, nry, nrz)[c]
+        pts[0, 0] = cr[0] + er[i] * face_sign * Rr[0, i] - depth * nrx
+        pts[0, 1] = cr[1] + er[i] * face_sign * Rr[1, i] - depth * nry
+        pts[0, 2] = cr[2] + er[i] * face_sign * Rr[2, i] - depth * nrz
         deep[0] = depth
-        ids[0] = point_id(tags[0, 0], inc_face) if ref_is_a else point_id(inc_face, tags[0, 0])
-    nr = np.array([nrx, nry, nrz])
-    count = reduce_manifold(pts, deep, ids, count, nr)
+        ref_face = _ref_face_key(Rr, i, nrx, nry, nrz)
+        ids[0] = point_id(ref_face, inc_face) if ref_is_a else point_id(inc_face, ref_face)
+    count = reduce_manifold(pts, deep, ids, count, nrx, nry, nrz, scratch)
     for v in range(count):
         h = 0.5 * deep[v]
         rows.points[p, v, 0] = pts[v, 0] + h * nrx
@@ -277,49 +274,69 @@ def _face_contact(cr, Rr, er, i, nrx, nry, nrz, ci, Ri, ei, ref_is_a, rows, p, f
 
 
 @njit
-def _edge_contact(ca, Ra, ea, cb, Rb, eb, i, j, nx, ny, nz, rows, p, flip, depth):
-    """The contact of an edge–edge axis A_i × B_j: the closest points of A's edge along A_i that is farthest
-    along n and B's edge along B_j farthest along −n (Ericson 5.1.9); one point halfway between them."""
-    sa = np.zeros(3, np.int64)
-    sb = np.zeros(3, np.int64)
-    a0 = ca.copy()
-    b0 = cb.copy()
+def _edge_point(c, R, e, axis, nx, ny, nz, sign, end):
+    """An end (end = ±1) of the box's edge along ``axis`` that is farthest along sign·n."""
+    px = c[0] + end * e[axis] * R[0, axis]
+    py = c[1] + end * e[axis] * R[1, axis]
+    pz = c[2] + end * e[axis] * R[2, axis]
     for m in range(3):
-        da = Ra[0, m] * nx + Ra[1, m] * ny + Ra[2, m] * nz
-        db = Rb[0, m] * nx + Rb[1, m] * ny + Rb[2, m] * nz
-        if m != i:
-            sa[m] = 1 if da >= 0.0 else -1
-            a0 += sa[m] * ea[m] * Ra[:, m]
-        if m != j:
-            sb[m] = -1 if db > 0.0 else 1
-            b0 += sb[m] * eb[m] * Rb[:, m]
-    a1 = a0 + ea[i] * Ra[:, i]
-    a0 = a0 - ea[i] * Ra[:, i]
-    b1 = b0 + eb[j] * Rb[:, j]
-    b0 = b0 - eb[j] * Rb[:, j]
+        if m != axis:
+            s = 1.0 if sign * (R[0, m] * nx + R[1, m] * ny + R[2, m] * nz) >= 0.0 else -1.0
+            px += s * e[m] * R[0, m]
+            py += s * e[m] * R[1, m]
+            pz += s * e[m] * R[2, m]
+    return px, py, pz
+
+
+@njit
+def _edge_key(R, axis, nx, ny, nz, sign):
+    """The key of the box's edge along ``axis`` farthest along sign·n."""
+    s0, s1, s2 = 0, 0, 0
+    for m in range(3):
+        if m != axis:
+            s0, s1, s2 = _with(m, 1 if sign * (R[0, m] * nx + R[1, m] * ny + R[2, m] * nz) >= 0.0 else -1, s0, s1,
+                               s2)
+    return _signs_key(2, s0, s1, s2)
+
+
+@njit
+def _edge_contact(centers, rotations, halves, i, j, a, b, nx, ny, nz, rows, p, flip, depth):
+    """The contact of an edge–edge axis A_a × B_b: the closest points of A's edge along A_a that is farthest
+    along n and B's edge along B_b farthest along −n (Ericson 5.1.9); one point halfway between them."""
+    ca, Ra, ea, cb, Rb, eb = centers[i], rotations[i], halves[i], centers[j], rotations[j], halves[j]
+    a0 = _edge_point(ca, Ra, ea, a, nx, ny, nz, 1.0, -1.0)
+    a1 = _edge_point(ca, Ra, ea, a, nx, ny, nz, 1.0, 1.0)
+    b0 = _edge_point(cb, Rb, eb, b, nx, ny, nz, -1.0, -1.0)
+    b1 = _edge_point(cb, Rb, eb, b, nx, ny, nz, -1.0, 1.0)
     s, t, _ = closest_segment_parameters(a0, a1, b0, b1)
-    key_a = _signs_key(2, sa)
-    key_b = _signs_key(2, sb)
-    mid = 0.5 * (a0 + s * (a1 - a0) + b0 + t * (b1 - b0))
-    write_point(rows, p, 0, mid[0], mid[1], mid[2], key_a, key_b, flip)
+    key_a = _edge_key(Ra, a, nx, ny, nz, 1.0)
+    key_b = _edge_key(Rb, b, nx, ny, nz, -1.0)
+    mx = 0.5 * (a0[0] + s * (a1[0] - a0[0]) + b0[0] + t * (b1[0] - b0[0]))
+    my = 0.5 * (a0[1] + s * (a1[1] - a0[1]) + b0[1] + t * (b1[1] - b0[1]))
+    mz = 0.5 * (a0[2] + s * (a1[2] - a0[2]) + b0[2] + t * (b1[2] - b0[2]))
+    write_point(rows, p, 0, mx, my, mz, key_a, key_b, flip)
     write_pair(rows, p, -depth, nx, ny, nz, key_kind(key_a), key_kind(key_b), 1, flip)
 
 
 @njit
-def contact_box_box(ca, Ra, ea, cb, Rb, eb, rows, p, flip):
-    """Box A (centre (3,), rotation (3, 3), columns the axes, half extents (3,)) against box B into row p of
-    ``rows``; ``flip``: the pair's first shape is B. Returns the separation (apart: minus the SAT overlap on
-    the separating axis found, a lower bound of the distance)."""
-    overlap, axis, depth, nx, ny, nz = sat_box_box(ca, Ra, ea, cb, Rb, eb)
+def contact_box_box(centers, rotations, halves, i, j, rows, p, flip, scratch):
+    """Box i (the kernel's A) against box j (B) of the arrays ``centers`` (n, 3), ``rotations`` (n, 3, 3),
+    ``halves`` (n, 3), into row p of ``rows``; ``flip``: the pair's first shape is B; ``scratch`` a
+    contacts.Scratch. Returns the separation (apart: minus the SAT overlap on the separating axis found, a
+    lower bound of the distance)."""
+    overlap, axis, depth, nx, ny, nz = sat_box_box(centers, rotations, halves, i, j, scratch.mat, scratch.vec)
     if not overlap:
         write_pair(rows, p, -depth, nx, ny, nz, 0, 0, 0, flip)
         return -depth
     if axis < 3:
-        _face_contact(ca, Ra, ea, axis, nx, ny, nz, cb, Rb, eb, True, rows, p, flip, depth)
+        _face_contact(centers[i], rotations[i], halves[i], axis, nx, ny, nz, centers[j], rotations[j], halves[j],
+                      True, rows, p, flip, depth, scratch)
     elif axis < 6:
-        _face_contact(cb, Rb, eb, axis - 3, -nx, -ny, -nz, ca, Ra, ea, False, rows, p, flip, depth)
+        _face_contact(centers[j], rotations[j], halves[j], axis - 3, -nx, -ny, -nz, centers[i], rotations[i],
+                      halves[i], False, rows, p, flip, depth, scratch)
     else:
-        _edge_contact(ca, Ra, ea, cb, Rb, eb, (axis - 6) // 3, (axis - 6) % 3, nx, ny, nz, rows, p, flip, depth)
+        _edge_contact(centers, rotations, halves, i, j, (axis - 6) // 3, (axis - 6) % 3, nx, ny, nz, rows, p,
+                      flip, depth)
     return -depth
 
 
@@ -327,16 +344,15 @@ def contact_box_box_pair(center_a, rotation_a, half_extents_a, center_b, rotatio
     """The contact of two boxes (centre (3,), rotation (3, 3) whose columns are the axes or a unit quaternion
     (w, x, y, z), half extents (3,) > 0): a ContactSet of one pair (separation > 0 when apart: a lower bound of
     the distance, the gap along a separating axis)."""
-    boxes = []
-    for tag, (c, r, e) in (("a", (center_a, rotation_a, half_extents_a)), ("b", (center_b, rotation_b,
-                                                                                 half_extents_b))):
-        c = as_float_array(c, f"center_{tag}", shape=(3,))
-        r = np.ascontiguousarray(as_rotation_matrix(r, f"rotation_{tag}"))
-        e = as_float_array(e, f"half_extents_{tag}", shape=(3,))
-        if (e <= 0).any():
-            k = int(np.argmax(e <= 0))
-            raise ValueError(f"half_extents_{tag} must be > 0: half_extents_{tag}[{k}] = {e[k]!r}")
-        boxes += [c, r, e]
+    centers, rotations, halves = np.empty((2, 3)), np.empty((2, 3, 3)), np.empty((2, 3))
+    for row, (tag, c, r, e) in enumerate((("a", center_a, rotation_a, half_extents_a),
+                                          ("b", center_b, rotation_b, half_extents_b))):
+        centers[row] = as_float_array(c, f"center_{tag}", shape=(3,))
+        rotations[row] = as_rotation_matrix(r, f"rotation_{tag}")
+        halves[row] = as_float_array(e, f"half_extents_{tag}", shape=(3,))
+        if (halves[row] <= 0).any():
+            k = int(np.argmax(halves[row] <= 0))
+            raise ValueError(f"half_extents_{tag} must be > 0: half_extents_{tag}[{k}] = {halves[row, k]!r}")
     rows = contact_rows(1)
-    contact_box_box(*boxes, rows, 0, False)
+    contact_box_box(centers, rotations, halves, 0, 1, rows, 0, False, kernel_scratch())
     return contact_set_from_rows(rows, np.array([[0, 1]], np.int64), np.zeros(1), np.zeros(1), keep_apart=True)

@@ -41,7 +41,8 @@ from .._config import njit
 __all__ = ["ContactSet", "FEATURE_NAMES", "ROUND_FEATURE_NAMES", "VERTEX", "EDGE", "FACE", "MAX_POINTS",
            "feature_key", "point_id", "describe_point_id", "reduce_manifold", "mark_persisting", "empty_contacts",
            "ContactRows", "contact_rows", "APART", "TOUCHING", "DEFERRED", "write_pair", "write_point",
-           "key_kind", "contact_set_from_rows", "swap_point_id", "unit_vector"]
+           "key_kind", "contact_set_from_rows", "swap_point_id", "unit_vector",
+           "Scratch", "kernel_scratch"]
 
 VERTEX, EDGE, FACE = 1, 2, 3
 #: feature codes (``feature_a``, ``feature_b``) -> names, for polytopes and for rounded shapes (radius > 0)
@@ -144,60 +145,73 @@ def write_point(rows, p, slot, x, y, z, key_a, key_b, flip):
     rows.ids[p, slot] = point_id(key_b, key_a) if flip else point_id(key_a, key_b)
 
 
+#: work space of the contact kernels, allocated once per batch (``kernel_scratch``): no kernel allocates per
+#: pair. ``mat`` (3, 3), ``vec`` (8,), ``ivec`` (8,) int64; the clipping polygons ``poly``, ``work`` (9, 6) and
+#: their tags ``tags``, ``work_tags`` (9, 4) int64; candidate points ``pts`` (m, 3), ``deep`` (m,), ``ids`` (m,)
+#: int64; the 4 points kept by ``reduce_manifold``: ``red_p`` (4, 3), ``red_d`` (4,), ``red_i`` (4,) int64
+Scratch = namedtuple("Scratch", "mat vec ivec poly work tags work_tags pts deep ids red_p red_d red_i")
+
+
+def kernel_scratch(m: int = 9) -> Scratch:
+    """Scratch for kernels over shapes of at most m core points."""
+    n = max(int(m), 9)
+    return Scratch(np.empty((3, 3)), np.empty(8), np.zeros(8, np.int64), np.empty((9, 6)), np.empty((9, 6)),
+                   np.zeros((9, 4), np.int64), np.zeros((9, 4), np.int64), np.empty((n, 3)), np.empty(n),
+                   np.empty(n, np.int64), np.empty((MAX_POINTS, 3)), np.empty(MAX_POINTS),
+                   np.empty(MAX_POINTS, np.int64))
+
+
+@njit(inline="always")
+def _area(points, a, b, c, nx, ny, nz):
+    """(p_b − p_a) × (p_c − p_a) · n: twice the signed area of the triangle of points a, b, c seen along n."""
+    ux, uy, uz = points[b, 0] - points[a, 0], points[b, 1] - points[a, 1], points[b, 2] - points[a, 2]
+    vx, vy, vz = points[c, 0] - points[a, 0], points[c, 1] - points[a, 1], points[c, 2] - points[a, 2]
+    return (uy * vz - uz * vy) * nx + (uz * vx - ux * vz) * ny + (ux * vy - uy * vx) * nz
+
+
 @njit
-def reduce_manifold(points, depths, ids, count, normal):
+def reduce_manifold(points, depths, ids, count, nx, ny, nz, scratch):
     """Keep at most MAX_POINTS of the ``count`` candidate points (points (n, 3), depths (n,), ids (n,), rewritten
     in place in their first rows; returns the new count): the deepest point, the one farthest from it, then the
     two that add the largest triangle area on either side of that segment (the area-maximising choice of Bullet's
-    ``sortCachedPoints``, ODE's ``cullPoints`` keeps 4 by angle). Ids equal within the pair are made distinct."""
+    ``sortCachedPoints``; ODE's ``cullPoints`` keeps 4 by angle). Ids equal within the pair are made distinct."""
     if count > MAX_POINTS:
-        keep = np.empty(MAX_POINTS, np.int64)
-        keep[0] = np.argmax(depths[:count])
-        best = -1.0
+        k0 = 0
+        for i in range(1, count):
+            if depths[i] > depths[k0]:
+                k0 = i
+        k1, best = -1, -1.0
         for i in range(count):  # the farthest from the deepest
-            d = 0.0
-            for c in range(3):
-                d += (points[i, c] - points[keep[0], c]) ** 2
+            d = (points[i, 0] - points[k0, 0]) ** 2 + (points[i, 1] - points[k0, 1]) ** 2 \
+                + (points[i, 2] - points[k0, 2]) ** 2
             if d > best:
-                best = d
-                keep[1] = i
-        for slot in range(2, MAX_POINTS):  # largest area on the positive, then on the negative side
-            sign = 1.0 if slot == 2 else -1.0
-            best = -1.0
-            keep[slot] = -1
-            for i in range(count):
-                area = sign * _signed_area(points[keep[0]], points[keep[1]], points[i], normal)
-                if area > best and i != keep[0] and i != keep[1] and (slot == 2 or i != keep[2]):
-                    best = area
-                    keep[slot] = i
+                k1, best = i, d
+        k2, k3, best2, best3 = -1, -1, 0.0, 0.0  # largest area on the positive, then on the negative side
+        for i in range(count):
+            area = _area(points, k0, k1, i, nx, ny, nz)
+            if area > best2 and i != k0 and i != k1:
+                k2, best2 = i, area
+            if -area > best3 and i != k0 and i != k1:
+                k3, best3 = i, -area
         kept = 0
-        tmp_p = np.empty((MAX_POINTS, 3))
-        tmp_d = np.empty(MAX_POINTS)
-        tmp_i = np.empty(MAX_POINTS, np.int64)
-        for slot in range(MAX_POINTS):
-            if keep[slot] >= 0:
-                tmp_p[kept] = points[keep[slot]]
-                tmp_d[kept] = depths[keep[slot]]
-                tmp_i[kept] = ids[keep[slot]]
+        for k in (k0, k1, k2, k3):
+            if k >= 0:
+                for c in range(3):
+                    scratch.red_p[kept, c] = points[k, c]
+                scratch.red_d[kept] = depths[k]
+                scratch.red_i[kept] = ids[k]
                 kept += 1
         for s in range(kept):
-            points[s] = tmp_p[s]
-            depths[s] = tmp_d[s]
-            ids[s] = tmp_i[s]
+            for c in range(3):
+                points[s, c] = scratch.red_p[s, c]
+            depths[s] = scratch.red_d[s]
+            ids[s] = scratch.red_i[s]
         count = kept
     for i in range(1, count):  # two points of one pair never share an id
         for j in range(i):
             while ids[i] == ids[j]:
                 ids[i] += np.int64(1) << _BUMP_BITS
     return count
-
-
-@njit(inline="always")
-def _signed_area(a, b, c, n):
-    """(b − a) × (c − a) · n: twice the signed area of triangle abc seen along n."""
-    ux, uy, uz = b[0] - a[0], b[1] - a[1], b[2] - a[2]
-    vx, vy, vz = c[0] - a[0], c[1] - a[1], c[2] - a[2]
-    return (uy * vz - uz * vy) * n[0] + (uz * vx - ux * vz) * n[1] + (ux * vy - uy * vx) * n[2]
 
 
 @njit
@@ -276,11 +290,12 @@ class ContactSet:
 
 def contact_set_from_rows(rows: ContactRows, pairs, radius_a, radius_b, *, keep=None,
                           keep_apart: bool = False) -> ContactSet:
-    """The ContactSet of the rows whose status is TOUCHING (every row with ``keep_apart``; or the rows of the bool
-    mask ``keep``), their points packed in row order. ``pairs`` (k, 2), ``radius_a``, ``radius_b`` (k,)."""
+    """The ContactSet of the rows whose status is TOUCHING (every row with ``keep_apart``; or the rows ``keep``,
+    an index array, in its order), their points packed in row order. ``pairs`` (k, 2), ``radius_a``,
+    ``radius_b`` (k,)."""
     if keep is None:
-        keep = np.ones(rows.status.shape[0], np.bool_) if keep_apart else rows.status == TOUCHING
-    sel = np.flatnonzero(keep)
+        keep = np.flatnonzero(np.ones(rows.status.shape[0], np.bool_) if keep_apart else rows.status == TOUCHING)
+    sel = keep
     count = rows.count[sel]
     offsets = np.zeros(sel.shape[0] + 1, np.int64)
     np.cumsum(count, out=offsets[1:])

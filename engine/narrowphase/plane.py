@@ -26,6 +26,7 @@ from .contacts import (
     contact_rows,
     contact_set_from_rows,
     feature_key,
+    kernel_scratch,
     point_id,
     reduce_manifold,
     swap_point_id,
@@ -36,34 +37,36 @@ __all__ = ["contact_points_plane", "contact_points_plane_pair"]
 
 
 @njit
-def contact_points_plane(points, count, radius, origin, up, rows, p, flip, scratch_p, scratch_d, scratch_i):
-    """Body core ``points[:count]`` ((m, 3)) swept by ``radius`` against the ground through ``origin`` (3,) of
-    outward unit normal ``up`` (3,), into row p of ``rows`` (the kernel's A is the body, B the ground; ``flip``:
-    the pair's first shape is the ground). scratch_p (m, 3), scratch_d (m,), scratch_i (m,) int64: work space.
-    Returns the separation (minus the depth)."""
+def contact_points_plane(points, counts, radii, i, origin, up, rows, p, flip, scratch):
+    """Body i — core ``points[i, :counts[i]]`` (points (n, m, 3)) swept by ``radii[i]`` — against the ground
+    through ``origin`` (3,) of outward unit normal ``up`` (3,), into row p of ``rows`` (the kernel's A is the
+    body, B the ground; ``flip``: the pair's first shape is the ground); ``scratch`` a contacts.Scratch with
+    room for m points. Returns the separation (minus the depth)."""
+    radius = radii[i]
+    pts, deep, ids = scratch.pts, scratch.deep, scratch.ids
     depth = -np.inf
     n = 0
-    for v in range(count):
-        h = ((origin[0] - points[v, 0]) * up[0] + (origin[1] - points[v, 1]) * up[1]
-             + (origin[2] - points[v, 2]) * up[2]) + radius
+    for v in range(counts[i]):
+        h = ((origin[0] - points[i, v, 0]) * up[0] + (origin[1] - points[i, v, 1]) * up[1]
+             + (origin[2] - points[i, v, 2]) * up[2]) + radius
         depth = max(depth, h)
         if h >= 0.0:
             lift = 0.5 * h - radius
             for c in range(3):
-                scratch_p[n, c] = points[v, c] + lift * up[c]
-            scratch_d[n] = h
-            scratch_i[n] = point_id(feature_key(VERTEX, v), feature_key(FACE, 0))
+                pts[n, c] = points[i, v, c] + lift * up[c]
+            deep[n] = h
+            ids[n] = point_id(feature_key(VERTEX, v), feature_key(FACE, 0))
             n += 1
     # from the body (A) to the ground (B): the ground moves down along −up to separate
     if n == 0:
         write_pair(rows, p, -depth, -up[0], -up[1], -up[2], VERTEX, FACE, 0, flip)
         return -depth
     kind = VERTEX if n == 1 else (EDGE if n == 2 else FACE)
-    n = reduce_manifold(scratch_p, scratch_d, scratch_i, n, up)
+    n = reduce_manifold(pts, deep, ids, n, up[0], up[1], up[2], scratch)
     for v in range(n):
         for c in range(3):
-            rows.points[p, v, c] = scratch_p[v, c]
-        rows.ids[p, v] = swap_point_id(scratch_i[v]) if flip else scratch_i[v]
+            rows.points[p, v, c] = pts[v, c]
+        rows.ids[p, v] = swap_point_id(ids[v]) if flip else ids[v]
     write_pair(rows, p, -depth, -up[0], -up[1], -up[2], kind, FACE, n, flip)
     return -depth
 
@@ -77,6 +80,6 @@ def contact_points_plane_pair(points, radius, altitude):
     a = as_float_array([0.0, altitude, 0.0], "altitude", shape=(3,))
     m = pts.shape[0]
     rows = contact_rows(1)
-    contact_points_plane(pts, m, r, a, np.array([0.0, 1.0, 0.0]), rows, 0, False, np.empty((m, 3)), np.empty(m),
-                         np.empty(m, np.int64))
+    contact_points_plane(pts[None], np.array([m]), np.array([r]), 0, a, np.array([0.0, 1.0, 0.0]), rows, 0, False,
+                         kernel_scratch(m))
     return contact_set_from_rows(rows, np.array([[0, 1]], np.int64), np.array([r]), np.zeros(1), keep_apart=True)

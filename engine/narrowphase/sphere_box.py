@@ -32,6 +32,7 @@ from .contacts import (
     contact_rows,
     contact_set_from_rows,
     feature_key,
+    kernel_scratch,
     unit_vector,
     write_pair,
     write_point,
@@ -59,73 +60,70 @@ def box_feature_key(region, sx, sy, sz):
 
 
 @njit
-def contact_sphere_box(p, r, c, rot, e, rows, p_row, flip):
-    """Sphere (centre p (3,), radius r) against the box (centre c (3,), rotation rot (3, 3) whose columns are its
-    axes, half extents e (3,)) into row ``p_row`` of ``rows``; ``flip``: the pair's first shape is the box.
-    Returns the separation."""
-    dx, dy, dz = p[0] - c[0], p[1] - c[1], p[2] - c[2]
-    d = np.empty(3)
-    q = np.empty(3)
-    sign = np.zeros(3, np.int64)
+def contact_sphere_box(centers, radii, rotations, halves, i, j, rows, p_row, flip, scratch):
+    """Sphere i (centre centers[i], radius radii[i]) against box j (centre centers[j], rotation rotations[j]
+    whose columns are its axes, half extents halves[j]) into row ``p_row`` of ``rows``; ``flip``: the pair's
+    first shape is the box; ``scratch`` a contacts.Scratch. Returns the separation."""
+    r = radii[i]
+    dx, dy, dz = centers[i, 0] - centers[j, 0], centers[i, 1] - centers[j, 1], centers[i, 2] - centers[j, 2]
+    d, q, sign = scratch.vec, scratch.vec[3:], scratch.ivec
     clamped = 0
     for k in range(3):
-        d[k] = dx * rot[0, k] + dy * rot[1, k] + dz * rot[2, k]
-        q[k] = min(max(d[k], -e[k]), e[k])
-        if d[k] > e[k]:
-            sign[k] = 1
-            clamped += 1
-        elif d[k] < -e[k]:
-            sign[k] = -1
-            clamped += 1
+        e = halves[j, k]
+        d[k] = dx * rotations[j, 0, k] + dy * rotations[j, 1, k] + dz * rotations[j, 2, k]
+        q[k] = min(max(d[k], -e), e)
+        sign[k] = 1 if d[k] > e else (-1 if d[k] < -e else 0)
+        clamped += sign[k] != 0
+    px, py, pz = centers[i, 0], centers[i, 1], centers[i, 2]
     if clamped <= 1:  # a face region, or inside: the face normal exactly
         if clamped == 1:
             k = 0 if sign[0] != 0 else (1 if sign[1] != 0 else 2)
-            gap = abs(d[k]) - e[k]  # > 0: the centre's height above the face
-        else:
+        else:  # inside: the face nearest to the centre
             k = 0
-            for j in range(1, 3):
-                if e[j] - abs(d[j]) < e[k] - abs(d[k]):
-                    k = j
+            for m in range(1, 3):
+                if halves[j, m] - abs(d[m]) < halves[j, k] - abs(d[k]):
+                    k = m
             sign[k] = 1 if d[k] >= 0.0 else -1
-            gap = abs(d[k]) - e[k]  # <= 0: minus the depth of the centre under the face
+        gap = abs(d[k]) - halves[j, k]  # the centre's height above the face (< 0: below it)
         s = float(sign[k])
-        nx, ny, nz = -s * rot[0, k], -s * rot[1, k], -s * rot[2, k]
+        nx, ny, nz = -s * rotations[j, 0, k], -s * rotations[j, 1, k], -s * rotations[j, 2, k]
         separation = gap - r
         lift = 0.5 * (gap + r)  # from the centre to halfway between the sphere's deepest point and the face
         key = box_feature_key(1, sign[0] if k == 0 else 0, sign[1] if k == 1 else 0, sign[2] if k == 2 else 0)
-        write_point(rows, p_row, 0, p[0] + lift * nx, p[1] + lift * ny, p[2] + lift * nz, feature_key(VERTEX, 0),
-                    key, flip)
+        write_point(rows, p_row, 0, px + lift * nx, py + lift * ny, pz + lift * nz, feature_key(VERTEX, 0), key,
+                    flip)
         write_pair(rows, p_row, separation, nx, ny, nz, VERTEX, FACE, 1, flip)
         return separation
     # an edge or a vertex: q − p from its box-frame coordinates
     vx = vy = vz = 0.0
     for k in range(3):
         delta = q[k] - d[k]
-        vx += delta * rot[0, k]
-        vy += delta * rot[1, k]
-        vz += delta * rot[2, k]
+        vx += delta * rotations[j, 0, k]
+        vy += delta * rotations[j, 1, k]
+        vz += delta * rotations[j, 2, k]
     dist = math.sqrt(vx * vx + vy * vy + vz * vz)
     nx, ny, nz = unit_vector(vx, vy, vz)
     separation = dist - r
     lift = 0.5 * (dist + r)
     key = box_feature_key(clamped, sign[0], sign[1], sign[2])
-    write_point(rows, p_row, 0, p[0] + lift * nx, p[1] + lift * ny, p[2] + lift * nz, feature_key(VERTEX, 0), key,
-                flip)
+    write_point(rows, p_row, 0, px + lift * nx, py + lift * ny, pz + lift * nz, feature_key(VERTEX, 0), key, flip)
     write_pair(rows, p_row, separation, nx, ny, nz, VERTEX, EDGE if clamped == 2 else VERTEX, 1, flip)
     return separation
 
 
 def contact_sphere_box_pair(center, radius, box_center, box_rotation, half_extents):
     """The contact of a sphere (centre (3,), radius > 0) and a box (centre (3,), rotation (3, 3) whose columns
-    are its axes, half extents (3,) > 0): a ContactSet of one pair (sphere first; separation > 0 when apart)."""
-    p = as_float_array(center, "center", shape=(3,))
+    are its axes or a unit quaternion (w, x, y, z), half extents (3,) > 0): a ContactSet of one pair (sphere
+    first; separation > 0 when apart)."""
+    centers = np.stack([as_float_array(center, "center", shape=(3,)),
+                        as_float_array(box_center, "box_center", shape=(3,))])
     r = as_positive(radius, "radius")
-    c = as_float_array(box_center, "box_center", shape=(3,))
-    rot = np.ascontiguousarray(as_rotation_matrix(box_rotation, "box_rotation"))
+    rotations = np.stack([np.eye(3), as_rotation_matrix(box_rotation, "box_rotation")])
     e = as_float_array(half_extents, "half_extents", shape=(3,))
     if (e <= 0).any():
         k = int(np.argmax(e <= 0))
         raise ValueError(f"half_extents must be > 0: half_extents[{k}] = {e[k]!r}")
     rows = contact_rows(1)
-    contact_sphere_box(p, r, c, rot, e, rows, 0, False)
+    contact_sphere_box(centers, np.array([r, 0.0]), rotations, np.stack([np.zeros(3), e]), 0, 1, rows, 0, False,
+                       kernel_scratch())
     return contact_set_from_rows(rows, np.array([[0, 1]], np.int64), np.array([r]), np.zeros(1), keep_apart=True)

@@ -8,8 +8,9 @@
   is rebuilt top-down (``DynamicAABBTree.from_boxes``) and its pairs found by one traversal.
 - "sap": an ``IncrementalSAP`` over the AABBs (insertion sort of last frame's order, then the sweep);
 - "grid", "octree", "brute": ``find_pairs`` over the AABBs each query (they keep no state).
-``candidates(store)`` returns canonical pairs (k, 2) of body ids whose boxes overlap — fat boxes for the tree
-(a superset: the narrow phase tests the AABBs first), the AABBs for the others. Grounds never enter it.
+``candidates(store, bodies)`` returns pairs (k, 2) of body ids, i < j in each row, no repeat, whose boxes
+overlap — fat boxes for the tree (a superset: the narrow phase tests the AABBs first; its rows are not sorted),
+the AABBs for the others (sorted). Grounds never enter it.
 """
 from __future__ import annotations
 
@@ -20,8 +21,9 @@ from engine.broadphase import DynamicAABBTree, IncrementalSAP, canonical_pairs, 
 __all__ = ["FAT_MARGIN", "REBUILD_THRESHOLD", "TreeBroadPhase", "SAPBroadPhase", "RebuildBroadPhase",
            "make_broad_phase"]
 
-#: the tree's fat boxes: the AABB grown on each side by this fraction of its largest side
-FAT_MARGIN = 0.25
+#: the tree's fat boxes: the AABB grown on each side by this fraction of its largest side (bodies jittering by
+#: 2 % of their size per frame then leave their fat box once every ~400 frames: a few tree queries per frame)
+FAT_MARGIN = 0.5
 #: the tree is rebuilt when more bodies than this left their fat boxes since the last query
 REBUILD_THRESHOLD = 64
 
@@ -122,15 +124,18 @@ class TreeBroadPhase:
 
     def _requery(self, store, escaped) -> None:
         """Move the leaves of the escaped bodies and replace their cached pairs by what the tree now finds."""
-        keep = ~(np.isin(self.cached[:, 0], escaped) | np.isin(self.cached[:, 1], escaped))
-        found = [self.cached[keep]]
+        moved = np.zeros(store.capacity, np.bool_)
+        moved[escaped] = True
+        keep = ~(moved[self.cached[:, 0]] | moved[self.cached[:, 1]])
         for body in escaped.tolist():  # a few leaves: Box2D's move buffer
             self.tree.move(self.leaf_of[body], store.fat_lo[body], store.fat_hi[body])
+        found = []
         for body in escaped.tolist():
             others = self.body_of[self.tree.query(store.fat_lo[body], store.fat_hi[body])]
             others = others[others != body]
             found.append(np.stack([np.minimum(others, body), np.maximum(others, body)], axis=1))
-        self.cached = _canonical(np.concatenate(found))
+        # the kept rows involve no escaped body, the found ones all do: only the found ones can repeat
+        self.cached = np.concatenate([self.cached[keep], _canonical(np.concatenate(found))])
 
     def candidates(self, store, bodies: np.ndarray) -> np.ndarray:
         escaped = bodies[store.escaped[bodies]]
@@ -144,7 +149,6 @@ class TreeBroadPhase:
         if self.cached is None:
             self.cached = _canonical(self.body_of[self.tree.pairs()])
         return self.cached
-
 
 def make_broad_phase(method: str):
     """The broad-phase state for ``World(broad_phase=method)``."""

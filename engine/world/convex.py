@@ -16,7 +16,7 @@ import numpy as np
 from engine._config import njit
 from engine.narrowphase import contact_feature_pairs, gjk_distance_pairs
 from engine.narrowphase.contact import FEATURE_TOL
-from engine.narrowphase.contacts import APART, TOUCHING, feature_key, point_id, reduce_manifold
+from engine.narrowphase.contacts import APART, TOUCHING, feature_key, kernel_scratch, point_id, reduce_manifold
 
 __all__ = ["pack_cores", "gjk_overlap_rows", "gjk_contact_rows", "feature_point_ids"]
 
@@ -59,7 +59,8 @@ def gjk_contact_rows(bodies, pairs, sel, rows) -> None:
         return
     batch = contact_feature_pairs(points, offsets, local[touch], radii=radii)
     feature_point_ids(bodies, pairs[sel[touch]], sel[touch], np.minimum(batch.separation, 0.0), batch.normal,
-                      batch.feature_a, batch.feature_b, batch.points, batch.point_offsets, FEATURE_TOL, rows)
+                      batch.feature_a, batch.feature_b, batch.points, batch.point_offsets, FEATURE_TOL, rows,
+                      kernel_scratch(int(np.diff(batch.point_offsets).max())))
 
 
 @njit
@@ -83,13 +84,11 @@ def _support_vertex(points, count, nx, ny, nz, sign, tol, x):
 
 @njit
 def feature_point_ids(bodies, pairs, rows_of, separation, normal, feature_a, feature_b, points, offsets, ftol,
-                      rows):
+                      rows, scratch):
     """Write contact q (pair pairs[q] = (i, j), normal from i to j, its points points[offsets[q]:offsets[q + 1]])
     into row rows_of[q]: at most MAX_POINTS points, each with the id (feature of i at its nearest support vertex,
-    feature of j at its nearest support vertex)."""
-    scratch_p = np.empty((points.shape[0] + 1, 3))
-    scratch_d = np.zeros(points.shape[0] + 1)
-    scratch_i = np.empty(points.shape[0] + 1, np.int64)
+    feature of j at its nearest support vertex). ``scratch``: contacts.kernel_scratch(most points of a pair)."""
+    scratch_p, scratch_d, scratch_i = scratch.pts, scratch.deep, scratch.ids
     for q in range(pairs.shape[0]):
         i, j, p = pairs[q, 0], pairs[q, 1], rows_of[q]
         nx, ny, nz = normal[q, 0], normal[q, 1], normal[q, 2]
@@ -99,13 +98,14 @@ def feature_point_ids(bodies, pairs, rows_of, separation, normal, feature_a, fea
                 size = max(size, bodies.hi[b, c] - bodies.lo[b, c])
         tol = ftol * max(size, 1e-300)
         n = 0
+        scratch_d[:] = 0.0  # the points lie on one plane: the reduction keeps the first as the deepest
         for x in range(offsets[q], offsets[q + 1]):
             va = _support_vertex(bodies.points[i], bodies.count[i], nx, ny, nz, 1.0, tol, points[x])
             vb = _support_vertex(bodies.points[j], bodies.count[j], nx, ny, nz, -1.0, tol, points[x])
             scratch_p[n] = points[x]
             scratch_i[n] = point_id(feature_key(feature_a[q], va), feature_key(feature_b[q], vb))
             n += 1
-        n = reduce_manifold(scratch_p, scratch_d, scratch_i, n, normal[q])
+        n = reduce_manifold(scratch_p, scratch_d, scratch_i, n, nx, ny, nz, scratch)
         rows.status[p] = TOUCHING
         rows.separation[p] = separation[q]
         rows.normal[p] = normal[q]

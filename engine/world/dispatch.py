@@ -42,7 +42,8 @@ from .curve import curve_candidates, curve_rows
 from .shapes import BOX, CAPSULE, CURVE, HULL, KIND_NAMES, PLANE, SPHERE
 
 __all__ = ["OVERLAP_TABLE", "CONTACT_TABLE", "IMPACT_TABLE", "NARROW_TESTS", "KERNEL_NAMES", "table_array",
-           "answer_pairs", "impact_pairs", "ROUND_CORES", "SPHERE_BOX", "BOX_BOX", "BOX_BOX_SAT", "BODY_PLANE",
+           "overlapping_boxes", "answer_pairs", "impact_pairs", "ROUND_CORES", "SPHERE_BOX", "BOX_BOX",
+           "BOX_BOX_SAT", "BODY_PLANE",
            "GJK_DISTANCE", "GJK_EPA", "CURVE_OVERLAP", "SPHERE_CURVE_OVERLAP", "CURVE_CONTACT",
            "SPHERE_SPHERE_TOI", "PLANE_TOI", "ADVANCEMENT", "CURVE_TOI", "COMPILED_KERNELS",
            "GROUND_CANDIDATES", "DEFERRED_ROWS"]
@@ -124,47 +125,58 @@ def _boxes_overlap(bodies, i, j):
     return True
 
 
+@njit(inline="always")
+def _point(points, b, v):
+    return points[b, v, 0], points[b, v, 1], points[b, v, 2]
+
+
 @njit
-def answer_pairs(bodies, pairs, table, rows):
-    """The compiled narrow phase: for every candidate pair (pairs (k, 2), canonical ids) whose AABBs overlap,
-    the kernel ``table[kind_i, kind_j]`` (an overlap or a contact table) into row p of ``rows``
-    (engine.narrowphase.contacts.ContactRows); the kernel's A is the shape of lower kind, ``flip`` when that is
-    the pair's second. Codes outside COMPILED_KERNELS get status DEFERRED. Returns the number of AABB tests
-    that passed."""
-    m = bodies.points.shape[1]
-    scratch_p = np.empty((m, 3))
-    scratch_d = np.empty(m)
-    scratch_i = np.empty(m, np.int64)
-    tested = 0
+def overlapping_boxes(bodies, pairs, counts):
+    """The candidate pairs (k, 2) whose AABBs overlap (closed), in order, as a new (k', 2) array; ``counts``
+    ((kinds, kinds) int64) += the number of them per (kind, kind), lower kind first."""
+    out = np.empty_like(pairs)
+    m = 0
     for p in range(pairs.shape[0]):
         i, j = pairs[p, 0], pairs[p, 1]
-        if not _boxes_overlap(bodies, i, j):
-            rows.status[p] = APART
-            continue
-        tested += 1
+        if _boxes_overlap(bodies, i, j):
+            out[m, 0], out[m, 1] = i, j
+            m += 1
+            ki, kj = bodies.kind[i], bodies.kind[j]
+            counts[min(ki, kj), max(ki, kj)] += 1
+    return out[:m]
+
+
+@njit
+def answer_pairs(bodies, pairs, table, rows, scratch):
+    """The compiled narrow phase: for every pair (pairs (k, 2), ids, AABBs overlapping), the kernel
+    ``table[kind_i, kind_j]`` (an overlap or a contact table) into row p of ``rows``
+    (engine.narrowphase.contacts.ContactRows); the kernel's A is the shape of lower kind, ``flip`` when that is
+    the pair's second; ``scratch``: engine.narrowphase.contacts.kernel_scratch(points per body). Codes outside
+    COMPILED_KERNELS get status DEFERRED."""
+    for p in range(pairs.shape[0]):
+        i, j = pairs[p, 0], pairs[p, 1]
         flip = bodies.kind[i] > bodies.kind[j]
         a, b = (j, i) if flip else (i, j)
         code = table[bodies.kind[a], bodies.kind[b]]
         if code == ROUND_CORES:
-            contact_round_cores(bodies.points[a, 0], bodies.points[a, bodies.count[a] - 1], bodies.radius[a],
-                                bodies.points[b, 0], bodies.points[b, bodies.count[b] - 1], bodies.radius[b],
-                                rows, p, flip)
+            contact_round_cores(_point(bodies.points, a, 0), _point(bodies.points, a, bodies.count[a] - 1),
+                                bodies.radius[a], _point(bodies.points, b, 0),
+                                _point(bodies.points, b, bodies.count[b] - 1), bodies.radius[b], rows, p, flip)
         elif code == SPHERE_BOX:
-            contact_sphere_box(bodies.center[a], bodies.radius[a], bodies.center[b], bodies.rotation[b],
-                               bodies.half[b], rows, p, flip)
+            contact_sphere_box(bodies.center, bodies.radius, bodies.rotation, bodies.half, a, b, rows, p, flip,
+                               scratch)
         elif code == BOX_BOX:
-            contact_box_box(bodies.center[a], bodies.rotation[a], bodies.half[a], bodies.center[b],
-                            bodies.rotation[b], bodies.half[b], rows, p, flip)
+            contact_box_box(bodies.center, bodies.rotation, bodies.half, a, b, rows, p, flip, scratch)
         elif code == BOX_BOX_SAT:
-            touch = overlap_box_box(bodies.center[a], bodies.rotation[a], bodies.half[a], bodies.center[b],
-                                    bodies.rotation[b], bodies.half[b])
+            touch = overlap_box_box(bodies.center, bodies.rotation, bodies.half, a, b, scratch)
             rows.status[p] = TOUCHING if touch else APART
         elif code == BODY_PLANE:
-            contact_points_plane(bodies.points[a], bodies.count[a], bodies.radius[a], bodies.center[b],
-                                 bodies.rotation[b, :, 1], rows, p, flip, scratch_p, scratch_d, scratch_i)
+            contact_points_plane(bodies.points, bodies.count, bodies.radius, a,
+                                 (bodies.center[b, 0], bodies.center[b, 1], bodies.center[b, 2]),
+                                 (bodies.rotation[b, 0, 1], bodies.rotation[b, 1, 1], bodies.rotation[b, 2, 1]),
+                                 rows, p, flip, scratch)
         else:
             rows.status[p] = DEFERRED
-    return tested
 
 
 @njit

@@ -34,6 +34,7 @@ from engine.narrowphase.contacts import (
     ContactSet,
     contact_rows,
     contact_set_from_rows,
+    kernel_scratch,
     mark_persisting,
 )
 
@@ -51,6 +52,7 @@ from .dispatch import (
     OVERLAP_TABLE,
     answer_pairs,
     impact_pairs,
+    overlapping_boxes,
     table_array,
 )
 from .shapes import BOX, KIND_NAMES, PLANE, Shape, as_rotation
@@ -63,6 +65,12 @@ _TABLES = {"overlap": table_array(OVERLAP_TABLE), "contact": table_array(CONTACT
 _NO_VECTORS = np.empty((0, 3))
 _NO_MATRICES = np.empty((0, 3, 3))
 _NO_QUATERNIONS = np.empty((0, 4))
+
+
+def _touching_in_order(cand, rows) -> np.ndarray:
+    """The rows of the touching candidates, in lexicographic order of their pairs (canonical output)."""
+    sel = np.flatnonzero(rows.status == TOUCHING)
+    return sel[np.lexsort((cand[sel, 1], cand[sel, 0]))]
 
 
 @dataclass(frozen=True)
@@ -81,7 +89,7 @@ class WorldStats:
     """Work of each stage in the last query: ``bodies``, ``candidate_pairs`` (broad phase, bodies and grounds),
     ``culled`` (kinematic culling, time_of_impact only), ``narrow_tests`` (candidates whose AABBs overlap),
     ``overlapping`` (pairs that touch), ``contacts`` (contact points), ``persisting`` (points that persist from
-    the previous contacts()), ``impacts``; ``groups`` {"sphere-box": candidates, ...}; ``seconds`` {"upload",
+    the previous contacts()), ``impacts``; ``groups`` {"sphere-box": narrow tests, ...}; ``seconds`` {"upload",
     "broad", "narrow", "contacts"}: wall time of each stage (upload: the updates since the previous query)."""
 
     query: str = ""
@@ -264,23 +272,26 @@ class World:
         return out
 
     def _candidates(self):
-        """Broad phase: canonical candidate pairs of ids (bodies among themselves and against the grounds)."""
+        """Broad phase: candidate pairs of ids, i < j per row, no repeat, in no particular order (bodies among
+        themselves, then against the grounds)."""
         bodies = self._live_bodies()
         cand = self._broad.candidates(self._store, bodies)
         if self._grounds:
             st = self._store
             cand = np.concatenate([cand, *self._ground_candidates(bodies, st.lo[bodies], st.hi[bodies])])
-            cand = cand[np.lexsort((cand[:, 1], cand[:, 0]))]
         return np.ascontiguousarray(cand), bodies
 
     def _answer(self, table: str):
         """Broad phase, then the narrow phase of every candidate through ``table``: (pairs, rows, stats)."""
         t0 = time.perf_counter()
         cand, bodies = self._candidates()
+        view = self._store.view()
+        counts = np.zeros((len(KIND_NAMES), len(KIND_NAMES)), np.int64)
+        tested = cand.shape[0]
+        cand = overlapping_boxes(view, cand, counts)
         t1 = time.perf_counter()
         rows = contact_rows(cand.shape[0])
-        view = self._store.view()
-        tested = answer_pairs(view, cand, _TABLES[table], rows)
+        answer_pairs(view, cand, _TABLES[table], rows, kernel_scratch(view.points.shape[1]))
         deferred = np.flatnonzero(rows.status == DEFERRED)
         if deferred.size:
             kinds = self._store.kind[cand[deferred]]
@@ -288,22 +299,18 @@ class World:
             for code in np.unique(codes).tolist():
                 DEFERRED_ROWS[code](view, cand, deferred[codes == code], rows, self._grounds)
         t2 = time.perf_counter()
-        stats = WorldStats(bodies=int(bodies.shape[0]), candidate_pairs=int(cand.shape[0]), narrow_tests=int(tested),
-                           groups=self._groups(cand),
+        groups = {f"{KIND_NAMES[a]}-{KIND_NAMES[b]}": int(counts[a, b]) for a, b in zip(*counts.nonzero())}
+        stats = WorldStats(bodies=int(bodies.shape[0]), candidate_pairs=int(tested), narrow_tests=int(cand.shape[0]),
+                           groups=groups,
                            seconds={"upload": self._upload_seconds, "broad": t1 - t0, "narrow": t2 - t1})
         self._upload_seconds = 0.0
         return cand, rows, stats
-
-    def _groups(self, cand) -> dict:
-        kinds = np.sort(self._store.kind[cand], axis=1).astype(np.int64)
-        codes, counts = np.unique(kinds[:, 0] * 8 + kinds[:, 1], return_counts=True)
-        return {f"{KIND_NAMES[c // 8]}-{KIND_NAMES[c % 8]}": int(n) for c, n in zip(codes.tolist(), counts.tolist())}
 
     def pairs(self) -> np.ndarray:
         """Canonical pairs (k, 2) int64 of ids whose shapes overlap (touching counts): broad phase, then the
         exact test of each candidate through the overlap table."""
         cand, rows, stats = self._answer("overlap")
-        out = np.ascontiguousarray(cand[rows.status == TOUCHING])
+        out = np.ascontiguousarray(cand[_touching_in_order(cand, rows)])
         stats.query, stats.overlapping = "pairs", int(out.shape[0])
         self.stats = stats
         return out
@@ -316,7 +323,7 @@ class World:
         cand, rows, stats = self._answer("contact")
         t0 = time.perf_counter()
         radius = self._store.radius[cand]
-        out = contact_set_from_rows(rows, cand, radius[:, 0], radius[:, 1])
+        out = contact_set_from_rows(rows, cand, radius[:, 0], radius[:, 1], keep=_touching_in_order(cand, rows))
         prev_pairs, prev_ids = self._previous
         mark_persisting(prev_pairs, prev_ids, out.pairs, out.point_offsets, out.point_ids, out.persists)
         owner = np.repeat(out.pairs, np.diff(out.point_offsets), axis=0)
