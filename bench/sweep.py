@@ -17,7 +17,7 @@ collects them with ``as_completed``:
   rerun retries only the failed configurations;
 - **progress**: a counter line (done / total, failures, resumed, elapsed), on one line in a terminal.
 
-Where the tasks run (``sweep_client``): ``--scheduler tcp://HOST:8786`` (``collide report``) or the environment
+Where the tasks run (``sweep_client``): ``--scheduler tcp://HOST:8786`` (``python -m bench.report``) or the environment
 variable ``COLLIDE_SCHEDULER`` submit to an existing cluster; otherwise an embedded ``LocalCluster`` of worker
 processes on this machine. Two kinds of sweeps:
 

@@ -15,6 +15,14 @@ with the same call:
   body pressing 0.002 into the one below; ``"hulls"`` — half capsules (r = 0.25, segment 0.6), half convex hulls of
   12 vertices (radius ~0.5), uniform at solid fraction 0.06. ``frame_motion(scene, rounds)`` gives each frame's
   poses.
+
+The big-level scenes, where a grid whose cell count is capped would coarsen until one cell holds a whole cluster
+(the quadratic cliff the broad-phase benchmarks watch for):
+
+- ``clustered_spheres(n, eta, clusters, separation)`` — ``clusters`` dense W2 clusters ``separation`` apart;
+- ``huge_among_small_boxes(n, huge)`` — the boxes of W2 spheres plus ``huge`` boxes each as large as half the
+  scene;
+- ``planar_spheres(n, area_fraction)`` — equal spheres whose centres all lie on one plane (z = 0).
 """
 from __future__ import annotations
 
@@ -23,8 +31,9 @@ from typing import NamedTuple
 
 import numpy as np
 
-__all__ = ["SEED", "w1_boxes", "w2_spheres", "mixed_world_scene", "random_steps", "FrameScene", "FRAME_SCENES",
-           "frame_scene", "frame_motion", "random_quaternions", "quaternion_matrices"]
+__all__ = ["SEED", "w1_boxes", "w2_spheres", "mixed_world_scene", "random_steps", "clustered_spheres",
+           "huge_among_small_boxes", "planar_spheres", "BIG_LEVEL_SCENES", "big_level_boxes", "FrameScene",
+           "FRAME_SCENES", "frame_scene", "frame_motion", "random_quaternions", "quaternion_matrices"]
 
 #: the seed of every benchmark workload
 SEED = 4
@@ -52,6 +61,7 @@ def mixed_world_scene(n: int, seed: int = 8):
     from scipy.spatial.transform import Rotation
 
     from engine.world import Box, ConvexPolyhedron, Sphere
+    from engine.world.shapes import Shape
 
     rng = np.random.default_rng(seed)
     kinds = rng.choice(3, size=n, p=[0.4, 0.3, 0.3])
@@ -59,7 +69,7 @@ def mixed_world_scene(n: int, seed: int = 8):
     side = (n * mean_volume / 0.1) ** (1 / 3)
     centers = rng.uniform(0.0, side, size=(n, 3))
     rotations = Rotation.random(n, random_state=seed).as_matrix()
-    shapes = []
+    shapes: list[Shape] = []
     for i in range(n):
         if kinds[i] == 0:
             shapes.append(Sphere(centers[i], rng.uniform(0.3, 0.7)))
@@ -80,6 +90,63 @@ def random_steps(centers, rounds: int, step: float = 0.02, seed: int = 9) -> lis
         c = c + rng.normal(0.0, step, c.shape)
         out.append(c)
     return out
+
+
+def clustered_spheres(n: int, eta: float = 0.2, clusters: int = 2, separation: float = 1e6, seed: int = SEED,
+                      radius: float = 0.5) -> tuple[np.ndarray, float]:
+    """n equal spheres in ``clusters`` dense clusters: cluster k is a W2 cube of about n / clusters spheres at
+    packing fraction ``eta``, shifted by k·separation along every axis. ``(centres (n, 3) float64, radius)``."""
+    rng = np.random.default_rng(seed)
+    sizes = [n // clusters + (1 if k < n % clusters else 0) for k in range(clusters)]
+    parts = []
+    for k, m in enumerate(sizes):
+        side = (max(m, 1) * math.pi * (2 * radius) ** 3 / (6 * eta)) ** (1 / 3)
+        parts.append(rng.uniform(0.0, side, size=(m, 3)) + k * separation)
+    return np.concatenate(parts), radius
+
+
+def huge_among_small_boxes(n: int, huge: int = 8, eta: float = 0.05, seed: int = SEED) -> tuple[np.ndarray, np.ndarray]:
+    """``(lo, hi)`` (n, 3) float64: the bounding boxes of n − huge W2 spheres (radius 0.5, packing fraction
+    ``eta``) and ``huge`` boxes each spanning half the scene along every axis at a random place in it."""
+    small = max(n - huge, 0)
+    centres, radius = w2_spheres(small, eta, seed)
+    side = (max(small, 1) * math.pi / (6 * eta)) ** (1 / 3)
+    rng = np.random.default_rng(seed + 1)
+    corner = rng.uniform(0.0, side / 2, size=(n - small, 3))
+    lo = np.concatenate([centres - radius, corner])
+    hi = np.concatenate([centres + radius, corner + side / 2])
+    return lo, hi
+
+
+def planar_spheres(n: int, area_fraction: float = 0.3, seed: int = SEED,
+                   radius: float = 0.5) -> tuple[np.ndarray, float]:
+    """n equal spheres whose centres are uniform in a square of the plane z = 0, the discs covering
+    ``area_fraction`` of it: ``(centres (n, 3) float64, radius)``."""
+    side = math.sqrt(n * math.pi * radius ** 2 / area_fraction)
+    centres = np.zeros((n, 3))
+    centres[:, :2] = np.random.default_rng(seed).uniform(0.0, side, size=(n, 2))
+    return centres, radius
+
+
+#: the scenes of ``big_level_boxes``: the uniform W2 cube and the three big-level scenes
+BIG_LEVEL_SCENES = ("uniform", "clusters", "huge", "plane")
+
+
+def big_level_boxes(scene: str, n: int, seed: int = SEED) -> tuple[np.ndarray, np.ndarray]:
+    """``(lo, hi)`` (n, 3) float64 boxes of one scene of ``BIG_LEVEL_SCENES``: "uniform" the boxes of W2
+    spheres at η = 0.05, "clusters" those of ``clustered_spheres`` (two clusters at η = 0.2, 1e6 apart), "huge"
+    ``huge_among_small_boxes`` (8 huge boxes), "plane" those of ``planar_spheres`` (area fraction 0.3)."""
+    if scene == "huge":
+        return huge_among_small_boxes(n, seed=seed)
+    if scene == "uniform":
+        centres, radius = w2_spheres(n, 0.05, seed)
+    elif scene == "clusters":
+        centres, radius = clustered_spheres(n, seed=seed)
+    elif scene == "plane":
+        centres, radius = planar_spheres(n, seed=seed)
+    else:
+        raise ValueError(f"scene must be one of {BIG_LEVEL_SCENES}, got {scene!r}")
+    return centres - radius, centres + radius
 
 
 # ---------------------------------------------------------------------------------------------------------------
