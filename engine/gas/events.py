@@ -325,9 +325,10 @@ def _sync_kernel(st, t):
 
 def _cells_per_axis(n, box, rmax, periodic):
     """Cells at least one largest diameter wide (a contact is always between neighbouring cells), and not much
-    smaller than the mean spacing (V/n)^(1/3): in a dilute gas that trades cell crossings for a few more spheres
-    per scan (0.9 spacing measured best at η = 0.1 and 0.3, N = 32,000)."""
-    width = max(2.0 * rmax * (1.0 + 1e-12), 0.9 * box / n ** (1.0 / 3.0))
+    smaller than the mean spacing (V/n)^(1/3): in a dilute gas that trades cell crossings for fewer spheres per
+    scan (0.6 spacing measured best with the event calendar at η = 0.1, N = 32,000: 0.9 spacing processes fewer
+    events, 2.98 per collision against 3.79, but scans 3.4 times as many spheres per cell)."""
+    width = max(2.0 * rmax * (1.0 + 1e-12), 0.6 * box / n ** (1.0 / 3.0))
     ncell = max(1, min(int(math.floor(box / width)), 128))
     if periodic:
         if box < 3.0 * 2.0 * rmax * (1.0 + 1e-12):
