@@ -3,6 +3,7 @@ sphere holding the object; 4 scalars; collision iff d < r_A + r_B, about 11 prim
 update under rotation). Ericson, *Real-Time Collision Detection*, sections 4.3 (fits) and 6.5.2 (merge).
 
 Two fits:
+
 - ``ritter_sphere`` — Ritter's fast approximate fit (Ericson 4.3.2), O(n), within ~5-20 % of minimal;
 - ``min_bounding_sphere`` — Welzl's exact minimal sphere (Ericson 4.3.5), written as the iterative
   move-to-front form on a seeded random order (expected O(n)), with exact circumsphere formulas for 1 to 4

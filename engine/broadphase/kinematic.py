@@ -6,7 +6,7 @@ computation.
 
 - :func:`cull_separating_sphere_pairs`: a candidate pair of spheres is dropped when it does not overlap and its
   relative velocity points away, (v_j − v_i)·(c_j − c_i) > 0. With constant velocities over the step the squared
-  distance |p + v t|² = |p|² + 2 (p·v) t + |v|² t² then grows for all t >= 0, so the pair cannot collide
+  distance ``|p + v t|² = |p|² + 2 (p·v) t + |v|² t²`` then grows for all t >= 0, so the pair cannot collide
   during the whole step (Ericson, *Real-Time Collision Detection* 5.5.8: moving sphere against sphere).
 - :func:`cull_separating_box_pairs`: a pair of axis-aligned boxes is dropped when on some axis the boxes are
   apart and their relative velocity along that axis widens (or keeps) the gap — the gap then never closes.
