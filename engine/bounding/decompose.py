@@ -280,7 +280,7 @@ def decompose_mesh(vertices: ArrayLike, faces: ArrayLike, *, threshold: float = 
     ----------
     vertices : array_like, shape (n, 3)
         The mesh's vertices, n >= 4, finite.
-    faces : array_like, shape (m, 3), integer
+    faces : array_like of int, shape (m, 3)
         Triangles as vertex indices in [0, n), m >= 4.
     threshold : float, optional
         coacd's concavity threshold, in (0, 1]: lower gives more, finer pieces.

@@ -148,6 +148,7 @@ class OBB:
         rotation : array_like, shape (3, 3)
             Orthonormal (a rotation, or a reflection).
         translation : array_like, shape (3,)
+            The translation t.
 
         Returns
         -------
@@ -239,6 +240,7 @@ def merge_obb(a: OBB, b: OBB) -> OBB:
     Parameters
     ----------
     a, b : OBB
+        The two boxes.
 
     Returns
     -------
@@ -262,9 +264,11 @@ def transform_obb(box: OBB, rotation: ArrayLike, translation: ArrayLike) -> OBB:
     Parameters
     ----------
     box : OBB
+        The box to move; unchanged.
     rotation : array_like, shape (3, 3)
         Orthonormal.
     translation : array_like, shape (3,)
+        The translation t.
 
     Returns
     -------

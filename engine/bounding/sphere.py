@@ -422,10 +422,14 @@ def overlap_spheres(centers_a: ArrayLike, radii_a: ArrayLike, centers_b: ArrayLi
 
     Parameters
     ----------
-    centers_a, centers_b : array_like, shape (n, d)
-        The centres, finite, of one shape.
-    radii_a, radii_b : array_like, shape (n,)
-        The radii, >= 0.
+    centers_a : array_like, shape (n, d)
+        The centres of the spheres a_i, finite.
+    radii_a : array_like, shape (n,)
+        Their radii, >= 0.
+    centers_b : array_like, shape (n, d)
+        The centres of the spheres b_i, of the shape of ``centers_a``.
+    radii_b : array_like, shape (n,)
+        Their radii, >= 0.
 
     Returns
     -------
@@ -480,10 +484,14 @@ def overlap_sphere_sphere(center_a: ArrayLike, radius_a: float, center_b: ArrayL
 
     Parameters
     ----------
-    center_a, center_b : array_like, shape (d,)
-        The centres, finite, of one shape.
-    radius_a, radius_b : float
-        The radii, >= 0.
+    center_a : array_like, shape (d,)
+        The centre of sphere a, finite.
+    radius_a : float
+        Its radius, >= 0.
+    center_b : array_like, shape (d,)
+        The centre of sphere b, of the shape of ``center_a``.
+    radius_b : float
+        Its radius, >= 0.
 
     Returns
     -------
@@ -511,10 +519,14 @@ def merge_spheres(center_a: ArrayLike, radius_a: float, center_b: ArrayLike,
 
     Parameters
     ----------
-    center_a, center_b : array_like, shape (d,)
-        The centres, finite, of one shape.
-    radius_a, radius_b : float
-        The radii, >= 0.
+    center_a : array_like, shape (d,)
+        The centre of sphere a, finite.
+    radius_a : float
+        Its radius, >= 0.
+    center_b : array_like, shape (d,)
+        The centre of sphere b, of the shape of ``center_a``.
+    radius_b : float
+        Its radius, >= 0.
 
     Returns
     -------
@@ -588,6 +600,7 @@ def transform_sphere(center: ArrayLike, radius: float, rotation: ArrayLike,
     rotation : array_like, shape (d, d)
         Orthonormal: ``R Rᵀ = I`` to 1e-9.
     translation : array_like, shape (d,)
+        The translation t.
 
     Returns
     -------

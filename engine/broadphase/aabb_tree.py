@@ -441,7 +441,12 @@ class DynamicAABBTree:
         return self._d
 
     def __len__(self) -> int:
-        """The number of live objects."""
+        """The number of live objects.
+
+        Returns
+        -------
+        int
+        """
         return int(np.count_nonzero(self._obj_node[: self._n_ids] >= 0))
 
     @property

@@ -80,12 +80,14 @@ def cull_separating_sphere_pairs(pairs: ArrayLike, centers: ArrayLike, radii: Ar
 
     Parameters
     ----------
-    pairs : array_like, shape (m, 2), integer
+    pairs : array_like of int, shape (m, 2)
         Candidate pairs of indices in [0, n), in any order (they are put in canonical form first).
-    centers, velocities : array_like, shape (n, d)
-        The spheres' centres and velocities, finite.
+    centers : array_like, shape (n, d)
+        The spheres' centres, finite.
     radii : float or array_like, shape (n,)
         The radii, >= 0; a scalar for equal spheres.
+    velocities : array_like, shape (n, d)
+        The spheres' velocities, finite.
 
     Returns
     -------
@@ -124,7 +126,7 @@ def cull_separating_box_pairs(pairs: ArrayLike, lo: ArrayLike, hi: ArrayLike, ve
 
     Parameters
     ----------
-    pairs : array_like, shape (m, 2), integer
+    pairs : array_like of int, shape (m, 2)
         Candidate pairs of indices in [0, n), in any order.
     lo, hi : array_like, shape (n, d)
         The boxes, d = 1, 2 or 3, ``lo <= hi``, finite.

@@ -121,7 +121,7 @@ def canonical_pairs(pairs: ArrayLike, n: int | None = None) -> np.ndarray:
 
     Parameters
     ----------
-    pairs : array_like, shape (m, 2), integer
+    pairs : array_like of int, shape (m, 2)
         Index pairs in any order, with repeats allowed; an empty array of any shape (even float, as
         ``np.array([])``) means no pairs.
     n : int, optional

@@ -280,7 +280,7 @@ def spheres_overlap_pairs(centers: ArrayLike, radii: ArrayLike, pairs: ArrayLike
         The centres, d = 1, 2 or 3, finite.
     radii : float or array_like, shape (n,)
         The radii, >= 0; a scalar for equal spheres.
-    pairs : array_like, shape (m, 2), integer
+    pairs : array_like of int, shape (m, 2)
         Candidate pairs of indices in [0, n), in any order (they are put in canonical form first).
 
     Returns

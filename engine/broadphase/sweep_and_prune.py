@@ -670,7 +670,12 @@ class IncrementalSAP:
         return self._d
 
     def __len__(self) -> int:
-        """The number of live objects."""
+        """The number of live objects.
+
+        Returns
+        -------
+        int
+        """
         return int(self._order.shape[0])
 
     def ids(self) -> np.ndarray:
