@@ -47,7 +47,8 @@ def reference_impacts(height: float, mass: float, drag: float, restitution: floa
     def hit(t, Y):
         return Y[0] - ground
 
-    hit.terminal, hit.direction = True, -1
+    # solve_ivp reads these two attributes of an event function (stop at the first crossing, downwards only)
+    hit.terminal, hit.direction = True, -1  # type: ignore[attr-defined]
     t0, state, times = 0.0, [height, 0.0], []
     for _ in range(n_impacts):
         sol = solve_ivp(rhs, (t0, t0 + 1e4), state, events=hit, rtol=1e-12, atol=1e-12)
