@@ -61,8 +61,18 @@ def reference_impacts(height: float, mass: float, drag: float, restitution: floa
 def free_fall_impacts(height: float, n_impacts: int, gravity: float = G) -> np.ndarray:
     """Exact impact times without drag and with e = 1: the k-th impact (k = 0, 1, ...) at sqrt(2h/g)(2k + 1).
 
+    Parameters
+    ----------
+    height : float
+        The drop height above the ground, >= 0.
+    n_impacts : int
+        How many impacts to give.
+    gravity : float, optional
+        g, > 0.
+
     Returns
     -------
     numpy.ndarray, shape (n_impacts,), float64
+        The impact times (s), increasing.
     """
     return np.sqrt(2.0 * height / gravity) * (2.0 * np.arange(n_impacts) + 1.0)
