@@ -152,8 +152,9 @@ def eos_markdown(runs: pd.DataFrame, summary: pd.DataFrame, info: dict, quick: b
               f"{100 * (worst['kolafa'] / worst['carnahan_starling'] - 1):+.2f} % from Carnahan–Starling there).",
               ""]
     if failures:
-        lines += ["**Failed runs** (after retries; their rows are missing above, rerun `collide report` to retry "
-                  "them only): " + "; ".join(f"η = {c['eta']}, seed {c['seed']}: {e}" for c, e in failures), ""]
+        lines += ["**Failed runs** (after retries; their rows are missing above, rerun `python -m bench.report` "
+                  "to retry them only): "
+                  + "; ".join(f"η = {c['eta']}, seed {c['seed']}: {e}" for c, e in failures), ""]
     lines += ["![Z against eta](eos.png)", ""]
     return "\n".join(lines)
 
