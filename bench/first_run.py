@@ -34,12 +34,18 @@ def build_wheel(checkout: Path, out: Path) -> Path:
     return next(out.glob("*.whl"))
 
 
+def clean_environment() -> dict:
+    """This process's environment without the variables that would let the checkout or its caches leak into
+    the fresh environment (PYTHONPATH, PYTHONHOME, NUMBA_*)."""
+    return {k: v for k, v in os.environ.items() if not k.startswith(("PYTHON", "NUMBA"))}
+
+
 def fresh_venv(folder: Path, wheel: Path) -> Path:
     """A new virtual environment in ``folder`` with the wheel (and its dependencies, from the registry)."""
-    subprocess.run([sys.executable, "-m", "venv", str(folder)], check=True)
+    subprocess.run([sys.executable, "-m", "venv", str(folder)], check=True, env=clean_environment())
     python = folder / "bin" / "python"
     subprocess.run([str(python), "-m", "pip", "install", "-q", str(wheel)], check=True, capture_output=True,
-                   text=True)
+                   text=True, env=clean_environment(), cwd=folder)
     return python
 
 
@@ -55,8 +61,7 @@ def run_block(python: Path, code: str, index: int, workdir: Path, cache: Path) -
     """Run one block as a script from ``workdir`` with the kernel cache in ``cache``."""
     script = workdir / f"block_{index}.py"
     script.write_text(code)
-    env = {k: v for k, v in os.environ.items() if not k.startswith(("PYTHON", "NUMBA"))}
-    env.update(NUMBA_CACHE_DIR=str(cache), MPLBACKEND="Agg")
+    env = {**clean_environment(), "NUMBA_CACHE_DIR": str(cache), "MPLBACKEND": "Agg"}
     start = time.perf_counter()
     done = subprocess.run([str(python), script.name], cwd=workdir, capture_output=True, text=True, env=env)
     return BlockRun(index, time.perf_counter() - start, done.returncode, done.stderr)

@@ -442,6 +442,31 @@ class DynamicAABBTree:
         root = float((self._node_hi[self._root] - self._node_lo[self._root]).sum())
         return total / root if root > 0.0 else 0.0
 
+    def node_boxes(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """Every node of the tree, from the root down (depth first): ``(lo, hi, depth, leaf)``.
+
+        Returns
+        -------
+        lo, hi : numpy.ndarray, shape (m, d), float64
+            The nodes' boxes (a leaf's is its object's fat box; an inner node's encloses its two children).
+        depth : numpy.ndarray, shape (m,), int64
+            0 for the root.
+        leaf : numpy.ndarray, shape (m,), bool
+            Whether the node is a leaf (holds one object).
+        """
+        order, depths = [], []
+        stack = [(self._root, 0)] if self._root != -1 else []
+        while stack:
+            node, depth = stack.pop()
+            order.append(node)
+            depths.append(depth)
+            if self._child1[node] != -1:
+                stack += [(int(self._child2[node]), depth + 1), (int(self._child1[node]), depth + 1)]
+        nodes = np.array(order, dtype=np.int64)
+        d = self._d
+        return (self._node_lo[nodes, :d].copy(), self._node_hi[nodes, :d].copy(), np.array(depths, dtype=np.int64),
+                self._child1[nodes] == -1)
+
     def insert(self, lo_i, hi_i) -> int:
         """Insert the box [lo_i, hi_i] ((d,) each); returns the object's id (freed ids are reused)."""
         lo3, hi3 = self._one_box(lo_i, hi_i)
