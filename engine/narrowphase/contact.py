@@ -27,7 +27,15 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._config import njit
-from .._validate import as_float_array, as_nonnegative, as_positive
+from .._validate import (
+    as_float_array,
+    as_max_iterations,
+    as_nonnegative,
+    as_positive,
+    as_radii,
+    check_offsets,
+    check_pairs,
+)
 from ..bounding.hull import HULL_EPS, _monotone_chain_kernel
 from .epa import (
     _EPA_OK,
@@ -43,10 +51,7 @@ from .gjk import (
     _OVERLAP,
     MAX_ITERATIONS,
     GJKNotConverged,
-    _as_max_iterations,
-    _check_offsets,
     _gjk,
-    check_pairs,
     rescale_unit,
 )
 
@@ -683,12 +688,9 @@ def contact_feature_pairs(points, offsets, pairs, *, radii=None, feature_tol: fl
     and normal of that pair come from Qhull (Python), flagged in ``exact_fallback``.
     """
     pts = as_float_array(points, "points", shape=(None, 3))
-    off = _check_offsets(offsets, pts.shape[0])
+    off = check_offsets(offsets, pts.shape[0])
     s = off.shape[0] - 1
-    rad = np.zeros(s) if radii is None else as_float_array(radii, "radii", shape=(s,))
-    if (rad < 0).any():
-        i = int(np.argmax(rad < 0))
-        raise ValueError(f"radii must be >= 0: radii[{i}] = {rad[i]!r}")
+    rad = np.zeros(s) if radii is None else as_radii(radii, "radii", s, scalar=False)
     pr = check_pairs(pairs, s)
     ftol = as_positive(feature_tol, "feature_tol")
     return _contact_batch(pts, off, pr, rad, ftol, MAX_ITERATIONS)
@@ -837,7 +839,7 @@ def time_of_impact(points_a, velocity_a, points_b, velocity_b, *, t_max: float =
     ra = as_nonnegative(radius_a, "radius_a")
     rb = as_nonnegative(radius_b, "radius_b")
     tm = as_nonnegative(t_max, "t_max")
-    max_iter = _as_max_iterations(max_iterations)
+    max_iter = as_max_iterations(max_iterations)
     if tol is None:
         size = max(np.ptp(pa, axis=0).max(), np.ptp(pb, axis=0).max(), ra, rb, 1e-300)
         tol = 1e-9 * size
@@ -861,7 +863,7 @@ def time_of_impact_pairs(points, offsets, velocities, pairs, *, t_max: float = 1
     ``pairs`` (k, 2). Returns times (k,), ``inf`` where the pair does not meet before ``t_max``.
     """
     pts = as_float_array(points, "points", shape=(None, 3))
-    off = _check_offsets(offsets, pts.shape[0])
+    off = check_offsets(offsets, pts.shape[0])
     s = off.shape[0] - 1
     vel = as_float_array(velocities, "velocities", shape=(s, 3))
     spin = np.zeros((s, 3)) if angular_velocities is None else as_float_array(angular_velocities,
@@ -870,14 +872,11 @@ def time_of_impact_pairs(points, offsets, velocities, pairs, *, t_max: float = 1
         cen = np.add.reduceat(pts, off[:-1], axis=0) / np.diff(off)[:, None] if s else np.empty((0, 3))
     else:
         cen = as_float_array(centers, "centers", shape=(s, 3))
-    rad = np.zeros(s) if radii is None else as_float_array(radii, "radii", shape=(s,))
-    if (rad < 0).any():
-        i = int(np.argmax(rad < 0))
-        raise ValueError(f"radii must be >= 0: radii[{i}] = {rad[i]!r}")
+    rad = np.zeros(s) if radii is None else as_radii(radii, "radii", s, scalar=False)
     pr = check_pairs(pairs, s)
     tm = as_nonnegative(t_max, "t_max")
     tol = as_positive(tol, "tol")
-    max_iter = _as_max_iterations(max_iterations)
+    max_iter = as_max_iterations(max_iterations)
     times = np.empty(pr.shape[0])
     status = np.empty(pr.shape[0], np.int64)
     if pr.shape[0]:

@@ -27,17 +27,14 @@ import math
 import numpy as np
 
 from .._config import njit
-from .._validate import as_float_array
+from .._validate import as_float_array, as_max_iterations, check_offsets, check_pairs
 from .gjk import (
     _NOT_CONVERGED,
     _OVERLAP,
     MAX_ITERATIONS,
     GJKNotConverged,
-    _as_max_iterations,
-    _check_offsets,
     _gjk,
     _support,
-    check_pairs,
     rescale_unit,
 )
 
@@ -592,7 +589,7 @@ def epa_penetration(points_a, points_b, *, max_iterations: int = MAX_ITERATIONS,
     """
     pa = as_float_array(points_a, "points_a", shape=(None, 3), min_rows=1)
     pb = as_float_array(points_b, "points_b", shape=(None, 3), min_rows=1)
-    max_iter = _as_max_iterations(max_iterations)
+    max_iter = as_max_iterations(max_iterations)
     out = np.empty(10)
     status = _penetration(pa, pb, max_iter, out)
     if status == _EPA_NOT_CONVERGED:
@@ -611,9 +608,9 @@ def epa_penetration_pairs(points, offsets, pairs, *, max_iterations: int = MAX_I
     """EPA over k pairs of packed shapes (see ``gjk_distance_pairs`` for ``points``/``offsets``) in one compiled
     call. Returns ``(depth (k,), normal (k, 3))``; separated pairs get depth 0 and GJK's direction."""
     pts = as_float_array(points, "points", shape=(None, 3))
-    off = _check_offsets(offsets, pts.shape[0])
+    off = check_offsets(offsets, pts.shape[0])
     pr = check_pairs(pairs, off.shape[0] - 1)
-    max_iter = _as_max_iterations(max_iterations)
+    max_iter = as_max_iterations(max_iterations)
     k = pr.shape[0]
     depth = np.empty(k)
     normal = np.empty((k, 3))

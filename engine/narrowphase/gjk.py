@@ -33,7 +33,7 @@ from concurrent.futures import ThreadPoolExecutor
 import numpy as np
 
 from .._config import njit
-from .._validate import MAX_MAGNITUDE, as_count, as_float_array
+from .._validate import MAX_MAGNITUDE, as_count, as_float_array, as_max_iterations, check_offsets, check_pairs
 
 __all__ = [
     "GJKNotConverged",
@@ -666,14 +666,6 @@ def _raise_invalid(status, arrays: dict, shape: tuple):
                          f"(pair {bad[0]})")
 
 
-def _as_max_iterations(max_iterations) -> int:
-    if isinstance(max_iterations, bool) or not isinstance(max_iterations, int | np.integer):
-        raise TypeError(f"max_iterations must be an int, got {type(max_iterations).__name__}")
-    if max_iterations < 1:
-        raise ValueError(f"max_iterations must be >= 1, got {max_iterations}")
-    return int(max_iterations)
-
-
 def gjk_distance(points_a, points_b, *, max_iterations: int = MAX_ITERATIONS):
     """Distance between the convex hulls of ``points_a`` (n, 3) and ``points_b`` (m, 3), n, m >= 1.
 
@@ -683,7 +675,7 @@ def gjk_distance(points_a, points_b, *, max_iterations: int = MAX_ITERATIONS):
     """
     pa = as_float_array(points_a, "points_a", shape=(None, 3), min_rows=1)
     pb = as_float_array(points_b, "points_b", shape=(None, 3), min_rows=1)
-    max_iter = _as_max_iterations(max_iterations)
+    max_iter = as_max_iterations(max_iterations)
     W = np.empty((4, 3))
     IA = np.empty(4, np.int64)
     IB = np.empty(4, np.int64)
@@ -703,40 +695,6 @@ def pack_point_sets(point_sets):
     offsets = np.zeros(len(arrays) + 1, np.int64)
     offsets[1:] = np.cumsum([a.shape[0] for a in arrays])
     return np.concatenate(arrays, axis=0), offsets
-
-
-def _check_offsets(offsets, n_points: int) -> np.ndarray:
-    off = np.asarray(offsets)
-    if off.dtype.kind not in "iu":
-        raise TypeError(f"offsets must be an integer array, got dtype {off.dtype}")
-    if off.ndim != 1 or off.shape[0] < 1:
-        raise ValueError(f"offsets must have shape (n_shapes + 1,), got {off.shape}")
-    off = off.astype(np.int64)
-    if off[0] != 0 or off[-1] != n_points:
-        raise ValueError(f"offsets must start at 0 and end at len(points) = {n_points}, got {off[0]}..{off[-1]}")
-    steps = np.diff(off)
-    if (steps < 1).any():
-        s = int(np.argmax(steps < 1))
-        raise ValueError(f"offsets must be strictly increasing (every shape needs a point): offsets[{s}] = "
-                         f"{off[s]} >= offsets[{s + 1}] = {off[s + 1]}")
-    return off
-
-
-def check_pairs(pairs, n_shapes: int, name: str = "pairs") -> np.ndarray:
-    """A (k, 2) int64 array of shape indices in [0, n_shapes); ValueError naming the first bad row."""
-    arr = np.asarray(pairs)
-    if arr.size == 0:
-        return np.empty((0, 2), np.int64)
-    if arr.dtype.kind not in "iu":
-        raise TypeError(f"{name} must be an integer array, got dtype {arr.dtype}")
-    if arr.ndim != 2 or arr.shape[1] != 2:
-        raise ValueError(f"{name} must have shape (k, 2), got {arr.shape}")
-    arr = np.ascontiguousarray(arr, dtype=np.int64)
-    bad = (arr < 0) | (arr >= n_shapes)
-    if bad.any():
-        r = int(np.argwhere(bad)[0][0])
-        raise ValueError(f"{name}[{r}] = {arr[r].tolist()} holds an index outside [0, {n_shapes})")
-    return arr
 
 
 def _raise_first_failure(status, what: str, max_iter: int):
@@ -777,9 +735,9 @@ def gjk_distance_pairs(points, offsets, pairs, *, max_iterations: int = MAX_ITER
     the pairs among that many threads (``_run_in_chunks``; the same answers, bit for bit).
     """
     pts = _as_points(points, "points", (None, 3))
-    off = _check_offsets(offsets, pts.shape[0])
+    off = check_offsets(offsets, pts.shape[0])
     pr = check_pairs(pairs, off.shape[0] - 1)
-    max_iter = _as_max_iterations(max_iterations)
+    max_iter = as_max_iterations(max_iterations)
     n_threads = as_count(threads, "threads", minimum=1, maximum=MAX_THREADS)
     k = pr.shape[0]
     dist = np.empty(k)
@@ -808,7 +766,7 @@ def gjk_distance_batch(points_a, points_b, *, max_iterations: int = MAX_ITERATIO
                          f"{pb.shape[0]}")
     if pa.shape[0] and (pa.shape[1] < 1 or pb.shape[1] < 1):
         raise ValueError("every shape needs at least one point")
-    max_iter = _as_max_iterations(max_iterations)
+    max_iter = as_max_iterations(max_iterations)
     n_threads = as_count(threads, "threads", minimum=1, maximum=MAX_THREADS)
     k = pa.shape[0]
     dist = np.empty(k)
