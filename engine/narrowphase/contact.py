@@ -36,7 +36,7 @@ from .._validate import (
     check_offsets,
     check_pairs,
 )
-from ..bounding.hull import HULL_EPS, _monotone_chain_kernel
+from ..bounding.hull import HULL_EPS, monotone_chain
 from .epa import (
     _EPA_OK,
     EPA_TOL,
@@ -184,7 +184,7 @@ def _feature_polygon(P, m, tol, F):
     pts = P[:m]
     by_y = np.argsort(pts[:, 1].copy(), kind="mergesort")
     order = by_y[np.argsort(pts[by_y, 0].copy(), kind="mergesort")]
-    verts = _monotone_chain_kernel(pts, order)
+    verts = monotone_chain(pts, order)
     k = verts.shape[0]
     area2 = 0.0
     ext_x = 0.0
