@@ -8,10 +8,11 @@ import pytest
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
-from engine.narrowphase.contact import contact_feature, time_of_impact, time_of_impact_pairs
 from engine.narrowphase.contact_io import describe_contact, load_shape
-from engine.narrowphase.epa import epa_penetration
+from engine.narrowphase.contact_manifold import contact_feature
 from engine.narrowphase.gjk import gjk_distance, pack_point_sets
+from engine.narrowphase.penetration import epa_penetration
+from engine.narrowphase.time_of_impact import time_of_impact, time_of_impact_pairs
 from properties.strategies.narrow import (
     aabbs,
     box_corners,
