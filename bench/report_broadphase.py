@@ -1,7 +1,9 @@
 """The broad-phase part of the main job: reports/broadphase.csv, .md, .png and .svg from the benchmark JSON.
 
-Reads the groups of bench/test_bench_broadphase.py ("W1 boxes", "W2 spheres", "scaling: ...") from
-pytest-benchmark's JSON output; one row per (workload, method, n, packing fraction).
+Reads the groups of bench/test_bench_broadphase.py ("W1 boxes", "W2 spheres", "scaling: ...", "big levels",
+"threads") from pytest-benchmark's JSON output; one row per (workload, method, n, packing fraction, scene,
+threads). The big-level rows get a fitted slope per (scene, method), which must stay <= 1.2 (no quadratic cliff);
+the thread rows give the 2-core scaling from their wall-clock minimums.
 """
 from __future__ import annotations
 
@@ -12,8 +14,11 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-COLUMNS = ["workload", "method", "n", "packing_fraction", "seed", "seconds_min", "seconds_median",
-           "ns_per_object", "pairs", "candidates", "cycles_per_box", "commit", "machine"]
+COLUMNS = ["workload", "method", "n", "packing_fraction", "scene", "threads", "seed", "seconds_min",
+           "seconds_median", "wall_min", "ns_per_object", "pairs", "candidates", "cycles_per_box", "commit", "machine"]
+#: the largest fitted log-log slope a method may have on a big-level scene
+MAX_BIG_LEVEL_SLOPE = 1.2
+_WORKLOADS = {"W1": "W1", "W2": "W2", "scaling": "scaling", "big levels": "big levels", "threads": "threads"}
 SEED = 4  # the seed of bench/test_bench_broadphase.py's workloads
 
 
@@ -22,20 +27,23 @@ def broadphase_rows(json_path: Path, info: dict) -> pd.DataFrame:
     rows = []
     for b in data["benchmarks"]:
         group = b.get("group") or ""
-        if not (group.startswith("W1") or group.startswith("W2") or group.startswith("scaling")):
+        workload = next((w for key, w in _WORKLOADS.items() if group.startswith(key)), None)
+        if workload is None:
             continue
         params, extra, stats = b.get("params") or {}, b.get("extra_info") or {}, b["stats"]
-        n = int(params["n"])
-        workload = "W1" if group.startswith("W1") else "W2" if group.startswith("W2") else "scaling"
+        n = int(extra.get("work", params.get("n", 0)))
         eta = params.get("eta", extra.get("eta", 0.05 if workload == "scaling" else math.nan))
         rows.append({
             "workload": workload,
-            "method": params.get("method") or params.get("impl"),
+            "method": params.get("method") or params.get("impl") or params.get("case"),
             "n": n,
             "packing_fraction": eta,
+            "scene": params.get("scene", extra.get("scene", "")),
+            "threads": params.get("threads", 1),
             "seed": SEED,
             "seconds_min": stats["min"],
             "seconds_median": stats["median"],
+            "wall_min": extra.get("wall_min"),
             "ns_per_object": stats["min"] * 1e9 / n,
             "pairs": extra.get("pairs"),
             "candidates": extra.get("candidates"),
@@ -44,7 +52,8 @@ def broadphase_rows(json_path: Path, info: dict) -> pd.DataFrame:
             "machine": info["machine"],
         })
     df = pd.DataFrame(rows, columns=COLUMNS)
-    return df.sort_values(["workload", "packing_fraction", "method", "n"], na_position="first").reset_index(drop=True)
+    return df.sort_values(["workload", "scene", "packing_fraction", "method", "threads", "n"],
+                          na_position="first").reset_index(drop=True)
 
 
 def loglog_slope(n, seconds) -> float:
@@ -66,7 +75,7 @@ def broadphase_markdown(df: pd.DataFrame, info: dict, quick: bool) -> str:
     lines = ["# Broad phase: scaling and peers", "",
              f"{info['date']} · commit `{info['commit']}` · {info['machine']}"
              + (" · **quick mode** (N <= 1e4)" if quick else ""), "",
-             "Workloads (DESIGN.md §7): **W1** Terdiman's box pruning (centres integers in [−2048, 2048)³, "
+             "Workloads (`engine.workloads`): **W1** Terdiman's box pruning (centres integers in [−2048, 2048)³, "
              "half-extents integers in [0, 127]); **W2** equal spheres uniform in a cube at packing fraction η, "
              "all exact overlapping pairs (ours: `sphere_pairs(method)`; peers: scipy cKDTree build + query_pairs, "
              "python-fcl's and coal's DynamicAABBTree managers); **scaling** `find_pairs` on the bounding boxes "
@@ -77,6 +86,8 @@ def broadphase_markdown(df: pd.DataFrame, info: dict, quick: bool) -> str:
              "the number of box–box overlap tests the method made (`find_pairs(..., return_tests=True)`; brute "
              "force: (n² − n)/2), the deterministic measure of how much it prunes.", ""]
     for workload, d in df.groupby("workload", sort=False):
+        if workload in ("big levels", "threads"):
+            continue
         d = d.copy()
         d["x_brute"] = _ratio_table(d, "brute")
         d["x_ckdtree"] = _ratio_table(d, "ckdtree")
@@ -107,24 +118,65 @@ def broadphase_markdown(df: pd.DataFrame, info: dict, quick: bool) -> str:
                 sizes = f"{g['n'].min():.0e} … {g['n'].max():.0e}"
                 lines.append(f"| {method} | {eta:g} | {sizes} | {'' if math.isnan(slope) else f'{slope:.2f}'} |")
             lines.append("")
+    lines += big_level_markdown(df[df["workload"] == "big levels"])
+    lines += threads_markdown(df[df["workload"] == "threads"])
     lines += ["![broad-phase scaling](broadphase.png)", ""]
     return "\n".join(lines)
 
 
-def broadphase_plot(df: pd.DataFrame, out: Path) -> None:
-    import matplotlib
+def big_level_markdown(d: pd.DataFrame) -> list[str]:
+    """The big-level scenes: time per N and the fitted slope of each (scene, method), against the bound."""
+    if d.empty:
+        return []
+    lines = ["## Big levels (no quadratic cliff)", "",
+             "`find_pairs` (and `sphere_pairs`, method `spheres`) on `engine.workloads.big_level_boxes`: "
+             "**clusters** two dense W2 clusters (η = 0.2) 1e6 apart, **huge** 8 boxes each half the scene among "
+             "W2 boxes (η = 0.05), **plane** every centre on z = 0 (area fraction 0.3). A grid whose stored cells "
+             f"are capped would put a whole cluster in one cell (slope 2); every slope must stay <= "
+             f"{MAX_BIG_LEVEL_SLOPE}.", "",
+             "| scene | method | " + " | ".join(f"N = {n:.0e} (ms)" for n in sorted(d["n"].unique()))
+             + " | slope | ok |", "|---|---|" + "---:|" * (d["n"].nunique() + 2)]
+    for (scene, method), g in d.groupby(["scene", "method"]):
+        times = g.set_index("n")["seconds_min"]
+        slope = loglog_slope(g["n"], g["seconds_min"])
+        cells = " | ".join(f"{times[n] * 1e3:,.2f}" if n in times else "" for n in sorted(d["n"].unique()))
+        ok = "" if math.isnan(slope) else ("yes" if slope <= MAX_BIG_LEVEL_SLOPE else "**no**")
+        lines.append(f"| {scene} | {method} | {cells} | {'' if math.isnan(slope) else f'{slope:.2f}'} | {ok} |")
+    return lines + [""]
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+
+def threads_markdown(d: pd.DataFrame) -> list[str]:
+    """The 2-core scaling: wall-clock minimum with one and two threads (the same answer, bit for bit)."""
+    if d.empty:
+        return []
+    lines = ["## Threads (2-core scaling, reported apart from the single-thread figures)", "",
+             "`threads=` of `find_pairs` and `sphere_pairs` cuts the sweep into ranges of columns, cells or "
+             "queries, one per thread (the pairs are merged into canonical form, equal bit for bit to one thread). "
+             "Wall-clock minimum of the rounds; the machine has 2 cores.", "",
+             "| case | N | 1 thread (ms) | 2 threads (ms) | speed-up |", "|---|---:|---:|---:|---:|"]
+    for case, g in d.groupby("method"):
+        wall = g.set_index("threads")["wall_min"]
+        one, two = wall.get(1, math.nan), wall.get(2, math.nan)
+        lines.append(f"| {case} | {int(g['n'].iloc[0]):,} | {one * 1e3:,.2f} | {two * 1e3:,.2f} | {one / two:.2f} |")
+    return lines + [""]
+
+
+def broadphase_plot(df: pd.DataFrame, out: Path | None = None):
+    """The scaling figure (time against N per method, with O(n), O(n log n), O(n²) guides): a matplotlib Figure,
+    saved as broadphase.png and .svg in ``out`` when given; None when there is nothing to plot."""
+    from matplotlib import colormaps
+    from matplotlib.figure import Figure
 
     panels = [("scaling", 0.05, "find_pairs on W2 boxes, η = 0.05"), ("W2", 0.05, "sphere pairs, η = 0.05"),
               ("W2", 0.2, "sphere pairs, η = 0.2")]
     panels = [p for p in panels if ((df["workload"] == p[0]) & np.isclose(df["packing_fraction"], p[1])).any()]
     if not panels:
-        return
-    methods = sorted(df["method"].unique())
-    colours = {m: plt.get_cmap("tab10")(i % 10) for i, m in enumerate(methods)}
-    fig, axes = plt.subplots(1, len(panels), figsize=(5.2 * len(panels), 4.8), dpi=110, squeeze=False)
+        return None
+    plotted = df[df["workload"].isin([p[0] for p in panels])]
+    methods = sorted(plotted["method"].unique())
+    colours = {m: colormaps["tab10"](i % 10) for i, m in enumerate(methods)}
+    fig = Figure(figsize=(5.2 * len(panels), 4.8), dpi=110)
+    axes = fig.subplots(1, len(panels), squeeze=False)
     for ax, (workload, eta, title) in zip(axes[0], panels):
         d = df[(df["workload"] == workload) & np.isclose(df["packing_fraction"], eta)]
         for method, g in d.groupby("method"):
@@ -141,7 +193,7 @@ def broadphase_plot(df: pd.DataFrame, out: Path) -> None:
         ax.set_xlabel("N (objects)")
         ax.set_ylabel("time (s)")
         ax.grid(True, which="both", alpha=0.25)
-    handles, labels = {}, []
+    handles = {}
     for ax in axes[0]:
         for h, lab in zip(*ax.get_legend_handles_labels()):
             handles.setdefault(lab, h)
@@ -149,9 +201,10 @@ def broadphase_plot(df: pd.DataFrame, out: Path) -> None:
     fig.legend([handles[k] for k in labels], labels, loc="lower center", ncol=min(len(labels), 11), fontsize=8,
                frameon=False)
     fig.tight_layout(rect=(0, 0.07, 1, 1))
-    fig.savefig(out / "broadphase.png")
-    fig.savefig(out / "broadphase.svg")
-    plt.close(fig)
+    if out is not None:
+        fig.savefig(Path(out) / "broadphase.png")
+        fig.savefig(Path(out) / "broadphase.svg")
+    return fig
 
 
 def broadphase_section(json_path: Path, out: Path, info: dict, quick: bool):
@@ -169,30 +222,48 @@ def broadphase_section(json_path: Path, out: Path, info: dict, quick: bool):
 # ----------------------------------------------------------------------------------------------------------
 # The timing matrix: broad-phase method × N × packing fraction × seed, one timing task per configuration
 # ----------------------------------------------------------------------------------------------------------
-MATRIX_KEY = ("method", "n", "packing_fraction", "seed", "repeats")
+MATRIX_KEY = ("method", "n", "packing_fraction", "seed", "repeats", "scene")
 MATRIX_METHODS = ("brute", "sap", "grid", "octree", "tree")
 BRUTE_MAX_N = 1_000  # brute force beyond: (n² − n)/2 tests, over a second per call (broadphase.md has it to 3e4)
 
 
 def matrix_configs(quick: bool = False) -> list[dict]:
-    """Full: N = 1e3, 1e4, 1e5 (brute at 1e3 only), η = 0.05 and 0.2, seeds 1-3, 3 timed calls each.
-    Quick: N = 1e3 and 1e4, seeds 1-2, 3 timed calls. About a minute in full mode on 2 cores."""
+    """Full: N = 1e3, 1e4, 1e5 (brute at 1e3 only), η = 0.05 and 0.2, seeds 1-3, 3 timed calls each, on the
+    uniform W2 scene; and the big-level scenes of ``engine.workloads.big_level_boxes`` ("clusters", "huge",
+    "plane", their own densities: packing fraction NaN) at the same N and seeds, every method but brute.
+    Quick: N = 1e3 and 1e4, seeds 1-2, 3 timed calls. A few minutes in full mode on 2 cores."""
     sizes, seeds, repeats = ((1_000, 10_000), (1, 2), 3) if quick else ((1_000, 10_000, 100_000), (1, 2, 3), 3)
-    return [dict(method=m, n=n, packing_fraction=eta, seed=seed, repeats=repeats)
-            for m in MATRIX_METHODS for n in sizes for eta in (0.05, 0.2) for seed in seeds
-            if m != "brute" or n <= BRUTE_MAX_N]
+    uniform = [dict(method=m, n=n, packing_fraction=eta, seed=seed, repeats=repeats, scene="uniform")
+               for m in MATRIX_METHODS for n in sizes for eta in (0.05, 0.2) for seed in seeds
+               if m != "brute" or n <= BRUTE_MAX_N]
+    big = [dict(method=m, n=n, packing_fraction=math.nan, seed=seed, repeats=repeats, scene=scene)
+           for scene in BIG_LEVEL_MATRIX_SCENES for m in MATRIX_METHODS if m != "brute" for n in sizes
+           for seed in seeds]
+    return uniform + big
+
+
+#: the big-level scenes of the matrix (engine.workloads.big_level_boxes)
+BIG_LEVEL_MATRIX_SCENES = ("clusters", "huge", "plane")
+
+
+def _matrix_boxes(cfg: dict):
+    from engine.workloads import big_level_boxes, w2_spheres
+
+    if cfg.get("scene", "uniform") == "uniform":
+        centres, radius = w2_spheres(cfg["n"], cfg["packing_fraction"], seed=cfg["seed"])
+        return centres - radius, centres + radius
+    return big_level_boxes(cfg["scene"], cfg["n"], seed=cfg["seed"])
 
 
 def time_find_pairs(cfg: dict) -> dict:
-    """One timing task: ``find_pairs`` on the bounding boxes of W2 spheres (DESIGN.md §7), seeded; a warm-up
-    call (compilation, caches), then ``repeats`` timed calls (perf_counter; minimum and median)."""
+    """One timing task: ``find_pairs`` on the bounding boxes of a seeded scene (W2 spheres of
+    ``engine.workloads``, or a big-level scene); a warm-up call (compilation, caches), then ``repeats`` timed
+    calls (perf_counter; minimum and median)."""
     import time
 
     from engine.broadphase import find_pairs
-    from engine.workloads import w2_spheres
 
-    centres, radius = w2_spheres(cfg["n"], cfg["packing_fraction"], seed=cfg["seed"])
-    lo, hi = centres - radius, centres + radius
+    lo, hi = _matrix_boxes(cfg)
     pairs = find_pairs(lo, hi, cfg["method"])
     tests = (cfg["n"] * (cfg["n"] - 1) // 2 if cfg["method"] == "brute"
              else int(find_pairs(lo, hi, cfg["method"], return_tests=True)[1]))
@@ -210,7 +281,7 @@ def matrix_markdown(df: pd.DataFrame, info: dict, quick: bool, where: str, failu
              f"{info['date']} · commit `{info['commit']}` · {info['machine']}" + (" · **quick mode**" if quick else ""),
              "",
              "`find_pairs(lo, hi, method)` on the bounding boxes of N equal spheres uniform in a cube at packing "
-             "fraction η (DESIGN.md §7, W2), one seeded scene per seed. Each configuration is one task of a "
+             "fraction η (W2 of `engine.workloads`), one seeded scene per seed. Each configuration is one task of a "
              f"distributed timing sweep ({where}): a warm-up call, then the minimum of the timed calls; a timing "
              "worker runs one task at a time on one thread, so no sibling task disturbs it. Below, per (method, N, "
              "η): the median over the seeds of the minimum time, the spread (max/min) between seeds, and the "
@@ -218,7 +289,11 @@ def matrix_markdown(df: pd.DataFrame, info: dict, quick: bool, where: str, failu
              "every timed call (deterministic).", "",
              "| method | η | N | seeds | time (ms) | ns / object | seed spread | × sap | pairs | box tests |",
              "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
-    g = df.groupby(["packing_fraction", "n", "method"], sort=True)
+    if "scene" not in df:
+        df = df.assign(scene="uniform")
+    df = df.assign(scene=df["scene"].fillna("uniform"))
+    uniform = df[df["scene"] == "uniform"]
+    g = uniform.groupby(["packing_fraction", "n", "method"], sort=True)
     agg = g.agg(seeds=("seed", "count"), t=("seconds_min", "median"), tmax=("seconds_min", "max"),
                 tmin=("seconds_min", "min"), pairs=("pairs", "median"), tests=("box_tests", "median")).reset_index()
     sap = agg[agg["method"] == "sap"].set_index(["packing_fraction", "n"])["t"]
@@ -228,11 +303,34 @@ def matrix_markdown(df: pd.DataFrame, info: dict, quick: bool, where: str, failu
                      f"{r['t'] * 1e3:,.3f} | {r['t'] * 1e9 / r['n']:,.1f} | {r['tmax'] / r['tmin']:.2f} | "
                      f"{r['t'] / ref:.2f} | {int(r['pairs']):,} | {int(r['tests']):,} |")
     lines.append("")
+    lines += matrix_slopes_markdown(df)
     if failures:
         lines += ["**Failed configurations** (after retries; rerun to retry them only): "
                   + "; ".join(f"{c['method']} N={c['n']} η={c['packing_fraction']} seed {c['seed']}: {e}"
                               for c, e in failures), ""]
     return "\n".join(lines)
+
+
+def matrix_slopes_markdown(df: pd.DataFrame) -> list[str]:
+    """Per (scene, method): the median over seeds of the minimum time at each N and the fitted log-log slope,
+    against MAX_BIG_LEVEL_SLOPE (the uniform scene at η = 0.05 for reference)."""
+    d = df[(df["scene"] != "uniform") | np.isclose(df["packing_fraction"].fillna(-1.0), 0.05)]
+    d = d[d["method"] != "brute"]
+    if d.empty:
+        return []
+    sizes = sorted(d["n"].unique())
+    lines = ["Big levels: median time (ms) over the seeds and the fitted log-log slope (uniform: W2 at η = 0.05; "
+             "clusters: two W2 clusters 1e6 apart; huge: 8 boxes each half the scene; plane: every centre on one "
+             f"plane). Every slope must stay <= {MAX_BIG_LEVEL_SLOPE} (no quadratic cliff).", "",
+             "| scene | method | " + " | ".join(f"N = {n:.0e}" for n in sizes) + " | slope | ok |",
+             "|---|---|" + "---:|" * (len(sizes) + 2)]
+    for (scene, method), g in d.groupby(["scene", "method"]):
+        med = g.groupby("n")["seconds_min"].median()
+        slope = loglog_slope(med.index, med.values)
+        ok = "" if math.isnan(slope) else ("yes" if slope <= MAX_BIG_LEVEL_SLOPE else "**no**")
+        cells = " | ".join(f"{med[n] * 1e3:,.3f}" if n in med else "" for n in sizes)
+        lines.append(f"| {scene} | {method} | {cells} | {'' if math.isnan(slope) else f'{slope:.2f}'} | {ok} |")
+    return lines + [""]
 
 
 def broadphase_matrix_section(out: Path, info: dict, quick: bool, client=None, where: str = "serial"):

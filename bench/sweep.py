@@ -14,10 +14,12 @@ collects them with ``as_completed``:
   e.g. another commit, are not reused) and only runs the missing ones;
 - **failures**: a task that raises is retried ``retries`` times by the scheduler; if it still fails, it is
   reported on the console and in ``<name>.failures.csv`` and the sweep goes on: no completed row is lost, and a
-  rerun retries only the failed configurations;
+  rerun retries only the failed configurations. A task the scheduler gave up on because its workers kept dying
+  under it (``KilledWorker``: it may only have been queued behind one that crashes its worker) is run once
+  more alone before it is reported;
 - **progress**: a counter line (done / total, failures, resumed, elapsed), on one line in a terminal.
 
-Where the tasks run (``sweep_client``): ``--scheduler tcp://HOST:8786`` (``collide report``) or the environment
+Where the tasks run (``sweep_client``): ``--scheduler tcp://HOST:8786`` (``python -m bench.report``) or the environment
 variable ``COLLIDE_SCHEDULER`` submit to an existing cluster; otherwise an embedded ``LocalCluster`` of worker
 processes on this machine. Two kinds of sweeps:
 
@@ -35,6 +37,9 @@ prepended; remote workers need the same checkout (``pip install -e .`` and the r
 
 Serial mode (``client=None`` in ``run_sweep``) runs the same functions in this process with the same store,
 resume and retry rules: the reference the distributed run is tested against (properties/test_sweep_dask.py).
+The fault-tolerance promises (a worker or the client SIGKILLed mid-sweep, a store torn by a crash, a
+configuration that always fails, workers compiling the engine's kernels at once into one numba cache) are tested
+on a real scheduler and workers in properties/test_sweep_faults.py.
 """
 from __future__ import annotations
 
@@ -97,23 +102,31 @@ class Sweep:
 class RowStore:
     """The rows of one sweep, one JSON line each, appended (flush + fsync) as each task completes.
 
-    ``path`` is the store (``<out>/.sweeps/<name>.jsonl`` in the report). A truncated last line (a crash in the
-    middle of a write) is ignored on reading. Rows carry the sweep's ``version`` under ``_version``.
+    ``path`` is the store (``<out>/.sweeps/<name>.jsonl`` in the report). Rows carry the sweep's ``version``
+    under ``_version``. A line that is not a whole JSON object — the last line cut short by a crash in the middle
+    of a write, or bytes a crash left behind (zeros, undecodable text) — is not a row: ``read`` skips it and
+    lists its line number (1-based) in ``torn_lines``, so its configuration simply runs again.
     """
 
     def __init__(self, path: Path | str):
         self.path = Path(path)
+        self.torn_lines: list[int] = []
 
     def read(self, version: str = "") -> list[dict]:
+        self.torn_lines = []
         if not self.path.exists():
             return []
         rows = []
-        for line in self.path.read_text().splitlines():
+        for number, line in enumerate(self.path.read_bytes().split(b"\n"), start=1):
+            if not line:
+                continue  # the end of the file after the last newline
             try:
-                row = json.loads(line)
-            except json.JSONDecodeError:
-                continue  # a line cut short by a crash: its task is simply run again
-            if isinstance(row, dict) and row.get("_version", "") == version:
+                row = json.loads(line.decode("utf-8"))
+            except (UnicodeDecodeError, json.JSONDecodeError):
+                row = None
+            if not isinstance(row, dict):
+                self.torn_lines.append(number)
+            elif row.get("_version", "") == version:
                 rows.append(row)
         return rows
 
@@ -147,12 +160,13 @@ def _jsonable(value):
 class SweepResult:
     """rows: every stored row of the sweep, in the order of its configs (resumed ones included);
     computed: keys run in this call; resumed: keys found in the store; failures: (config, error text) of the
-    tasks that failed after their retries."""
+    tasks that failed after their retries; torn_lines: the store's lines that were not rows (see RowStore)."""
 
     rows: list[dict]
     computed: list[str] = field(default_factory=list)
     resumed: list[str] = field(default_factory=list)
     failures: list[tuple[dict, str]] = field(default_factory=list)
+    torn_lines: list[int] = field(default_factory=list)
 
     @property
     def complete(self) -> bool:
@@ -186,10 +200,12 @@ class _Progress:
         self.done += 1
         self.show()
 
+    def note(self, message: str):
+        print(("\n" if self.tty else "") + f"[sweep {self.name}] {message}", file=self.stream, flush=True)
+
     def failure(self, message: str):
         self.failed += 1
-        print(("\n" if self.tty else "") + f"[sweep {self.name}] FAILED after retries: {message}", file=self.stream,
-              flush=True)
+        self.note(f"FAILED after retries: {message}")
         self.show()
 
 
@@ -201,69 +217,110 @@ def run_sweep(sweep: Sweep, store: RowStore, client=None, *, on_row: Callable[[d
     same rules. on_row(row) is called after each row is stored (the tests use it to interrupt or kill).
     failures_path: where to write the failed configurations (CSV; removed when none failed).
     Returns the stored rows in the order of ``sweep.configs``; never raises for a failing task (only for an
-    interruption, after which every completed row is in the store).
+    interruption, after which every completed row is in the store). A task whose row cannot be stored (not a
+    dict, or holding a value JSON cannot store) is a failed configuration; nothing of it is written.
+    Stored lines that are not rows (``RowStore.torn_lines``: a write cut short by a crash) are reported and
+    skipped, so their configurations run again; so are rows lacking one of the key fields.
     """
-    stored = {sweep.key(r): r for r in store.read(sweep.version)}
+    stored = {sweep.key(r): r for r in store.read(sweep.version) if all(f in r for f in sweep.key_fields)}
     todo = [c for c in sweep.configs if sweep.key(c) not in stored]
     resumed = [sweep.key(c) for c in sweep.configs if sweep.key(c) in stored]
-    result = SweepResult(rows=[], resumed=resumed)
+    result = SweepResult(rows=[], resumed=resumed, torn_lines=list(store.torn_lines))
     progress = _Progress(sweep.name, len(sweep.configs), len(resumed), stream)
+    if result.torn_lines:
+        progress.note(f"{store.path}: line(s) {result.torn_lines} are not whole rows (a write cut short by a "
+                      "crash): skipped, their configurations run again unless stored on another line")
+
+    def fail(cfg, error):
+        result.failures.append((cfg, error))
+        progress.failure(f"{sweep.key(cfg)}: {error}")
 
     def keep(cfg, row):
+        if not isinstance(row, dict):
+            return fail(cfg, f"TypeError: the task returned a {type(row).__name__}, not a dict")
         row = {**row, **{f: cfg[f] for f in sweep.key_fields}}  # the configuration's key identifies the row
-        store.append(row, sweep.version)
+        try:
+            store.append(row, sweep.version)
+        except (TypeError, ValueError) as exc:  # refused before anything is written
+            return fail(cfg, f"{type(exc).__name__}: {exc}")
         stored[sweep.key(cfg)] = {**row, "_version": sweep.version}
         result.computed.append(sweep.key(cfg))
         progress.row()
         if on_row is not None:
             on_row(row)
 
-    def fail(cfg, error):
-        result.failures.append((cfg, error))
-        progress.failure(f"{sweep.key(cfg)}: {error}")
-
     if client is None:
-        for cfg in todo:
-            for attempt in range(sweep.retries + 1):
-                try:
-                    row = sweep.function(dict(cfg))
-                except Exception as exc:  # noqa: BLE001 - any failure of a task is recorded, as Dask would
-                    if attempt == sweep.retries:
-                        fail(cfg, f"{type(exc).__name__}: {exc}")
-                else:
-                    keep(cfg, row)
-                    break
+        _run_serially(sweep, todo, keep, fail)
     elif todo:
-        from distributed import as_completed
-
-        resources = _timing_resources(client) if sweep.kind == "timing" else None
-        futures = {}
-        for cfg in todo:
-            fut = client.submit(sweep.function, dict(cfg), retries=sweep.retries, pure=False, resources=resources)
-            futures[fut] = cfg
-        try:
-            for fut in as_completed(list(futures)):
-                cfg = futures.pop(fut)
-                if fut.status == "finished":
-                    keep(cfg, fut.result())
-                else:
-                    try:
-                        exc = fut.exception()
-                    except Exception as err:  # noqa: BLE001 - cancelled, or the scheduler gave up on it
-                        exc = err
-                    fail(cfg, f"{type(exc).__name__}: {exc}")
-                fut.release()
-        finally:  # interrupted: the tasks still running are cancelled; the stored rows stay
-            if futures:
-                with contextlib.suppress(Exception):
-                    client.cancel(list(futures))
-
+        _run_on_cluster(sweep, todo, client, keep, fail)
     result.rows = [stored[sweep.key(c)] for c in sweep.configs if sweep.key(c) in stored]
     for r in result.rows:
         r.pop("_version", None)
     if failures_path is not None:
         write_failures(result.failures, failures_path)
     return result
+
+
+def _run_serially(sweep: Sweep, todo: list[dict], keep, fail) -> None:
+    """Each configuration in this process, retried ``sweep.retries`` times as the scheduler would."""
+    for cfg in todo:
+        for attempt in range(sweep.retries + 1):
+            try:
+                row = sweep.function(dict(cfg))
+            except Exception as exc:  # noqa: BLE001 - any failure of a task is recorded, as Dask would
+                if attempt == sweep.retries:
+                    fail(cfg, f"{type(exc).__name__}: {exc}")
+            else:
+                keep(cfg, row)
+                break
+
+
+def _run_on_cluster(sweep: Sweep, todo: list[dict], client, keep, fail) -> None:
+    """One task per configuration (retried by the scheduler), each result handled as it completes.
+
+    A worker that dies takes with it every task it holds (the running one and those queued behind it), and the
+    scheduler gives up on a task whose workers died under it more than ``allowed-failures`` times
+    (``KilledWorker``): so a configuration that kills its worker can get innocent ones reported with it. Each
+    configuration that ended in ``KilledWorker`` is therefore run once more on its own, after the others, and is
+    reported only if it fails alone too.
+    """
+    from distributed import KilledWorker, as_completed
+
+    resources = _timing_resources(client) if sweep.kind == "timing" else None
+    futures: dict = {}
+    suspects: list[dict] = []
+
+    def submit(cfg):
+        fut = client.submit(sweep.function, dict(cfg), retries=sweep.retries, pure=False, resources=resources)
+        futures[fut] = cfg
+        return fut
+
+    def collect(fut, alone: bool):
+        cfg = futures.pop(fut)
+        # not fut.status: a result held by a worker that died since it finished is "lost" for a moment, then
+        # computed again; result() waits for that, and raises what the task raised after its retries
+        try:
+            row = fut.result()
+        except KilledWorker as exc:
+            if alone:
+                fail(cfg, f"KilledWorker: {exc} (run alone after a worker died under it)")
+            else:
+                suspects.append(cfg)
+        except Exception as exc:  # noqa: BLE001 - the task's error, or cancelled
+            fail(cfg, f"{type(exc).__name__}: {exc}")
+        else:
+            keep(cfg, row)
+        fut.release()
+
+    try:
+        for fut in as_completed([submit(cfg) for cfg in todo]):
+            collect(fut, alone=False)
+        for cfg in suspects:  # alone: nothing else runs on its worker
+            collect(submit(cfg), alone=True)
+    finally:  # interrupted: the tasks still running are cancelled; the stored rows stay
+        if futures:
+            with contextlib.suppress(Exception):
+                client.cancel(list(futures))
 
 
 def write_failures(failures: list[tuple[dict, str]], path: Path | str) -> None:

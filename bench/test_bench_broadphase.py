@@ -1,4 +1,4 @@
-"""Benchmarks of the broad phase on DESIGN.md section 7's workloads, peers measured in the same run.
+"""Benchmarks of the broad phase on the standard workloads of engine.workloads, peers measured in the same run.
 
 - W1 (Terdiman's box pruning): N = 10,000 and 100,000 boxes, centres integers in [−2048, 2048)³, half-extents
   integers in [0, 127]; every method of ``find_pairs``; ``extra_info["cycles_per_box"]`` = time × nominal clock / N
@@ -9,6 +9,15 @@
   collecting the pairs that fcl's narrow test confirms) and coal's DynamicAABBTreeCollisionManager (register +
   setup + collide with the C++ CollisionCallBackCollect: its broad-phase pairs only, a lower bound on its time).
 - Scaling: ``find_pairs`` on the bounding boxes of W2 spheres (η = 0.05), N = 1e3 .. 1e6 (brute to 3e4).
+- Big levels: ``find_pairs`` (every method but brute) and ``sphere_pairs`` on the scenes of
+  ``engine.workloads.big_level_boxes`` (two dense clusters 1e6 apart, 8 huge boxes among small ones, everything
+  on one plane), N = 1e3 .. 1e5: the report fits each method's slope (it must stay <= 1.2: no quadratic cliff).
+- Threads: ``find_pairs`` (sap, grid) on W1 100k and ``sphere_pairs`` on W2 1e5 / 1e6 with threads = 1 and 2;
+  ``extra_info["wall_min"]`` is the least wall-clock time of the rounds (the benchmark's own timer may count CPU
+  time, which sums the threads), so the report can give the 2-core scaling.
+
+Clock of ``cycles_per_box``: the nominal clock of /proc/cpuinfo ("cpu MHz") times the benchmark's minimum time
+(its timer: ``--benchmark-timer=time.process_time`` for the CPU time of the process).
 
 N = 1e6 runs are marked ``large`` (deselect with ``-m "not large"``) and skipped with ``--quick``.
 Run: ``python -m pytest bench/test_bench_broadphase.py --benchmark-only -q``.
@@ -29,7 +38,14 @@ if __name__ == "__main__":  # script mode: make `engine` importable from a check
 
 from bench.peers import ckdtree_pairs, coal_pairs, cpu_mhz, fcl_pairs  # noqa: E402
 from engine.broadphase import BROAD_PHASES, find_pairs, sphere_pairs  # noqa: E402
-from engine.workloads import w1_boxes, w2_spheres  # noqa: E402
+from engine.workloads import (  # noqa: E402
+    BIG_LEVEL_SCENES,
+    big_level_boxes,
+    clustered_spheres,
+    planar_spheres,
+    w1_boxes,
+    w2_spheres,
+)
 
 
 def _large(n):
@@ -63,7 +79,7 @@ def test_bench_w1_boxes(benchmark, quick, method, n):
     pairs = _run(benchmark, find_pairs, lo, hi, method, rounds=5 if n <= 10_000 else 2)
     benchmark.extra_info.update(work=n, unit="boxes", pairs=int(len(pairs)), candidates=_box_tests(lo, hi, method),
                                 cycles_per_box=benchmark.stats.stats.min * cpu_mhz() * 1e6 / n,
-                                clock_mhz=cpu_mhz())
+                                clock_mhz=cpu_mhz(), clock_source="/proc/cpuinfo cpu MHz x benchmark timer min")
 
 
 # ----------------------------------------------------------------------------------------------------------
@@ -103,7 +119,8 @@ def test_bench_w2_spheres(benchmark, quick, impl, n, eta):
     count = got if isinstance(got, int) else len(got)
     if impl in ("grid", "ckdtree") and n <= 100_000:
         assert count == len(sphere_pairs(centres, radius, "brute" if n <= 10_000 else "sap"))
-    benchmark.extra_info.update(work=n, unit="spheres", pairs=int(count), eta=eta)
+    benchmark.extra_info.update(work=n, unit="spheres", pairs=int(count), eta=eta,
+                                ns_per_sphere=benchmark.stats.stats.min * 1e9 / n)
 
 
 # ----------------------------------------------------------------------------------------------------------
@@ -126,6 +143,66 @@ def test_bench_scaling(benchmark, quick, method, n):
     lo, hi = centres - radius, centres + radius
     pairs = _run(benchmark, find_pairs, lo, hi, method, rounds=3 if n <= 100_000 else 1)
     benchmark.extra_info.update(work=n, unit="boxes", pairs=int(len(pairs)), candidates=_box_tests(lo, hi, method))
+
+
+# ----------------------------------------------------------------------------------------------------------
+# big levels: clusters far apart, huge boxes among small ones, one plane (no quadratic cliff)
+# ----------------------------------------------------------------------------------------------------------
+BIG_LEVEL_SIZES = [1_000, 10_000, 100_000]
+BIG_LEVEL_METHODS = [m for m in BROAD_PHASES if m != "brute"] + ["spheres"]
+
+
+@pytest.mark.benchmark(group="big levels")
+@pytest.mark.parametrize("n", BIG_LEVEL_SIZES)
+@pytest.mark.parametrize("method", BIG_LEVEL_METHODS)
+@pytest.mark.parametrize("scene", [s for s in BIG_LEVEL_SCENES if s != "uniform"])
+def test_bench_big_levels(benchmark, quick, scene, method, n):
+    if quick and n > 10_000:
+        pytest.skip("quick mode")
+    if method == "spheres":
+        if scene == "huge":
+            pytest.skip("sphere_pairs: the huge-box scene has no sphere form")
+        centres, radius = clustered_spheres(n) if scene == "clusters" else planar_spheres(n)
+        pairs = _run(benchmark, sphere_pairs, centres, radius, rounds=3)
+        benchmark.extra_info.update(work=n, unit="spheres", pairs=int(len(pairs)), scene=scene)
+        return
+    lo, hi = big_level_boxes(scene, n)
+    pairs = _run(benchmark, find_pairs, lo, hi, method, rounds=3)
+    benchmark.extra_info.update(work=n, unit="boxes", pairs=int(len(pairs)), scene=scene,
+                                candidates=_box_tests(lo, hi, method))
+
+
+# ----------------------------------------------------------------------------------------------------------
+# threads: the 2-core scaling (wall-clock times in extra_info)
+# ----------------------------------------------------------------------------------------------------------
+def _wall_min(func, *args, rounds=3, **kwargs):
+    best = math.inf
+    for _ in range(rounds):
+        start = time.perf_counter()
+        func(*args, **kwargs)
+        best = min(best, time.perf_counter() - start)
+    return best
+
+
+@pytest.mark.benchmark(group="threads")
+@pytest.mark.parametrize("threads", [1, 2])
+@pytest.mark.parametrize("case", ["sap W1 100k", "grid W1 100k", "spheres W2 1e5",
+                                  pytest.param("spheres W2 1e6", marks=pytest.mark.large)])
+def test_bench_threads(benchmark, quick, case, threads):
+    if quick:
+        pytest.skip("quick mode")
+    if case.startswith("spheres"):
+        n = 100_000 if case.endswith("1e5") else 1_000_000
+        centres, radius = w2_spheres(n, 0.05)
+        func, args, kwargs = sphere_pairs, (centres, radius), {"threads": threads}
+    else:
+        n = 100_000
+        lo, hi = w1_boxes(n)
+        func, args, kwargs = find_pairs, (lo, hi, case.split()[0]), {"threads": threads}
+    func(*args, **kwargs)
+    pairs = benchmark.pedantic(func, args=args, kwargs=kwargs, rounds=3, iterations=1)
+    benchmark.extra_info.update(work=n, unit="objects", pairs=int(len(pairs)), threads=threads, case=case,
+                                wall_min=_wall_min(func, *args, **kwargs))
 
 
 def loglog_slope(sizes, seconds) -> float:

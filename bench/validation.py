@@ -14,7 +14,7 @@ import numpy as np
 import pandas as pd
 
 from bench.validation_gas import gas_section
-from properties.oracles import free_fall_impacts, reference_impacts
+from engine.oracles import free_fall_impacts, reference_impacts
 
 
 def _rows_to_markdown(df: pd.DataFrame) -> list[str]:
@@ -29,7 +29,7 @@ def _rows_to_markdown(df: pd.DataFrame) -> list[str]:
 def dynamics_section(out, info, quick=False):
     """Falling bodies: impact times against exact answers and solve_ivp; RK4's order; bisection's bound."""
     from engine import bisect, drop_cube, drop_particle, rk4_step
-    from engine.cli import _plot_fall
+    from engine.dynamics.plot import plot_fall
 
     rows = []
 
@@ -77,8 +77,8 @@ def dynamics_section(out, info, quick=False):
     bound = math.ceil(math.log2(2.0 / 1e-12)) + 1
 
     demo = drop_particle(10.0, restitution=0.8, drag=0.2, t_end=10.0)
-    _plot_fall(out / "fall_particle.png", demo.t, demo.y, [i.t for i in demo.impacts], [0.0] * len(demo.impacts),
-               "particle, h = 10 m, e = 0.8, k = 0.2")
+    plot_fall(demo.t, demo.y, [i.t for i in demo.impacts], [0.0] * len(demo.impacts),
+              "particle, h = 10 m, e = 0.8, k = 0.2", path=out / "fall_particle.png")
 
     lines = ["# Falling bodies: validation", "",
              f"{info['date']} · commit `{info['commit']}` · {info['machine']}", "",

@@ -1,6 +1,6 @@
 """engine — collision detection for game physics: whether, where and when two objects collide.
 
-Every public name of DESIGN.md section 3 is importable from here; the subpackages hold the rest:
+The main public names are importable from here; the subpackages hold the rest:
 ``engine.dynamics`` (falling bodies), ``engine.bounding`` (bounding volumes, hull, decomposition),
 ``engine.broadphase``, ``engine.narrowphase``, ``engine.gas``, ``engine.world`` (shapes and the pipeline).
 engine/ARCHITECTURE.md maps each module to the chapter's slides, its oracle and its property file.
@@ -26,7 +26,18 @@ from .narrowphase import (
 )
 from .world import Box, Capsule, ConvexPolyhedron, HeightCurve, Plane, Sphere, World
 
-__version__ = "0.1.0"
+
+def _installed_version() -> str:
+    """The version of the installed distribution ("colldet"), from its metadata; pyproject.toml sets it."""
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("colldet")
+    except PackageNotFoundError:  # run from a source tree that was never installed
+        return "0+unknown"
+
+
+__version__ = _installed_version()
 
 __all__ = [
     # dynamics: falling bodies, RK4, Algorithme 3

@@ -5,11 +5,14 @@ agreement between broad phases, conservation to round-off) need exact IEEE-754 a
 """
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import os
+import sys
 from pathlib import Path
 
 import numba
+import numba.core.event
 import numpy as np
 from numba import njit as _numba_njit
 
@@ -47,12 +50,55 @@ def _cache_base() -> str:
 
 #: where compiled kernels are cached: <NUMBA_CACHE_DIR or ~/.cache/engine-numba>/<fingerprint of the sources>
 CACHE_DIR = os.path.join(_cache_base(), _source_fingerprint())
-numba.config.CACHE_DIR = CACHE_DIR  # read by numba when each kernel below is decorated
+
+
+@contextlib.contextmanager
+def _engine_cache_dir():
+    """numba picks a kernel's cache folder from ``numba.config.CACHE_DIR`` when the kernel is decorated: the
+    engine's folder is set for the decoration only, then the user's setting is put back (other packages'
+    ``cache=True`` functions keep theirs)."""
+    saved = numba.config.CACHE_DIR
+    numba.config.CACHE_DIR = CACHE_DIR
+    try:
+        yield
+    finally:
+        numba.config.CACHE_DIR = saved
 
 
 def njit(*args, **kwargs):
     """``numba.njit`` with the engine's flags (cache on, fastmath off); usable bare or with arguments."""
     options = {**NJIT_OPTIONS, **kwargs}
-    if len(args) == 1 and callable(args[0]) and not kwargs:
-        return _numba_njit(**options)(args[0])
-    return _numba_njit(*args, **options)
+    decorate = _numba_njit(**options) if len(args) == 1 and callable(args[0]) and not kwargs else None
+    if decorate is not None:
+        with _engine_cache_dir():
+            return decorate(args[0])
+    inner = _numba_njit(*args, **options)
+
+    def decorator(func):
+        with _engine_cache_dir():
+            return inner(func)
+
+    return decorator
+
+
+class _CompileNotice(numba.core.event.Listener):
+    """Says once per process, on stderr, that the engine is compiling its kernels — only when a kernel of the
+    engine really compiles (a kernel loaded from the cache says nothing). ``COLLDET_COMPILE_NOTICE=0`` silences it."""
+
+    told = False
+
+    def on_start(self, event):
+        dispatcher = event.data["dispatcher"]
+        if self.told or not getattr(dispatcher.py_func, "__module__", "").startswith("engine."):
+            return
+        type(self).told = True
+        sys.stderr.write("colldet: compiling the engine's kernels for this machine (once: the machine code is "
+                         f"cached in {CACHE_DIR}; `colldet warmup` compiles them all ahead of time)\n")
+        sys.stderr.flush()
+
+    def on_end(self, event):
+        pass
+
+
+if os.environ.get("COLLDET_COMPILE_NOTICE", "1") != "0":
+    numba.core.event.register("numba:compile", _CompileNotice())

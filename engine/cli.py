@@ -1,18 +1,26 @@
-"""The ``collide`` command: run the chapter's algorithms from a shell, and the main job (``collide report``).
+"""The ``colldet`` command: the chapter's algorithms from a shell, each on what the installed package holds.
 
-    collide fall --height 10 --restitution 0.8 [--drag 0.2] [--cube]
-    collide sap-example
-    collide contact A.json B.json
-    collide bound POINTS.csv | collide hull POINTS.csv | collide decompose POLYGON.csv
-    collide gas --n 2000 --eta 0.2 --method events
-    collide demo [--png docs/demo.png] [--no-gif]
-    collide report [--quick] [--scheduler tcp://HOST:8786]
+    colldet fall --height 10 --restitution 0.8 [--drag 0.2] [--cube]
+    colldet sap-example
+    colldet contact A.json B.json
+    colldet bound POINTS.csv | colldet hull POINTS.csv | colldet decompose POLYGON.csv
+    colldet gas --n 2000 --eta 0.2 --method events
+    colldet demo [--png demo.png] [--no-gif]
+    colldet warmup                  (compile every kernel once, e.g. after installing)
+    colldet --version               (also: python -m engine ...)
+
+Every file argument is checked before the work starts; an error is one line on stderr and a non-zero exit
+status (2 for bad arguments, 1 for a file that cannot be written). Results are printed before files are written.
+(The benchmark and validation reports are generated from a source checkout: ``python -m bench.report``.)
 """
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 from pathlib import Path
+
+PROG = "colldet"
 
 
 def _float(text: str) -> float:
@@ -23,26 +31,76 @@ def _float(text: str) -> float:
     return value
 
 
-def cmd_fall(args) -> int:
-    """Drop a particle (or the cube), print the impacts, write a PNG plot of y(t) and a CSV trajectory."""
-    import numpy as np
-    import pandas as pd
+def readable_file(path: str, name: str) -> Path:
+    """``path`` as a Path when it names a readable regular file; else ValueError naming ``name``."""
+    p = Path(path)
+    if p.is_dir():
+        raise ValueError(f"{name}: {path} is a directory, not a file")
+    if not p.is_file():
+        raise ValueError(f"{name}: no such file: {path}")
+    if not os.access(p, os.R_OK):
+        raise ValueError(f"{name}: {path} is not readable")
+    return p
 
+
+def writable_file(path: str, name: str) -> Path:
+    """``path`` as a Path when a file can be written there (its folder exists and is writable, and it is not a
+    directory); else ValueError naming ``name``. Nothing is created."""
+    p = Path(path)
+    folder = p.parent if str(p.parent) else Path(".")
+    if p.is_dir():
+        raise ValueError(f"{name}: {path} is a directory; give a file name")
+    if not folder.is_dir():
+        raise ValueError(f"{name}: the folder {folder} does not exist")
+    if not os.access(folder, os.W_OK) or (p.exists() and not os.access(p, os.W_OK)):
+        raise ValueError(f"{name}: {path} is not writable")
+    return p
+
+
+def writable_folder(path: str, name: str) -> Path:
+    """``path`` as a Path when it is (or can be created as) a writable folder; else ValueError naming ``name``."""
+    p = Path(path)
+    if p.exists() and not p.is_dir():
+        raise ValueError(f"{name}: {path} exists and is not a folder")
+    existing = p
+    while not existing.exists():
+        existing = existing.parent
+    if not existing.is_dir() or not os.access(existing, os.W_OK):
+        raise ValueError(f"{name}: cannot create or write into {path}")
+    return p
+
+
+def _write_csv(path: Path, columns: dict) -> None:
+    """One column per key, full float64 precision (no pandas needed)."""
+    import numpy as np
+
+    data = np.column_stack([np.asarray(v, dtype=float) for v in columns.values()])
+    np.savetxt(path, data, delimiter=",", header=",".join(columns), comments="", fmt="%.17g")
+
+
+def _fall_table(args):
+    """Run the fall and return ``(label, result, rows)``: rows are (t_c, v_before, v_after)."""
     from .dynamics.scenes import drop_cube, drop_particle
 
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
     if args.cube:
         res = drop_cube(args.height, size=args.size, mass=args.mass, drag=args.drag, gravity=args.gravity,
                         dt=args.dt, tol=args.tol, t_end=args.t_end, quadratic_drag=args.quadratic_drag)
         rows = [] if res.t_contact is None else [(res.t_contact, res.v_contact, 0.0)]
-        label, t, y, v = "cube (centre)", res.t, res.y, res.v
-    else:
-        res = drop_particle(args.height, mass=args.mass, drag=args.drag, restitution=args.restitution,
-                            gravity=args.gravity, dt=args.dt, t_end=args.t_end, tol=args.tol,
-                            quadratic_drag=args.quadratic_drag)
-        rows = [(imp.t, imp.v_before, imp.v_after) for imp in res.impacts]
-        label, t, y, v = "particle", res.t, res.y, res.v
+        return "cube (centre)", res, rows
+    res = drop_particle(args.height, mass=args.mass, drag=args.drag, restitution=args.restitution,
+                        gravity=args.gravity, dt=args.dt, t_end=args.t_end, tol=args.tol,
+                        quadratic_drag=args.quadratic_drag)
+    return "particle", res, [(imp.t, imp.v_before, imp.v_after) for imp in res.impacts]
+
+
+def cmd_fall(args) -> int:
+    """Drop a particle (or the cube), print the impacts, write a PNG plot of y(t) and a CSV trajectory."""
+    import numpy as np
+
+    from .dynamics.plot import plot_fall
+
+    out = writable_folder(args.out, "--out")
+    label, res, rows = _fall_table(args)
     print(f"{label} dropped from y = {args.height} (dt = {args.dt}, tol = {args.tol}, e = "
           f"{0.0 if args.cube else args.restitution}, drag = {args.drag})")
     print(f"{'#':>3}  {'t_c (s)':>14}  {'v_before (m/s)':>15}  {'v_after (m/s)':>14}")
@@ -56,29 +114,12 @@ def cmd_fall(args) -> int:
     elif not args.cube and res.rest_time is not None:
         print(f"resting contact from t = {res.rest_time:.10f} s (contact force m g = {args.mass * args.gravity:g} N)")
     stem = "fall_cube" if args.cube else "fall_particle"
-    pd.DataFrame({"t": t, "y": y, "v": v}).to_csv(out / f"{stem}.csv", index=False)
-    _plot_fall(out / f"{stem}.png", t, y, [r[0] for r in rows], np.interp([r[0] for r in rows], t, y), label)
+    out.mkdir(parents=True, exist_ok=True)
+    _write_csv(out / f"{stem}.csv", {"t": res.t, "y": res.y, "v": res.v})
+    t_hits = [r[0] for r in rows]
+    plot_fall(res.t, res.y, t_hits, np.interp(t_hits, res.t, res.y), label, path=out / f"{stem}.png")
     print(f"wrote {out / (stem + '.csv')} and {out / (stem + '.png')}")
     return 0
-
-
-def _plot_fall(path, t, y, t_impacts, y_impacts, label):
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, ax = plt.subplots(figsize=(8, 4), dpi=110)
-    ax.plot(t, y, lw=1.2, label=f"{label}: y(t), RK4")
-    ax.scatter(t_impacts, y_impacts, color="crimson", zorder=3, s=18, label="impacts (tc by bisection)")
-    ax.axhline(0.0, color="k", lw=0.8)
-    ax.set_xlabel("t (s)")
-    ax.set_ylabel("y (m)")
-    ax.legend(loc="upper right")
-    ax.set_title("Falling body on the ground y = 0")
-    fig.tight_layout()
-    fig.savefig(path)
-    plt.close(fig)
 
 
 def cmd_sap_example(args) -> int:
@@ -93,7 +134,9 @@ def cmd_contact(args) -> int:
     """Whether, where (point, normal, feature) and when two shapes given as JSON files collide."""
     from .narrowphase import describe_contact
 
-    print(describe_contact(args.shape_a, args.shape_b, t_max=args.t_max))
+    a = readable_file(args.shape_a, "shape_a")
+    b = readable_file(args.shape_b, "shape_b")
+    print(describe_contact(str(a), str(b), t_max=args.t_max))
     return 0
 
 
@@ -101,6 +144,7 @@ def cmd_gas(args) -> int:
     """The confined ideal gas: Z, Γ, energy drift, collisions per second, the speed histogram (PNG)."""
     from .gas.command import run_gas_command
 
+    writable_file(args.out, "--out")
     return run_gas_command(n=args.n, eta=args.eta, method=args.method, boundary=args.boundary,
                            t_measure=args.t_measure, seed=args.seed, out=args.out, progress=not args.no_progress,
                            dt=args.dt, broad_phase=args.broad_phase, t_equilibrate=args.t_equilibrate)
@@ -110,13 +154,18 @@ def cmd_demo(args) -> int:
     """Boxes, spheres and capsules falling with RK4 onto a curved ground: an animated GIF and/or a still PNG."""
     from .world.demo import run_demo
 
+    if not args.no_gif:
+        writable_file(args.out, "--out")
+    if args.png is not None:
+        writable_file(args.png, "--png")
     return run_demo(out=None if args.no_gif else args.out, png=args.png, frames=args.frames,
                     png_frame=args.png_frame, restitution=args.restitution, seed=args.seed)
 
 
-def _read_points(path: str):
+def _read_points(path: str, name: str):
     import numpy as np
 
+    readable_file(path, name)
     try:
         return np.loadtxt(path, delimiter=",", ndmin=2)
     except (OSError, ValueError) as exc:
@@ -130,7 +179,7 @@ def cmd_bound(args) -> int:
     from .bounding import describe_bounding_volumes
 
     kinds = args.kinds.split(",") if args.kinds else None
-    print(json.dumps(describe_bounding_volumes(_read_points(args.points), kinds=kinds), indent=2))
+    print(json.dumps(describe_bounding_volumes(_read_points(args.points, "points"), kinds=kinds), indent=2))
     return 0
 
 
@@ -140,7 +189,7 @@ def cmd_hull(args) -> int:
 
     from .bounding import describe_hull
 
-    print(json.dumps(describe_hull(_read_points(args.points)), indent=2))
+    print(json.dumps(describe_hull(_read_points(args.points, "points")), indent=2))
     return 0
 
 
@@ -150,28 +199,20 @@ def cmd_decompose(args) -> int:
 
     from .bounding import describe_decomposition
 
-    print(json.dumps(describe_decomposition(_read_points(args.polygon)), indent=2))
+    print(json.dumps(describe_decomposition(_read_points(args.polygon, "polygon")), indent=2))
     return 0
 
 
-def cmd_report(args) -> int:
-    root = Path(__file__).resolve().parents[1]
-    if not (root / "bench" / "report.py").is_file():
-        print("collide report: needs a source checkout (bench/ beside engine/); run it from the repository",
-              file=sys.stderr)
-        return 2
-    sys.path.insert(0, str(root))  # the report generator and its oracles live beside the package, not in it
-    from bench.report import main as report_main
+def cmd_warmup(args) -> int:
+    """Compile (or load from the cache) every kernel of the engine, with a progress bar."""
+    from .warmup import warm_up
 
-    return report_main(quick=args.quick, out=Path(args.out), scheduler=args.scheduler)
+    seconds = warm_up(progress=not args.no_progress)
+    print(f"every kernel is compiled and cached ({seconds:.1f} s)")
+    return 0
 
 
-def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
-        prog="collide",
-        description="Collision detection for game physics: whether, where and when two objects collide.")
-    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
-
+def _add_fall(sub) -> None:
     fall = sub.add_parser("fall", help="drop a particle (or a cube) on the ground: impacts, plot, CSV",
                           description="RK4 with drag, impact times by bisection (Algorithme 3), "
                                       "v_after = -e v_before, resting contact.")
@@ -189,28 +230,27 @@ def build_parser() -> argparse.ArgumentParser:
     fall.add_argument("--out", default=".", help="folder for fall_*.png and fall_*.csv (default .)")
     fall.set_defaults(func=cmd_fall)
 
+
+def _add_shapes(sub) -> None:
+    """sap-example, bound, hull, decompose, contact: the commands on shapes given in files."""
+    from .bounding import BOUNDING_KINDS
+
     sap = sub.add_parser("sap-example", help="the slide's 1-D sweep-and-prune example, step by step",
                          description="Sorted list of all b_i and e_i, swept with a list of active intervals "
                                      "(slide \"Algorithmes de balayage et de tri\").")
     sap.set_defaults(func=cmd_sap_example)
-
-    from .bounding import BOUNDING_KINDS
-
     bound = sub.add_parser("bound", help="fit bounding volumes (sphere, AABB, OBB, k-DOPs) to a CSV of points",
                            description="Each volume with its parameters and its measure (area or volume).")
     bound.add_argument("points", help="CSV file, one point (x,y[,z]) per line")
     bound.add_argument("--kinds", help=f"comma-separated subset of {','.join(BOUNDING_KINDS)}")
     bound.set_defaults(func=cmd_bound)
-
     hull = sub.add_parser("hull", help="the convex hull of a CSV of points (quickhull / monotone chain)")
     hull.add_argument("points", help="CSV file, one point (x,y[,z]) per line")
     hull.set_defaults(func=cmd_hull)
-
     decompose = sub.add_parser("decompose", help="split a simple polygon (CSV) into convex pieces",
                                description="Ear-clipping triangulation, then Hertel-Mehlhorn.")
     decompose.add_argument("polygon", help="CSV file, one vertex (x,y) per line, in boundary order")
     decompose.set_defaults(func=cmd_decompose)
-
     contact = sub.add_parser("contact", help="whether, where and when two shapes (JSON files) collide",
                              description="Shapes, poses and velocities in the JSON format documented in "
                                          "engine/narrowphase/contact_io.py.")
@@ -219,6 +259,8 @@ def build_parser() -> argparse.ArgumentParser:
     contact.add_argument("--t-max", type=_float, default=10.0, help="look for an impact up to this time (s)")
     contact.set_defaults(func=cmd_contact)
 
+
+def _add_gas(sub) -> None:
     from .broadphase import BROAD_PHASES
 
     gas = sub.add_parser("gas", help="the confined ideal gas: Z, collision rate, energy drift, speed histogram",
@@ -237,6 +279,8 @@ def build_parser() -> argparse.ArgumentParser:
     gas.add_argument("--no-progress", action="store_true", help="no progress bar")
     gas.set_defaults(func=cmd_gas)
 
+
+def _add_demo(sub) -> None:
     demo = sub.add_parser("demo", help="bodies falling on a curved ground through the World pipeline (GIF/PNG)",
                           description="RK4 + bisection impacts; bodies, contact points, normals, per-stage counts.")
     demo.add_argument("--out", default="demo.gif", help="animated GIF (default demo.gif)")
@@ -248,22 +292,30 @@ def build_parser() -> argparse.ArgumentParser:
     demo.add_argument("--seed", type=int, default=0, help="random seed of the hull's points (default 0)")
     demo.set_defaults(func=cmd_demo)
 
-    report = sub.add_parser(
-        "report", help="the main job: run the benchmarks and validations, write reports/",
-        description="Validation sections, the pytest-benchmark suites, and two distributed sweeps on Dask (the "
-                    "hard-sphere equation of state, eos.md; a broad-phase timing matrix, broadphase_matrix.md). "
-                    "Sweeps run on the Dask scheduler given by --scheduler or the environment variable "
-                    "COLLIDE_SCHEDULER, else on an embedded LocalCluster of this machine. Rows are stored as they "
-                    "complete: rerunning an interrupted report resumes its sweeps (see bench/sweep.py).",
-        formatter_class=argparse.ArgumentDefaultsHelpFormatter)
-    report.add_argument("--quick", action="store_true", help="small sizes, a few minutes")
-    report.add_argument("--out", default="reports", help="output folder")
-    report.add_argument("--scheduler", metavar="ADDRESS", default=None,
-                        help="address of an existing Dask scheduler for the sweeps, e.g. tcp://HOST:8786 (overrides "
-                             "$COLLIDE_SCHEDULER; without either, an embedded LocalCluster). Its workers need this "
-                             "checkout importable (pip install -e '.[sweep]', repository root on PYTHONPATH); timing "
-                             "workers: dask worker tcp://HOST:8786 --nthreads 1 --resources timing=1")
-    report.set_defaults(func=cmd_report)
+
+def _add_warmup(sub) -> None:
+    warmup = sub.add_parser("warmup", help="compile every kernel once (after installing, or in an image build)",
+                            description="The first call of each compiled kernel compiles it (about a minute in "
+                                        "all); the machine code is then cached on disk. This runs every kernel "
+                                        "once on small inputs so that later calls start at once.")
+    warmup.add_argument("--no-progress", action="store_true", help="no progress bar")
+    warmup.set_defaults(func=cmd_warmup)
+
+
+def version() -> str:
+    """The installed distribution's version (from its metadata), else the package's own."""
+    from . import __version__
+
+    return __version__
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog=PROG, description="Collision detection for game physics: whether, where and when two objects collide.")
+    parser.add_argument("--version", action="version", version=f"{PROG} {version()}")
+    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    for add in (_add_fall, _add_shapes, _add_gas, _add_demo, _add_warmup):
+        add(sub)
     return parser
 
 
@@ -273,8 +325,12 @@ def main(argv=None) -> int:
     try:
         return int(args.func(args) or 0)
     except (ValueError, TypeError) as exc:
-        print(f"collide {args.command}: error: {exc}", file=sys.stderr)
+        print(f"{PROG} {args.command}: error: {exc}", file=sys.stderr)
         return 2
+    except OSError as exc:
+        print(f"{PROG} {args.command}: error: {exc.strerror or exc}: {exc.filename or ''}".rstrip(": "),
+              file=sys.stderr)
+        return 1
 
 
 if __name__ == "__main__":

@@ -8,15 +8,32 @@ with the same call:
 - ``w2_spheres(n, eta)`` — n equal spheres uniform in a cube at packing fraction ``eta`` (sphere volume over the
   cube's volume);
 - ``mixed_world_scene(n)`` — n bodies for ``World``: spheres, rotated boxes and convex hulls uniform in a cube;
-- ``random_steps(centers, rounds)`` — the per-frame motion: each body moves by a small random step every frame.
+- ``random_steps(centers, rounds)`` — the per-frame motion: each body moves by a small random step every frame;
+- the frame scenes of the World benchmark (``frame_scene(name, n)``, one ``FrameScene`` each): ``"mixed"`` — half
+  spheres (r = 0.5), half boxes (half extents 0.4) with random rotations, uniform in a cube at solid fraction
+  0.06; ``"pile"`` — boxes and spheres resting on the ground ``Plane(0)`` in a loose lattice of columns, every
+  body pressing 0.002 into the one below; ``"hulls"`` — half capsules (r = 0.25, segment 0.6), half convex hulls of
+  12 vertices (radius ~0.5), uniform at solid fraction 0.06. ``frame_motion(scene, rounds)`` gives each frame's
+  poses.
+
+The big-level scenes, where a grid whose cell count is capped would coarsen until one cell holds a whole cluster
+(the quadratic cliff the broad-phase benchmarks watch for):
+
+- ``clustered_spheres(n, eta, clusters, separation)`` — ``clusters`` dense W2 clusters ``separation`` apart;
+- ``huge_among_small_boxes(n, huge)`` — the boxes of W2 spheres plus ``huge`` boxes each as large as half the
+  scene;
+- ``planar_spheres(n, area_fraction)`` — equal spheres whose centres all lie on one plane (z = 0).
 """
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 
-__all__ = ["SEED", "w1_boxes", "w2_spheres", "mixed_world_scene", "random_steps"]
+__all__ = ["SEED", "w1_boxes", "w2_spheres", "mixed_world_scene", "random_steps", "clustered_spheres",
+           "huge_among_small_boxes", "planar_spheres", "BIG_LEVEL_SCENES", "big_level_boxes", "FrameScene",
+           "FRAME_SCENES", "frame_scene", "frame_motion", "random_quaternions", "quaternion_matrices"]
 
 #: the seed of every benchmark workload
 SEED = 4
@@ -44,6 +61,7 @@ def mixed_world_scene(n: int, seed: int = 8):
     from scipy.spatial.transform import Rotation
 
     from engine.world import Box, ConvexPolyhedron, Sphere
+    from engine.world.shapes import Shape
 
     rng = np.random.default_rng(seed)
     kinds = rng.choice(3, size=n, p=[0.4, 0.3, 0.3])
@@ -51,7 +69,7 @@ def mixed_world_scene(n: int, seed: int = 8):
     side = (n * mean_volume / 0.1) ** (1 / 3)
     centers = rng.uniform(0.0, side, size=(n, 3))
     rotations = Rotation.random(n, random_state=seed).as_matrix()
-    shapes = []
+    shapes: list[Shape] = []
     for i in range(n):
         if kinds[i] == 0:
             shapes.append(Sphere(centers[i], rng.uniform(0.3, 0.7)))
@@ -72,3 +90,194 @@ def random_steps(centers, rounds: int, step: float = 0.02, seed: int = 9) -> lis
         c = c + rng.normal(0.0, step, c.shape)
         out.append(c)
     return out
+
+
+def clustered_spheres(n: int, eta: float = 0.2, clusters: int = 2, separation: float = 1e6, seed: int = SEED,
+                      radius: float = 0.5) -> tuple[np.ndarray, float]:
+    """n equal spheres in ``clusters`` dense clusters: cluster k is a W2 cube of about n / clusters spheres at
+    packing fraction ``eta``, shifted by k·separation along every axis. ``(centres (n, 3) float64, radius)``."""
+    rng = np.random.default_rng(seed)
+    sizes = [n // clusters + (1 if k < n % clusters else 0) for k in range(clusters)]
+    parts = []
+    for k, m in enumerate(sizes):
+        side = (max(m, 1) * math.pi * (2 * radius) ** 3 / (6 * eta)) ** (1 / 3)
+        parts.append(rng.uniform(0.0, side, size=(m, 3)) + k * separation)
+    return np.concatenate(parts), radius
+
+
+def huge_among_small_boxes(n: int, huge: int = 8, eta: float = 0.05, seed: int = SEED) -> tuple[np.ndarray, np.ndarray]:
+    """``(lo, hi)`` (n, 3) float64: the bounding boxes of n − huge W2 spheres (radius 0.5, packing fraction
+    ``eta``) and ``huge`` boxes each spanning half the scene along every axis at a random place in it."""
+    small = max(n - huge, 0)
+    centres, radius = w2_spheres(small, eta, seed)
+    side = (max(small, 1) * math.pi / (6 * eta)) ** (1 / 3)
+    rng = np.random.default_rng(seed + 1)
+    corner = rng.uniform(0.0, side / 2, size=(n - small, 3))
+    lo = np.concatenate([centres - radius, corner])
+    hi = np.concatenate([centres + radius, corner + side / 2])
+    return lo, hi
+
+
+def planar_spheres(n: int, area_fraction: float = 0.3, seed: int = SEED,
+                   radius: float = 0.5) -> tuple[np.ndarray, float]:
+    """n equal spheres whose centres are uniform in a square of the plane z = 0, the discs covering
+    ``area_fraction`` of it: ``(centres (n, 3) float64, radius)``."""
+    side = math.sqrt(n * math.pi * radius ** 2 / area_fraction)
+    centres = np.zeros((n, 3))
+    centres[:, :2] = np.random.default_rng(seed).uniform(0.0, side, size=(n, 2))
+    return centres, radius
+
+
+#: the scenes of ``big_level_boxes``: the uniform W2 cube and the three big-level scenes
+BIG_LEVEL_SCENES = ("uniform", "clusters", "huge", "plane")
+
+
+def big_level_boxes(scene: str, n: int, seed: int = SEED) -> tuple[np.ndarray, np.ndarray]:
+    """``(lo, hi)`` (n, 3) float64 boxes of one scene of ``BIG_LEVEL_SCENES``: "uniform" the boxes of W2
+    spheres at η = 0.05, "clusters" those of ``clustered_spheres`` (two clusters at η = 0.2, 1e6 apart), "huge"
+    ``huge_among_small_boxes`` (8 huge boxes), "plane" those of ``planar_spheres`` (area fraction 0.3)."""
+    if scene == "huge":
+        return huge_among_small_boxes(n, seed=seed)
+    if scene == "uniform":
+        centres, radius = w2_spheres(n, 0.05, seed)
+    elif scene == "clusters":
+        centres, radius = clustered_spheres(n, seed=seed)
+    elif scene == "plane":
+        centres, radius = planar_spheres(n, seed=seed)
+    else:
+        raise ValueError(f"scene must be one of {BIG_LEVEL_SCENES}, got {scene!r}")
+    return centres - radius, centres + radius
+
+
+# ---------------------------------------------------------------------------------------------------------------
+# the frame scenes of the World benchmark
+# ---------------------------------------------------------------------------------------------------------------
+
+class FrameScene(NamedTuple):
+    """A scene of the frame benchmark. ``shapes``: the engine shapes, each built in its body frame at the origin
+    (Sphere, Box with no rotation, Capsule along the body's z axis, ConvexPolyhedron centred on the mean of its
+    vertices); body i sits at ``centers[i]`` (3,) turned by ``quaternions[i]`` (4,), a unit quaternion in
+    (w, x, y, z) order. ``ground``: the altitude of a ``Plane`` (y <= ground is solid), or None. ``step`` and
+    ``turn``: the scale of each frame's random translation (length) and rotation (radians)."""
+
+    name: str
+    shapes: list
+    centers: np.ndarray
+    quaternions: np.ndarray
+    ground: float | None
+    step: float
+    turn: float
+
+
+def random_quaternions(n: int, rng) -> np.ndarray:
+    """n uniformly random unit quaternions (w, x, y, z), w >= 0 (Shoemake: normalised 4-D normal samples)."""
+    q = rng.normal(size=(n, 4))
+    q /= np.linalg.norm(q, axis=1, keepdims=True)
+    return q * np.where(q[:, :1] < 0, -1.0, 1.0)
+
+
+def quaternion_matrices(q) -> np.ndarray:
+    """Rotation matrices (n, 3, 3) (columns = the body axes) of unit quaternions (n, 4) in (w, x, y, z) order."""
+    w, x, y, z = np.asarray(q, dtype=float).T
+    return np.stack([
+        np.stack([1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)], axis=-1),
+        np.stack([2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)], axis=-1),
+        np.stack([2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)], axis=-1),
+    ], axis=1)
+
+
+def _cube_side(n: int, mean_volume: float, fraction: float) -> float:
+    return (n * mean_volume / fraction) ** (1 / 3)
+
+
+def _mixed_scene(n, rng):
+    from engine.world import Box, Sphere
+
+    is_box = np.arange(n) % 2 == 1
+    side = _cube_side(n, 0.5 * (4 / 3 * math.pi * 0.5 ** 3 + 0.8 ** 3), 0.06)
+    shapes = [Box(np.zeros(3), [0.4, 0.4, 0.4]) if b else Sphere(np.zeros(3), 0.5) for b in is_box]
+    return shapes, rng.uniform(0.0, side, (n, 3)), random_quaternions(n, rng), None, 0.02, 0.02
+
+
+#: lattice spacing of the pile (bodies of size 0.8 a little apart sideways) and the press of each body into
+#: the one below it (and of the lowest layer into the ground)
+PILE_SPACING = 0.84
+PILE_PRESS = 0.002
+
+
+def _pile_scene(n, rng):
+    from engine.world import Box, Sphere
+
+    layers = 5
+    cols = math.ceil(math.sqrt(n / layers))
+    site = np.arange(n)
+    col, layer = site % (cols * cols), site // (cols * cols)
+    is_box = rng.random(n) < 0.5
+    shapes = [Box(np.zeros(3), [0.4, 0.4, 0.4]) if b else Sphere(np.zeros(3), 0.4) for b in is_box]
+    jitter = rng.uniform(-0.015, 0.015, (n, 2))
+    centers = np.empty((n, 3))
+    centers[:, 0] = PILE_SPACING * (col % cols) + jitter[:, 0]
+    centers[:, 2] = PILE_SPACING * (col // cols) + jitter[:, 1]
+    centers[:, 1] = 0.4 - PILE_PRESS + layer * (0.8 - PILE_PRESS)
+    yaw = rng.uniform(-0.01, 0.01, n)  # boxes turned a little about the vertical
+    quats = np.stack([np.cos(yaw / 2), np.zeros(n), np.sin(yaw / 2), np.zeros(n)], axis=1)
+    return shapes, centers, quats, 0.0, 1e-5, 1e-5
+
+
+def _hull_scene(n, rng):
+    from engine.world import Capsule, ConvexPolyhedron
+
+    is_hull = np.arange(n) % 2 == 1
+    variants = []
+    for _ in range(16):  # 16 hull shapes, shared by the bodies: 12 points on a sphere of radius 0.5
+        pts = rng.normal(size=(12, 3))
+        variants.append(ConvexPolyhedron(0.5 * pts / np.linalg.norm(pts, axis=1, keepdims=True)))
+    hull_volume = float(np.mean([_hull_volume(v.local) for v in variants]))
+    capsule_volume = math.pi * 0.25 ** 2 * 0.6 + 4 / 3 * math.pi * 0.25 ** 3
+    side = _cube_side(n, 0.5 * (hull_volume + capsule_volume), 0.06)
+    pick = rng.integers(0, 16, n)
+    shapes = [variants[pick[i]] if is_hull[i] else Capsule([0.0, 0.0, -0.3], [0.0, 0.0, 0.3], 0.25)
+              for i in range(n)]
+    return shapes, rng.uniform(0.0, side, (n, 3)), random_quaternions(n, rng), None, 0.02, 0.02
+
+
+def _hull_volume(points) -> float:
+    from engine.bounding.hull import convex_hull
+
+    return float(convex_hull(points).volume)
+
+
+FRAME_SCENES = {"mixed": _mixed_scene, "pile": _pile_scene, "hulls": _hull_scene}
+
+
+def frame_scene(name: str, n: int, seed: int = SEED) -> FrameScene:
+    """The frame scene ``name`` (one of ``FRAME_SCENES``: "mixed", "pile", "hulls") with n bodies."""
+    if name not in FRAME_SCENES:
+        raise ValueError(f"name must be one of {sorted(FRAME_SCENES)}, got {name!r}")
+    shapes, centers, quats, ground, step, turn = FRAME_SCENES[name](int(n), np.random.default_rng(seed))
+    return FrameScene(name, shapes, centers, quats, ground, step, turn)
+
+
+def frame_motion(scene: FrameScene, rounds: int, seed: int = 9) -> list[tuple[np.ndarray, np.ndarray]]:
+    """``rounds`` successive poses ``(centers (n, 3), quaternions (n, 4) wxyz)``: each frame every body moves by a
+    normal step of scale ``scene.step`` and turns by a random rotation of angle ~``scene.turn``."""
+    rng = np.random.default_rng(seed)
+    c = scene.centers.copy()
+    q = scene.quaternions.copy()
+    out = []
+    for _ in range(rounds):
+        c = c + rng.normal(0.0, scene.step, c.shape)
+        half = 0.5 * rng.normal(0.0, scene.turn, (c.shape[0], 3))
+        dq = np.concatenate([np.cos(np.linalg.norm(half, axis=1, keepdims=True)), half], axis=1)
+        dq /= np.linalg.norm(dq, axis=1, keepdims=True)
+        q = _quaternion_product(dq, q)
+        q /= np.linalg.norm(q, axis=1, keepdims=True)
+        out.append((c, q))
+    return out
+
+
+def _quaternion_product(a, b):
+    aw, ax, ay, az = a.T
+    bw, bx, by, bz = b.T
+    return np.stack([aw * bw - ax * bx - ay * by - az * bz, aw * bx + ax * bw + ay * bz - az * by,
+                     aw * by - ax * bz + ay * bw + az * bx, aw * bz + ax * by - ay * bx + az * bw], axis=1)

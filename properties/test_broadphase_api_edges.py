@@ -1,6 +1,6 @@
 """Edges of the broad phase's public API that the pair-equality properties do not reach: defaults of the
 direct entry points (``find_pairs`` always passes them explicitly), scenes with fewer than two boxes, malformed
-inputs to ``canonical_pairs`` / ``sap_pairs`` / ``IncrementalSAP`` (DESIGN §4: errors name the argument), and
+inputs to ``canonical_pairs`` / ``sap_pairs`` / ``IncrementalSAP`` (errors name the argument), and
 ``IncrementalSAP`` in 1-D and 2-D (boxes padded to 3-D inside). Oracle: numpy all-pairs."""
 from __future__ import annotations
 

@@ -1,5 +1,5 @@
 """What the broad phases are for: pruning. The pairs are exact whatever the pruning (the other properties check
-that); here, the deterministic count of box tests (``find_pairs(..., return_tests=True)``, DESIGN: work is
+that); here, the deterministic count of box tests (``find_pairs(..., return_tests=True)``: work is
 measured by counts, never by time) on scenes where the answer is known:
 
 - on a sparse line of disjoint boxes (along x, y or z) every method but brute force tests fewer pairs than

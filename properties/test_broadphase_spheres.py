@@ -13,14 +13,18 @@ from properties.strategies.boxes import sphere_scenes
 
 
 def brute_sphere_pairs(centers, radii):
-    """Independent reference: numpy all-pairs |c_i − c_j|² <= (r_i + r_j)² and |c_i − c_j|_inf <= r_i + r_j
-    (the second guards against squares underflowing to zero)."""
+    """Independent reference: numpy all-pairs |c_i − c_j|² <= (r_i + r_j)² and |c_i − c_j|_inf <= r_i + r_j,
+    each pair's difference and radius sum first scaled by the power of two that brings their largest magnitude
+    into [0.5, 1) (exact), so that squares of tiny values (below ~1e-154) do not underflow to zero."""
     c = np.asarray(centers, dtype=float)
     n = c.shape[0]
     r = np.broadcast_to(np.asarray(radii, dtype=float), (n,))
     diff = c[:, None, :] - c[None, :, :]
-    d2 = np.einsum("ijk,ijk->ij", diff, diff)
     s = r[:, None] + r[None, :]
+    exponent = np.frexp(np.maximum(np.abs(diff).max(axis=2, initial=0.0), s))[1]
+    diff = np.ldexp(diff, -exponent[:, :, None])
+    s = np.ldexp(s, -exponent)
+    d2 = np.einsum("ijk,ijk->ij", diff, diff)
     close = np.all(np.abs(diff) <= s[:, :, None], axis=2)
     i, j = np.nonzero(np.triu((d2 <= s * s) & close, 1))
     return np.stack([i, j], axis=1).astype(np.int64)
@@ -137,3 +141,17 @@ def test_incremental_sap_then_exact_filter_equals_sphere_pairs(scene):
     r = np.broadcast_to(np.asarray(radii, dtype=float), (len(centers),))
     sap = IncrementalSAP(centers - r[:, None] * (1 + 1e-12) - 1e-9, centers + r[:, None] * (1 + 1e-12) + 1e-9)
     np.testing.assert_array_equal(spheres_overlap_pairs(centers, radii, sap.pairs()), sphere_pairs(centers, radii))
+
+
+@pytest.mark.parametrize("method", BROAD_PHASES)
+@pytest.mark.parametrize("exponent", [-690, -1000, 0, 400])
+def test_spheres_far_below_one_are_tested_at_scale(method, exponent):
+    """Squared distances of spheres near 1e-206 underflow to 0: the test is made at scale. A 3-4-5 triangle
+    scaled by 2^exponent: radii 2.5 + 2.5 touch at distance 5; radii 2.4 + 2.5 do not (a found pair there is
+    the underflow bug)."""
+    c = np.ldexp(np.array([[0.0, 0.0, 0.0], [3.0, 4.0, 0.0]]), exponent)
+    touching = np.ldexp(np.array([2.5, 2.5]), exponent)
+    apart = np.ldexp(np.array([2.4, 2.5]), exponent)
+    assert sphere_pairs(c, touching, method=method).tolist() == [[0, 1]]
+    assert sphere_pairs(c, apart, method=method).tolist() == []
+    assert brute_sphere_pairs(c, apart).tolist() == [] and brute_sphere_pairs(c, touching).tolist() == [[0, 1]]

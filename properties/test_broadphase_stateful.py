@@ -164,7 +164,7 @@ def test_incremental_sap_repairs_by_insertion_sort():
 
 def test_tree_query_skips_free_slots():
     # regression: a node slot that is not a live leaf (free, or never built) must be ignored, whatever it holds
-    from engine.broadphase.aabb_tree import _tree_pairs_kernel
+    from engine.broadphase.aabb_tree import tree_leaf_pairs
 
     rng = np.random.default_rng(3)
     lo = rng.uniform(-5, 5, (30, 3))
@@ -176,7 +176,7 @@ def test_tree_query_skips_free_slots():
     child1 = np.concatenate([tree._child1, [-1, -1]])
     child2 = np.concatenate([tree._child2, [-1, -1]])
     obj_of = np.concatenate([tree._obj_of, [10**9, -5]])  # garbage in the extra slots
-    got = _tree_pairs_kernel(tree._root, node_lo, node_hi, child1, child2, obj_of, tree._obj_lo, tree._obj_hi,
+    got = tree_leaf_pairs(tree._root, node_lo, node_hi, child1, child2, obj_of, tree._obj_lo, tree._obj_hi,
                              tree._obj_node, 30)[0]
     assert extra > 0
     np.testing.assert_array_equal(got, find_pairs(lo, hi, "brute"))

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from hypothesis import given
+from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from engine.broadphase import DynamicAABBTree, find_pairs
@@ -74,3 +74,27 @@ def test_a_move_smaller_than_the_margin_keeps_the_leaf(seed, n, margin, fraction
     lo2[i] += shift
     hi2[i] += shift
     np.testing.assert_array_equal(tree.pairs(), find_pairs(lo2, hi2, "brute"))
+
+
+@settings(max_examples=40)
+@given(st.integers(1, 40), st.integers(0, 2**16), st.integers(1, 3))
+def test_node_boxes_are_the_tree(n, seed, d):
+    """node_boxes lists every node depth first: its leaves are the objects' fat boxes, every node encloses the
+    nodes of its subtree (those that follow it, deeper, until the depth comes back up), the deepest is the
+    tree's height."""
+    rng = np.random.default_rng(seed)
+    lo = rng.uniform(0, 10, (n, d))
+    tree = DynamicAABBTree.from_boxes(lo, lo + rng.uniform(0, 2, (n, d)))
+    if n > 2:
+        tree.remove(int(rng.integers(n)))
+    nlo, nhi, depth, leaf = tree.node_boxes()
+    assert depth[0] == 0 and depth.max() == tree.height and leaf.sum() == len(tree)
+    assert len(depth) == 2 * len(tree) - 1
+    fat = sorted(tuple(np.concatenate(tree.fat_box(i))) for i in tree.ids())
+    assert sorted(tuple(np.concatenate([a, b])) for a, b in zip(nlo[leaf], nhi[leaf])) == fat
+    for i in range(len(depth)):
+        j = i + 1
+        while j < len(depth) and depth[j] > depth[i]:
+            assert (nlo[i] <= nlo[j]).all() and (nhi[j] <= nhi[i]).all()
+            j += 1
+        assert leaf[i] == (j == i + 1)

@@ -9,7 +9,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from engine import drop_cube, drop_particle
-from properties.oracles import reference_impacts
+from engine.oracles import reference_impacts
 from properties.strategies.dynamics import finite, heights, linear_drag_scenes, restitutions, step_sizes
 
 G = 9.81

@@ -26,6 +26,10 @@ __all__ = [
     "aabb_contains",
     "transform_aabb",
     "transform_aabbs",
+    "aabbs_touch",
+    "enclose_aabbs",
+    "overlap_slabs_kernel",
+    "inside_slabs",
 ]
 
 #: how far ``R @ R.T`` may be from the identity before a rotation is rejected
@@ -52,13 +56,20 @@ def as_box(lo, hi, *, names=("lo", "hi"), dims=(2, 3)) -> tuple[np.ndarray, np.n
         raise ValueError(f"{lo_name} must have shape (d,) or (n, d) with d in {tuple(dims)}, got {lo.shape}")
     if hi.shape != lo.shape:
         raise ValueError(f"{hi_name} must have the shape of {lo_name} {lo.shape}, got {hi.shape}")
+    check_ordered(lo, hi, names)
+    return lo, hi
+
+
+def check_ordered(lo, hi, names=("lo", "hi")) -> None:
+    """ValueError naming the first entry (index, or (row, column)) where lo > hi, for (m,) or (n, m) float64
+    arrays of the same shape (box corners, or k-DOP slab bounds); ``names`` are the argument names quoted."""
+    lo_name, hi_name = names
     bad = lo > hi
     if bad.any():
         index = tuple(int(i) for i in np.argwhere(bad)[0])
         where = index[0] if len(index) == 1 else index
         raise ValueError(f"{lo_name} must be <= {hi_name}: {lo_name}[{where}] = {lo[index]!r} > "
                          f"{hi_name}[{where}] = {hi[index]!r}")
-    return lo, hi
 
 
 def as_rotation(rotation, translation, d: int) -> tuple[np.ndarray, np.ndarray]:
@@ -127,6 +138,26 @@ def _fit_aabbs_kernel(clouds, lo, hi):
 
 
 @njit
+def enclose_aabbs(lo, hi, members, box_lo, box_hi, centre_lo, centre_hi):
+    """The box enclosing the boxes ``members`` ((m,) int64 rows of lo, hi (n, 3) float64) and the box enclosing
+    their centres 0.5·lo + 0.5·hi, written into box_lo, box_hi, centre_lo, centre_hi ((3,) float64 each);
+    m = 0 leaves them [inf, −inf]. The fit of a node of a hierarchy to its objects (Ericson 6.2.1)."""
+    for k in range(3):
+        box_lo[k] = np.inf
+        box_hi[k] = -np.inf
+        centre_lo[k] = np.inf
+        centre_hi[k] = -np.inf
+    for p in range(members.shape[0]):
+        o = members[p]
+        for k in range(3):
+            box_lo[k] = min(box_lo[k], lo[o, k])
+            box_hi[k] = max(box_hi[k], hi[o, k])
+            centre = 0.5 * lo[o, k] + 0.5 * hi[o, k]
+            centre_lo[k] = min(centre_lo[k], centre)
+            centre_hi[k] = max(centre_hi[k], centre)
+
+
+@njit
 def aabbs_touch(lo_a, hi_a, lo_b, hi_b):
     """Whether the closed boxes [lo_a, hi_a] and [lo_b, hi_b] ((d,) each) overlap: the engine's one AABB test.
 
@@ -140,21 +171,28 @@ def aabbs_touch(lo_a, hi_a, lo_b, hi_b):
 
 
 @njit
-def _overlap_aabbs_kernel(lo_a, hi_a, lo_b, hi_b, out):
+def overlap_slabs_kernel(lo_a, hi_a, lo_b, hi_b, out):
+    """out[i] (bool (n,)) = whether the closed intervals [lo_a[i, s], hi_a[i, s]] and [lo_b[i, s], hi_b[i, s]]
+    overlap on every slab s of the (n, m) float64 arrays: the AABB test on its m = d axes, and the k-DOP test on
+    its m = k/2 directions (Ericson 4.2.1, 4.6.1: one separating slab proves the volumes disjoint)."""
     for i in range(lo_a.shape[0]):
         out[i] = aabbs_touch(lo_a[i], hi_a[i], lo_b[i], hi_b[i])
 
 
 @njit
+def inside_slabs(lo, hi, values):
+    """Whether lo[s] <= values[s] <= hi[s] for every slab s ((m,) float64 each): a point inside an AABB (its
+    coordinates), or inside a k-DOP (its projections on the k/2 directions)."""
+    for s in range(values.shape[0]):
+        if values[s] < lo[s] or values[s] > hi[s]:
+            return False
+    return True
+
+
+@njit
 def _contains_kernel(lo, hi, points, out):
-    n, d = points.shape
-    for i in range(n):
-        inside = True
-        for k in range(d):
-            if points[i, k] < lo[k] or points[i, k] > hi[k]:
-                inside = False
-                break
-        out[i] = inside
+    for i in range(points.shape[0]):
+        out[i] = inside_slabs(lo, hi, points[i])
 
 
 @njit
@@ -225,7 +263,7 @@ def overlap_aabbs(lo_a, hi_a, lo_b, hi_b) -> np.ndarray:
             and _boxes_valid_kernel(lo_b, hi_b):
         # fast path: the arrays are read, never written, so the checked inputs are used without a copy
         out = np.empty(lo_a.shape[0], dtype=np.bool_)
-        _overlap_aabbs_kernel(lo_a, hi_a, lo_b, hi_b, out)
+        overlap_slabs_kernel(lo_a, hi_a, lo_b, hi_b, out)
         return out
     lo_a, hi_a = as_box(lo_a, hi_a, names=("lo_a", "hi_a"), dims=(1, 2, 3))
     lo_b, hi_b = as_box(lo_b, hi_b, names=("lo_b", "hi_b"), dims=(1, 2, 3))
@@ -233,7 +271,7 @@ def overlap_aabbs(lo_a, hi_a, lo_b, hi_b) -> np.ndarray:
         raise ValueError(f"lo_b must have the shape of lo_a {lo_a.shape}, got {lo_b.shape}")
     out = np.empty(lo_a.reshape(-1, lo_a.shape[-1]).shape[0], dtype=np.bool_)
     d = lo_a.shape[-1]
-    _overlap_aabbs_kernel(lo_a.reshape(-1, d), hi_a.reshape(-1, d), lo_b.reshape(-1, d), hi_b.reshape(-1, d), out)
+    overlap_slabs_kernel(lo_a.reshape(-1, d), hi_a.reshape(-1, d), lo_b.reshape(-1, d), hi_b.reshape(-1, d), out)
     return out
 
 

@@ -16,7 +16,7 @@ import numpy as np
 
 from .._config import njit
 from .._validate import as_float_array
-from .aabb import as_points, as_rotation
+from .aabb import as_points, as_rotation, check_ordered, inside_slabs, overlap_slabs_kernel
 
 __all__ = [
     "KDOP_SIZES",
@@ -67,12 +67,7 @@ def _as_kdop(lo, hi, k, names=("lo", "hi")) -> tuple[np.ndarray, np.ndarray]:
     if lo.ndim not in (1, 2) or lo.shape[-1] != half:
         raise ValueError(f"{lo_name} must have shape ({half},) or (n, {half}) for a {k}-DOP, got {lo.shape}")
     hi = as_float_array(hi, hi_name, shape=lo.shape)
-    bad = lo > hi
-    if bad.any():
-        index = tuple(int(i) for i in np.argwhere(bad)[0])
-        where = index[0] if len(index) == 1 else index
-        raise ValueError(f"{lo_name} must be <= {hi_name}: {lo_name}[{where}] = {lo[index]!r} > "
-                         f"{hi_name}[{where}] = {hi[index]!r}")
+    check_ordered(lo, hi, names)
     return lo, hi
 
 
@@ -104,32 +99,17 @@ def _fit_kdops_kernel(clouds, directions, lo, hi):
 
 
 @njit
-def _overlap_kdops_kernel(lo_a, hi_a, lo_b, hi_b, out):
-    # Ericson 4.6.1: two k-DOPs overlap only if their intervals overlap on all k/2 directions (as for the AABB,
-    # a separating slab direction proves them disjoint; overlap on all slabs is the conservative answer)
-    n, half = lo_a.shape
-    for i in range(n):
-        hit = True
-        for s in range(half):
-            if hi_a[i, s] < lo_b[i, s] or hi_b[i, s] < lo_a[i, s]:
-                hit = False
-                break
-        out[i] = hit
-
-
-@njit
 def _contains_kernel(lo, hi, directions, points, out):
+    # a point is inside when its projection on every slab direction lies in the slab's interval
     n, d = points.shape
+    projection = np.empty(directions.shape[0])
     for i in range(n):
-        inside = True
         for s in range(directions.shape[0]):
             t = 0.0
             for m in range(d):
                 t += directions[s, m] * points[i, m]
-            if t < lo[s] or t > hi[s]:
-                inside = False
-                break
-        out[i] = inside
+            projection[s] = t
+        out[i] = inside_slabs(lo, hi, projection)
 
 
 @njit
@@ -209,8 +189,10 @@ def overlap_kdops(lo_a, hi_a, lo_b, hi_b, k: int) -> np.ndarray:
         raise ValueError(f"lo_b must have the shape of lo_a {lo_a.shape}, got {lo_b.shape}")
     half = k // 2
     out = np.empty(lo_a.reshape(-1, half).shape[0], dtype=np.bool_)
-    _overlap_kdops_kernel(lo_a.reshape(-1, half), hi_a.reshape(-1, half), lo_b.reshape(-1, half),
-                          hi_b.reshape(-1, half), out)
+    # Ericson 4.6.1: two k-DOPs overlap only if their intervals overlap on all k/2 directions (as for the AABB,
+    # a separating slab direction proves them disjoint; overlap on all slabs is the conservative answer)
+    overlap_slabs_kernel(lo_a.reshape(-1, half), hi_a.reshape(-1, half), lo_b.reshape(-1, half),
+                         hi_b.reshape(-1, half), out)
     return out
 
 

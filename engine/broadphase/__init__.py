@@ -49,7 +49,7 @@ _METHODS = {
 BROAD_PHASES = tuple(_METHODS)
 
 
-def find_pairs(lo, hi, method: str = "sap", *, return_tests: bool = False):
+def find_pairs(lo, hi, method: str = "sap", *, return_tests: bool = False, threads: int = 1):
     """All pairs of overlapping closed boxes [lo_i, hi_i]; the same canonical pairs whatever the method.
 
     lo, hi: (n, d) with d in {1, 2, 3} and lo <= hi. method: one of ``BROAD_PHASES`` — "brute" (exhaustive
@@ -59,6 +59,9 @@ def find_pairs(lo, hi, method: str = "sap", *, return_tests: bool = False):
     With ``return_tests=True`` returns ``(pairs, tests)``: ``tests`` counts the box–box overlap tests between
     objects that the method made — (n² − n)/2 for brute force — the deterministic measure of how much each
     method prunes (the CI gate bounds it).
+
+    ``threads`` (1 to 256): how many threads may share the work (each method splits its sweep or its queries
+    into contiguous ranges, one per thread, when there is enough work); the answer is the same, bit for bit.
     """
     as_choice(method, "method", _METHODS)
-    return _METHODS[method](lo, hi, return_tests=return_tests)
+    return _METHODS[method](lo, hi, return_tests=return_tests, threads=threads)

@@ -19,11 +19,22 @@ from __future__ import annotations
 
 import numpy as np
 
+import engine.broadphase.pairs as pair_buffer
 from engine._config import njit
-from engine._validate import as_float_array, as_nonnegative
-from engine.broadphase.pairs import _canonical_pairs_kernel, _grow, as_boxes, as_boxes_3d, empty_pairs, with_tests
+from engine._validate import as_nonnegative
+from engine.bounding.aabb import enclose_aabbs
+from engine.broadphase.pairs import (
+    as_boxes,
+    as_boxes_3d,
+    as_live_id,
+    as_one_box,
+    as_threads,
+    boxes_overlap,
+    empty_pairs,
+    with_tests,
+)
 
-__all__ = ["DynamicAABBTree", "tree_pairs"]
+__all__ = ["DynamicAABBTree", "tree_pairs", "tree_leaf_pairs"]
 
 
 @njit
@@ -122,63 +133,57 @@ def _remove_leaf_kernel(leaf, root, node_lo, node_hi, parent, child1, child2, he
 
 
 @njit
+def _split_items(items, s, e, box_lo, box_hi, node_lo, node_hi, node):
+    """Fit node ``node`` to the objects items[s:e] and choose where they split (Ericson 6.2.1): the midpoint of
+    their centres along the widest axis of the centres, items[s:e] partitioned so that centres < mid come first;
+    at half the count if every centre coincides. Returns the split index."""
+    cmin = np.empty(3)
+    cmax = np.empty(3)
+    enclose_aabbs(box_lo, box_hi, items[s:e], node_lo[node], node_hi[node], cmin, cmax)
+    axis = 0
+    for k in range(1, 3):
+        if cmax[k] - cmin[k] > cmax[axis] - cmin[axis]:
+            axis = k
+    mid = 0.5 * cmin[axis] + 0.5 * cmax[axis]
+    if not (cmin[axis] < mid and mid <= cmax[axis]):
+        return (s + e) // 2
+    split = s
+    for p in range(s, e):  # partition: centres < mid first
+        t = items[p]
+        if 0.5 * box_lo[t, axis] + 0.5 * box_hi[t, axis] < mid:
+            items[p] = items[split]
+            items[split] = t
+            split += 1
+    return split
+
+
+@njit
 def _build_kernel(box_lo, box_hi, node_lo, node_hi, parent, child1, child2, height, leaf_of, obj_of):
     # Ericson 6.2.1, top-down: split the objects at the midpoint of their centres along the widest axis
     # (at half the count if every centre coincides). Nodes 0..2m-2, root 0; leaf_of[t] is object t's leaf.
     m = box_lo.shape[0]
     items = np.arange(m)
-    centre = 0.5 * box_lo + 0.5 * box_hi
     n_nodes = 1
-    stack_node = np.empty(2 * m, dtype=np.int64)
-    stack_s = np.empty(2 * m, dtype=np.int64)
-    stack_e = np.empty(2 * m, dtype=np.int64)
-    stack_node[0] = 0
-    stack_s[0] = 0
-    stack_e[0] = m
+    stack = np.empty((2 * m, 3), dtype=np.int64)  # (node, first item, end item) of the nodes still to build
+    stack[0, 0] = 0
+    stack[0, 1] = 0
+    stack[0, 2] = m
     parent[0] = -1
     top = 1
     while top > 0:
         top -= 1
-        node = stack_node[top]
-        s = stack_s[top]
-        e = stack_e[top]
-        for k in range(3):
-            node_lo[node, k] = np.inf
-            node_hi[node, k] = -np.inf
-        for p in range(s, e):
-            t = items[p]
-            for k in range(3):
-                node_lo[node, k] = min(node_lo[node, k], box_lo[t, k])
-                node_hi[node, k] = max(node_hi[node, k], box_hi[t, k])
+        node, s, e = stack[top, 0], stack[top, 1], stack[top, 2]
         if e - s == 1:
+            for k in range(3):
+                node_lo[node, k] = box_lo[items[s], k]
+                node_hi[node, k] = box_hi[items[s], k]
             child1[node] = -1
             child2[node] = -1
             height[node] = 0
             leaf_of[items[s]] = node
             obj_of[node] = items[s]
             continue
-        cmin = np.full(3, np.inf)
-        cmax = np.full(3, -np.inf)
-        for p in range(s, e):
-            t = items[p]
-            for k in range(3):
-                cmin[k] = min(cmin[k], centre[t, k])
-                cmax[k] = max(cmax[k], centre[t, k])
-        axis = 0
-        for k in range(1, 3):
-            if cmax[k] - cmin[k] > cmax[axis] - cmin[axis]:
-                axis = k
-        mid = 0.5 * cmin[axis] + 0.5 * cmax[axis]
-        split = s
-        if cmin[axis] < mid and mid <= cmax[axis]:
-            for p in range(s, e):  # partition: centres < mid first
-                t = items[p]
-                if centre[t, axis] < mid:
-                    items[p] = items[split]
-                    items[split] = t
-                    split += 1
-        else:
-            split = (s + e) // 2
+        split = _split_items(items, s, e, box_lo, box_hi, node_lo, node_hi, node)
         a = n_nodes
         b = n_nodes + 1
         n_nodes += 2
@@ -187,12 +192,8 @@ def _build_kernel(box_lo, box_hi, node_lo, node_hi, parent, child1, child2, heig
         parent[a] = node
         parent[b] = node
         obj_of[node] = -1
-        stack_node[top] = a
-        stack_s[top] = s
-        stack_e[top] = split
-        stack_node[top + 1] = b
-        stack_s[top + 1] = split
-        stack_e[top + 1] = e
+        stack[top, 0], stack[top, 1], stack[top, 2] = a, s, split
+        stack[top + 1, 0], stack[top + 1, 1], stack[top + 1, 2] = b, split, e
         top += 2
     # heights, bottom-up (children always have larger indices than their parent)
     for node in range(n_nodes - 1, -1, -1):
@@ -202,17 +203,15 @@ def _build_kernel(box_lo, box_hi, node_lo, node_hi, parent, child1, child2, heig
 
 
 @njit
-def _tree_pairs_kernel(root, node_lo, node_hi, child1, child2, obj_of, obj_lo, obj_hi, obj_node, n_objects):
+def _leaf_range_pairs(root, node_lo, node_hi, child1, child2, obj_of, obj_lo, obj_hi, obj_node, n_objects, first,
+                      last, out):
     # Ericson 6.5 / Box2D b2DynamicTree::Query: each object descends the nodes whose fat box overlaps its exact
-    # box; at a leaf holding object j > i the exact boxes are compared.
-    out = np.empty((max(n_objects, 16), 2), dtype=np.int64)
+    # box; at a leaf holding object j > i the exact boxes are compared. The objects of the node slots first ..
+    # last − 1, in node order (leaves of a subtree are close: consecutive queries share branches).
     count = 0
     tests = 0
-    if root == -1:
-        return out[:0].copy(), tests
     stack = np.empty(node_lo.shape[0] + 1, dtype=np.int64)
-    for leaf in range(node_lo.shape[0]):
-        # objects in node order (leaves of a subtree are close): consecutive queries share branches
+    for leaf in range(first, last):
         if child1[leaf] != -1:
             continue
         i = obj_of[leaf]
@@ -230,22 +229,30 @@ def _tree_pairs_kernel(root, node_lo, node_hi, child1, child2, obj_of, obj_lo, o
                 continue
             if child1[node] == -1:
                 j = obj_of[node]
-                if j > i:
-                    hit = True
-                    for k in range(3):
-                        if obj_lo[i, k] > obj_hi[j, k] or obj_lo[j, k] > obj_hi[i, k]:
-                            hit = False
-                    if hit:
-                        if count == out.shape[0]:
-                            out = _grow(out, count + 1)
-                        out[count, 0] = i
-                        out[count, 1] = j
-                        count += 1
+                if j > i and boxes_overlap(obj_lo, obj_hi, i, j):
+                    out, count = pair_buffer.push_pair(out, count, i, j)
             else:
                 stack[top] = child1[node]
                 stack[top + 1] = child2[node]
                 top += 2
-    return _canonical_pairs_kernel(out, count, n_objects), tests
+    return out, count, tests
+
+
+@njit
+def tree_leaf_pairs(root, node_lo, node_hi, child1, child2, obj_of, obj_lo, obj_hi, obj_node, n_objects):
+    """All pairs of objects of a tree stored as index arrays whose exact boxes overlap: (pairs, tests).
+
+    Nodes: node_lo, node_hi (m, 3) float64 boxes; child1, child2 (m,) int64 (−1 at a leaf); obj_of (m,) int64
+    the object of a leaf; root the root node (−1: empty). Objects: obj_lo, obj_hi (n, 3) float64 exact boxes,
+    obj_node (n,) int64 the leaf of each object, ids 0..n_objects−1. A node slot is a live leaf only if it is a
+    leaf whose object points back to it: free slots are skipped whatever they hold. Returns canonical pairs
+    (int64 (k, 2)) and the number of box tests of the traversal.
+    """
+    if root == -1:
+        return pair_buffer.new_pair_buffer(0)[:0].copy(), 0
+    out, count, tests = _leaf_range_pairs(root, node_lo, node_hi, child1, child2, obj_of, obj_lo, obj_hi, obj_node,
+                                          n_objects, 0, node_lo.shape[0], pair_buffer.new_pair_buffer(n_objects))
+    return pair_buffer.canonicalise_pairs(out, count, n_objects), tests
 
 
 @njit
@@ -345,26 +352,16 @@ class DynamicAABBTree:
         self._free_nodes.append(node)
 
     def _one_box(self, lo_i, hi_i, names=("lo_i", "hi_i")):
-        lo_name, hi_name = names
-        lo_i = as_float_array(lo_i, lo_name, shape=(self._d,))
-        hi_i = as_float_array(hi_i, hi_name, shape=(self._d,))
-        bad = np.flatnonzero(lo_i > hi_i)
-        if bad.size:
-            k = int(bad[0])
-            raise ValueError(f"{lo_name} must not exceed {hi_name}: {lo_name}[{k}] = {lo_i[k]!r} > "
-                             f"{hi_name}[{k}] = {hi_i[k]!r}")
+        """The validated box [lo_i, hi_i] ((d,) each) padded to 3-D ((3,) each, unused axes [0, 0])."""
+        lo_d, hi_d = as_one_box(lo_i, hi_i, self._d, names)
         lo3 = np.zeros(3)
         hi3 = np.zeros(3)
-        lo3[: self._d] = lo_i
-        hi3[: self._d] = hi_i
+        lo3[: self._d] = lo_d
+        hi3[: self._d] = hi_d
         return lo3, hi3
 
     def _check_id(self, obj_id) -> int:
-        if isinstance(obj_id, bool) or not isinstance(obj_id, int | np.integer):
-            raise TypeError(f"id must be an int, got {type(obj_id).__name__}")
-        if not (0 <= obj_id < self._n_ids and self._obj_node[obj_id] >= 0):
-            raise ValueError(f"id {obj_id} is not a live object")
-        return int(obj_id)
+        return as_live_id(obj_id, lambda i: 0 <= i < self._n_ids and self._obj_node[i] >= 0)
 
     def _fat(self, lo3, hi3):
         grow = np.zeros(3)  # along the tree's d axes only: the unused axes stay flat (cost = d-D perimeter)
@@ -445,6 +442,31 @@ class DynamicAABBTree:
         root = float((self._node_hi[self._root] - self._node_lo[self._root]).sum())
         return total / root if root > 0.0 else 0.0
 
+    def node_boxes(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """Every node of the tree, from the root down (depth first): ``(lo, hi, depth, leaf)``.
+
+        Returns
+        -------
+        lo, hi : numpy.ndarray, shape (m, d), float64
+            The nodes' boxes (a leaf's is its object's fat box; an inner node's encloses its two children).
+        depth : numpy.ndarray, shape (m,), int64
+            0 for the root.
+        leaf : numpy.ndarray, shape (m,), bool
+            Whether the node is a leaf (holds one object).
+        """
+        order, depths = [], []
+        stack = [(self._root, 0)] if self._root != -1 else []
+        while stack:
+            node, depth = stack.pop()
+            order.append(node)
+            depths.append(depth)
+            if self._child1[node] != -1:
+                stack += [(int(self._child2[node]), depth + 1), (int(self._child1[node]), depth + 1)]
+        nodes = np.array(order, dtype=np.int64)
+        d = self._d
+        return (self._node_lo[nodes, :d].copy(), self._node_hi[nodes, :d].copy(), np.array(depths, dtype=np.int64),
+                self._child1[nodes] == -1)
+
     def insert(self, lo_i, hi_i) -> int:
         """Insert the box [lo_i, hi_i] ((d,) each); returns the object's id (freed ids are reused)."""
         lo3, hi3 = self._one_box(lo_i, hi_i)
@@ -502,7 +524,7 @@ class DynamicAABBTree:
         """Canonical pairs of ids whose (exact, closed) boxes overlap."""
         if self._root == -1:
             return empty_pairs()
-        return _tree_pairs_kernel(self._root, self._node_lo, self._node_hi, self._child1, self._child2,
+        return tree_leaf_pairs(self._root, self._node_lo, self._node_hi, self._child1, self._child2,
                                   self._obj_of, self._obj_lo, self._obj_hi, self._obj_node, self._n_ids)[0]
 
     def query(self, lo_q, hi_q) -> np.ndarray:
@@ -590,13 +612,19 @@ class DynamicAABBTree:
         assert sorted(seen) == live.tolist()
 
 
-def tree_pairs(lo, hi, *, return_tests: bool = False):
+#: a thread makes the queries of at least this many tree nodes
+MIN_NODES_PER_THREAD = 2048
+
+
+def tree_pairs(lo, hi, *, return_tests: bool = False, threads: int = 1):
     """All pairs of overlapping closed boxes with an AABB tree built in batch (top-down, exact leaf boxes).
 
     lo, hi: (n, d), d in {1, 2, 3}, lo <= hi. Returns canonical pairs, int64 (k, 2); with
     ``return_tests=True``, ``(pairs, tests)`` where tests counts the box–box tests of the traversal (the object's
-    box against each node box visited; a leaf's box is its object's box).
+    box against each node box visited; a leaf's box is its object's box). threads: how many threads may share the
+    queries (the same answer, bit for bit).
     """
+    threads = as_threads(threads)
     lo3, hi3 = as_boxes_3d(lo, hi)
     n = lo3.shape[0]
     if n < 2:
@@ -611,5 +639,8 @@ def tree_pairs(lo, hi, *, return_tests: bool = False):
     leaf_of = np.empty(n, dtype=np.int64)
     obj_of = np.full(capacity, -1, dtype=np.int64)
     _build_kernel(lo3, hi3, node_lo, node_hi, parent, child1, child2, height, leaf_of, obj_of)
-    pairs, tests = _tree_pairs_kernel(0, node_lo, node_hi, child1, child2, obj_of, lo3, hi3, leaf_of, n)
+    tree = (0, node_lo, node_hi, child1, child2, obj_of, lo3, hi3, leaf_of, n)
+    ranges = pair_buffer.split_work(np.arange(capacity + 1), threads, MIN_NODES_PER_THREAD)
+    pairs, tests = pair_buffer.run_split(
+        lambda first, last: _leaf_range_pairs(*tree, first, last, pair_buffer.new_pair_buffer(n)), ranges, n)
     return with_tests(pairs, tests, return_tests)

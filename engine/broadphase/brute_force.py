@@ -8,42 +8,55 @@ from __future__ import annotations
 
 import numpy as np
 
+import engine.broadphase.pairs as pair_buffer
 from engine._config import njit
-from engine.broadphase.pairs import as_boxes_3d, boxes_overlap, empty_pairs, with_tests
+from engine.broadphase.pairs import as_boxes_3d, as_threads, boxes_overlap, empty_pairs, with_tests
 
 __all__ = ["brute_force_pairs"]
 
 
 @njit
-def _brute_force_kernel(lo, hi):
-    # Chapter, "force brute": for i < j (no self-test, no (B, A) after (A, B)) test the boxes i, j.
-    # Two passes (count, then fill) so the output is allocated once; rows come out already canonical.
+def _brute_force_kernel(lo, hi, first, last):
+    # Chapter, "force brute": for i < j (no self-test, no (B, A) after (A, B)) test the boxes i, j, for the rows
+    # i = first .. last − 1. Two passes (count, then fill) so the output is allocated once; rows come out already
+    # canonical. Returns (pairs, count, tests).
     n = lo.shape[0]
     count = 0
-    for i in range(n):
+    for i in range(first, last):
         for j in range(i + 1, n):
             if boxes_overlap(lo, hi, i, j):
                 count += 1
     out = np.empty((count, 2), dtype=np.int64)
-    tests = n * (n - 1) // 2  # the chapter's (n² − n)/2 box tests, by construction
     k = 0
-    for i in range(n):
+    for i in range(first, last):
         for j in range(i + 1, n):
             if boxes_overlap(lo, hi, i, j):
                 out[k, 0] = i
                 out[k, 1] = j
                 k += 1
-    return out, tests
+    tests = 0  # the chapter's (n² − n)/2 box tests over all rows, by construction
+    for i in range(first, last):
+        tests += n - 1 - i
+    return out, count, tests
 
 
-def brute_force_pairs(lo, hi, *, return_tests: bool = False):
+#: a thread makes at least this many box tests
+MIN_TESTS_PER_THREAD = 1 << 20
+
+
+def brute_force_pairs(lo, hi, *, return_tests: bool = False, threads: int = 1):
     """All pairs of overlapping closed boxes by the exhaustive (n² − n)/2 test.
 
     lo, hi: (n, d) with d in {1, 2, 3} and lo <= hi. Returns canonical pairs, int64 (k, 2); with
-    ``return_tests=True``, ``(pairs, tests)`` where tests counts the box–box overlap tests made.
+    ``return_tests=True``, ``(pairs, tests)`` where tests counts the box–box overlap tests made. threads: how
+    many threads may share the rows (the same answer, bit for bit).
     """
+    threads = as_threads(threads)
     lo3, hi3 = as_boxes_3d(lo, hi)
-    if lo3.shape[0] < 2:
+    n = lo3.shape[0]
+    if n < 2:
         return with_tests(empty_pairs(), 0, return_tests)
-    pairs, tests = _brute_force_kernel(lo3, hi3)
+    work = np.concatenate([[0], np.cumsum(np.arange(n - 1, -1, -1))])  # tests of the rows before each row
+    ranges = pair_buffer.split_work(work, threads, MIN_TESTS_PER_THREAD)
+    pairs, tests = pair_buffer.run_split(lambda first, last: _brute_force_kernel(lo3, hi3, first, last), ranges, n)
     return with_tests(pairs, tests, return_tests)

@@ -5,7 +5,7 @@ end up contiguous. One counting sort over millions of cells would thrash the cac
 sort runs in two passes whose counters both stay in cache: first on the high bits of the cell number (at most
 2048 buckets, ``radix_split``), the payload moved bucket by bucket by the caller, then each bucket on its low
 bits (``sort_within_buckets``), which gives every entry its final slot. ``cell_of`` gives the cell column of a
-coordinate, the same way for every grid.
+coordinate and ``grid_dims`` the cells per axis under a cap on their number, the same way for every grid.
 """
 from __future__ import annotations
 
@@ -28,6 +28,25 @@ def cell_of(v, origin, inv_size, k):
     if t >= k:
         return k - 1
     return int(t)
+
+
+@njit
+def grid_dims(origin, top, cell_size, max_cells):
+    """(side, nx, ny, nz): cells of side ``cell_size`` over the box [origin, top] ((3,) float64 each), the side
+    doubled until the grid has at most ``max_cells`` cells (a cap on memory: far-apart clusters then share
+    coarse cells)."""
+    size = cell_size
+    while True:
+        total = 1.0
+        for k in range(3):
+            total *= np.floor((top[k] - origin[k]) / size) + 1.0
+        if total <= max_cells:
+            break
+        size *= 2.0
+    nx = int(np.floor((top[0] - origin[0]) / size)) + 1
+    ny = int(np.floor((top[1] - origin[1]) / size)) + 1
+    nz = int(np.floor((top[2] - origin[2]) / size)) + 1
+    return size, nx, ny, nz
 
 
 @njit
@@ -65,3 +84,51 @@ def sort_within_buckets(keys, bucket_start, shift, n_cells, start):
             dest[t] = local[u]
             local[u] += 1
     return dest
+
+
+@njit
+def radix_sort_pairs(keys, values, keys_tmp, values_tmp, n):
+    """Stable LSD radix sort of keys[:n] (non-negative integers), carrying values[:n] along (values and
+    values_tmp may both be empty: keys only).
+
+    Digits of at most 11 bits (2048 counters, in cache), as few as the largest key needs; the histograms of all
+    the digits are counted in one read pass, and a digit on which every key agrees is skipped. keys_tmp and
+    values_tmp are scratch arrays of the same dtypes and at least n entries. Returns (sorted keys, values): each
+    is one of the two buffers given, holding the sorted first n entries.
+    """
+    top = 0
+    for t in range(n):
+        top = max(top, keys[t])
+    bits = 0
+    while (top >> bits) > 0:
+        bits += 1
+    passes = (bits + 10) // 11
+    if passes == 0:
+        return keys, values
+    width = (bits + passes - 1) // passes
+    mask = (1 << width) - 1
+    hist = np.zeros((passes, mask + 1), dtype=np.int64)
+    for t in range(n):
+        k = keys[t]
+        for d in range(passes):
+            hist[d, (k >> (d * width)) & mask] += 1
+    src_k, src_v, dst_k, dst_v = keys, values, keys_tmp, values_tmp
+    for d in range(passes):
+        shift = d * width
+        if hist[d, (src_k[0] >> shift) & mask] == n:
+            continue  # every key has this digit: the order does not change
+        total = 0
+        for b in range(mask + 1):
+            count = hist[d, b]
+            hist[d, b] = total
+            total += count
+        carry = src_v.shape[0] > 0
+        for t in range(n):
+            b = (src_k[t] >> shift) & mask
+            p = hist[d, b]
+            hist[d, b] = p + 1
+            dst_k[p] = src_k[t]
+            if carry:
+                dst_v[p] = src_v[t]
+        src_k, src_v, dst_k, dst_v = dst_k, dst_v, src_k, src_v
+    return src_k, src_v

@@ -27,38 +27,42 @@ __all__ = ["cull_separating_sphere_pairs", "cull_separating_box_pairs", "front_f
 
 
 @njit
-def _sphere_keep_kernel(pairs, c, r, v):
+def _spheres_may_collide(c, r, v, i, j):
     # Chapter "méthode cinématique": drop (i, j) if apart and separating: p = c_j − c_i, w = v_j − v_i, p·w > 0.
+    dist2 = 0.0
+    approach = 0.0
+    for k in range(c.shape[1]):
+        p = c[j, k] - c[i, k]
+        dist2 += p * p
+        approach += p * (v[j, k] - v[i, k])
+    s = r[i] + r[j]
+    return dist2 <= s * s or approach <= 0.0
+
+
+@njit
+def _boxes_may_collide(lo, hi, v, i, j):
+    # Per axis k: if box j lies above box i (lo_j > hi_i) and v_j − v_i >= 0 along k, the gap never closes;
+    # symmetrically below. One such axis suffices to drop the pair.
+    for k in range(lo.shape[1]):
+        w = v[j, k] - v[i, k]
+        if (lo[j, k] > hi[i, k] and w >= 0.0) or (lo[i, k] > hi[j, k] and w <= 0.0):
+            return False
+    return True
+
+
+@njit
+def _sphere_keep_kernel(pairs, c, r, v):
     keep = np.empty(pairs.shape[0], dtype=np.bool_)
     for t in range(pairs.shape[0]):
-        i = pairs[t, 0]
-        j = pairs[t, 1]
-        dist2 = 0.0
-        approach = 0.0
-        for k in range(c.shape[1]):
-            p = c[j, k] - c[i, k]
-            dist2 += p * p
-            approach += p * (v[j, k] - v[i, k])
-        s = r[i] + r[j]
-        overlapping = dist2 <= s * s
-        keep[t] = overlapping or approach <= 0.0
+        keep[t] = _spheres_may_collide(c, r, v, pairs[t, 0], pairs[t, 1])
     return keep
 
 
 @njit
 def _box_keep_kernel(pairs, lo, hi, v):
-    # Per axis k: if box j lies above box i (lo_j > hi_i) and v_j − v_i >= 0 along k, the gap never closes;
-    # symmetrically below. One such axis suffices to drop the pair.
     keep = np.empty(pairs.shape[0], dtype=np.bool_)
     for t in range(pairs.shape[0]):
-        i = pairs[t, 0]
-        j = pairs[t, 1]
-        separating = False
-        for k in range(lo.shape[1]):
-            w = v[j, k] - v[i, k]
-            if (lo[j, k] > hi[i, k] and w >= 0.0) or (lo[i, k] > hi[j, k] and w <= 0.0):
-                separating = True
-        keep[t] = not separating
+        keep[t] = _boxes_may_collide(lo, hi, v, pairs[t, 0], pairs[t, 1])
     return keep
 
 

@@ -17,17 +17,36 @@ from __future__ import annotations
 
 import numpy as np
 
+import engine.broadphase.pairs as pair_buffer
 from engine._config import njit
-from engine.broadphase.pairs import (
-    _canonical_pairs_kernel,
-    _grow,
-    as_boxes_3d,
-    boxes_overlap,
-    empty_pairs,
-    with_tests,
-)
+from engine.bounding.aabb import enclose_aabbs
+from engine.broadphase.pairs import as_boxes_3d, as_threads, boxes_overlap, empty_pairs, with_tests
 
 __all__ = ["octree_pairs", "build_octree"]
+
+
+@njit
+def _sort_by_octant(lo, hi, perm, s, e, mid, cut, counts):
+    """Counting sort of perm[s:e] by the octant of each object's centre (bit k set when the centre is >= mid[k]
+    on a cut axis k); counts (9,) receives the first slot of each octant (relative to s) and the end."""
+    octant_of = np.empty(e - s, dtype=np.int64)
+    counts[:] = 0
+    for p in range(s, e):
+        o = perm[p]
+        octant = 0
+        for k in range(3):
+            if cut[k] and 0.5 * lo[o, k] + 0.5 * hi[o, k] >= mid[k]:
+                octant |= 1 << k
+        octant_of[p - s] = octant
+        counts[octant + 1] += 1
+    for t in range(8):
+        counts[t + 1] += counts[t]
+    bucket = counts[:8].copy()
+    moved = np.empty(e - s, dtype=np.int64)
+    for p in range(s, e):
+        moved[bucket[octant_of[p - s]]] = perm[p]
+        bucket[octant_of[p - s]] += 1
+    perm[s:e] = moved
 
 
 @njit
@@ -35,7 +54,6 @@ def _build_octree_kernel(lo, hi, leaf_size):
     # Ericson 7.3.1 (top-down octree build), with loose bounds (7.3.6): nodes as index arrays.
     n = lo.shape[0]
     perm = np.arange(n)
-    scratch = np.empty(n, dtype=np.int64)
     capacity = 2 * n + 1
     node_lo = np.empty((capacity, 3))
     node_hi = np.empty((capacity, 3))
@@ -47,56 +65,29 @@ def _build_octree_kernel(lo, hi, leaf_size):
     first[0] = 0
     last[0] = n
     stack = np.empty(capacity, dtype=np.int64)
-    top = 0
     stack[0] = 0
     top = 1
+    cmin = np.empty(3)
+    cmax = np.empty(3)
+    mid = np.empty(3)
+    cut = np.zeros(3, dtype=np.bool_)
+    counts = np.zeros(9, dtype=np.int64)
     while top > 0:
         top -= 1
         node = stack[top]
         s = first[node]
         e = last[node]
         # loose bounds: the union of the boxes of the objects below the node
-        cmin = np.full(3, np.inf)
-        cmax = np.full(3, -np.inf)
-        for k in range(3):
-            node_lo[node, k] = np.inf
-            node_hi[node, k] = -np.inf
-        for p in range(s, e):
-            o = perm[p]
-            for k in range(3):
-                node_lo[node, k] = min(node_lo[node, k], lo[o, k])
-                node_hi[node, k] = max(node_hi[node, k], hi[o, k])
-                centre = 0.5 * lo[o, k] + 0.5 * hi[o, k]
-                cmin[k] = min(cmin[k], centre)
-                cmax[k] = max(cmax[k], centre)
+        enclose_aabbs(lo, hi, perm[s:e], node_lo[node], node_hi[node], cmin, cmax)
         if e - s <= leaf_size:
             continue
         # cut at the midpoint of the centres; an axis is cut only if the midpoint separates its centres
-        mid = np.empty(3)
-        cut = np.zeros(3, dtype=np.bool_)
         for k in range(3):
             mid[k] = 0.5 * cmin[k] + 0.5 * cmax[k]
             cut[k] = cmin[k] < mid[k] and mid[k] <= cmax[k]
         if not (cut[0] or cut[1] or cut[2]):
             continue  # all centres coincide: a leaf, whatever its size
-        # counting sort of the node's objects by octant
-        counts = np.zeros(9, dtype=np.int64)
-        for p in range(s, e):
-            o = perm[p]
-            octant = 0
-            for k in range(3):
-                if cut[k] and 0.5 * lo[o, k] + 0.5 * hi[o, k] >= mid[k]:
-                    octant |= 1 << k
-            scratch[p] = octant
-            counts[octant + 1] += 1
-        for t in range(8):
-            counts[t + 1] += counts[t]
-        bucket = counts[:8].copy()
-        moved = np.empty(e - s, dtype=np.int64)
-        for p in range(s, e):
-            moved[bucket[scratch[p]]] = perm[p]
-            bucket[scratch[p]] += 1
-        perm[s:e] = moved
+        _sort_by_octant(lo, hi, perm, s, e, mid, cut, counts)
         child0[node] = n_nodes
         for t in range(8):
             if counts[t + 1] > counts[t]:
@@ -112,15 +103,14 @@ def _build_octree_kernel(lo, hi, leaf_size):
 
 
 @njit
-def _octree_pairs_kernel(lo, hi, perm, node_lo, node_hi, first, last, child0, n_children):
+def _octree_pairs_kernel(lo, hi, perm, node_lo, node_hi, first, last, child0, n_children, t0, t1, out):
     # Ericson 7.3.3 / 6.5: each object descends the nodes whose (loose) bounds overlap its box; at a leaf it is
-    # tested against the objects with a larger index (each pair is found once).
-    n = lo.shape[0]
-    out = np.empty((max(n, 16), 2), dtype=np.int64)
+    # tested against the objects with a larger index (each pair is found once). Objects perm[t0:t1]; returns
+    # the pair buffer (out, count) and the tests made.
     count = 0
     tests = 0
     stack = np.empty(node_lo.shape[0] + 1, dtype=np.int64)
-    for t in range(n):
+    for t in range(t0, t1):
         i = perm[t]  # leaf order: consecutive queries walk the same branches (cache-friendly)
         top = 1
         stack[0] = 0
@@ -139,16 +129,12 @@ def _octree_pairs_kernel(lo, hi, perm, node_lo, node_hi, first, last, child0, n_
                         continue
                     tests += 1
                     if boxes_overlap(lo, hi, i, j):
-                        if count == out.shape[0]:
-                            out = _grow(out, count + 1)
-                        out[count, 0] = i
-                        out[count, 1] = j
-                        count += 1
+                        out, count = pair_buffer.push_pair(out, count, i, j)
             else:
-                for t in range(n_children[node]):
-                    stack[top] = child0[node] + t
+                for c in range(n_children[node]):
+                    stack[top] = child0[node] + c
                     top += 1
-    return _canonical_pairs_kernel(out, count, n), tests
+    return out, count, tests
 
 
 def build_octree(lo, hi, leaf_size: int = 8):
@@ -166,18 +152,27 @@ def build_octree(lo, hi, leaf_size: int = 8):
     return _build_octree_kernel(lo3, hi3, int(leaf_size))
 
 
-def octree_pairs(lo, hi, leaf_size: int = 8, *, return_tests: bool = False):
+#: a thread makes the queries of at least this many objects
+MIN_OBJECTS_PER_THREAD = 2048
+
+
+def octree_pairs(lo, hi, leaf_size: int = 8, *, return_tests: bool = False, threads: int = 1):
     """All pairs of overlapping closed boxes with a loose octree (see the module docstring).
 
     lo, hi: (n, d), d in {1, 2, 3}, lo <= hi; leaf_size: objects per leaf before a cut. Returns canonical
     pairs, int64 (k, 2); with ``return_tests=True``, ``(pairs, tests)`` where tests counts the box–box tests
     of the traversal: the object against each node's loose bounds, and against the objects of the leaves.
+    threads: how many threads may share the queries (the same answer, bit for bit).
     """
+    threads = as_threads(threads)
     if isinstance(leaf_size, bool) or not isinstance(leaf_size, int | np.integer) or leaf_size < 1:
         raise ValueError(f"leaf_size must be an int >= 1, got {leaf_size!r}")
     lo3, hi3 = as_boxes_3d(lo, hi)
     if lo3.shape[0] < 2:
         return with_tests(empty_pairs(), 0, return_tests)
     tree = _build_octree_kernel(lo3, hi3, int(leaf_size))
-    pairs, tests = _octree_pairs_kernel(lo3, hi3, *tree)
+    n = lo3.shape[0]
+    ranges = pair_buffer.split_work(np.arange(n + 1), threads, MIN_OBJECTS_PER_THREAD)
+    pairs, tests = pair_buffer.run_split(
+        lambda t0, t1: _octree_pairs_kernel(lo3, hi3, *tree, t0, t1, pair_buffer.new_pair_buffer(n)), ranges, n)
     return with_tests(pairs, tests, return_tests)

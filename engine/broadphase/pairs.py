@@ -1,9 +1,16 @@
-"""Canonical pair arrays, the common output of every broad phase (DESIGN.md section 3).
+"""Canonical pair arrays and the pair buffer, the common output of every broad phase.
 
 "pairs" is always an int64 array of shape (k, 2) with ``i < j`` in every row, rows in lexicographic order and
-no duplicate row.  Every broad phase gathers its candidate pairs in whatever order its traversal meets them and
-hands them to :func:`canonical_pairs` (or its kernel), which puts them in that one form in O(n + k): a counting
-sort on the smaller index, then a small sort of each bucket on the larger index, dropping repeats.
+no duplicate row.  Every broad-phase kernel gathers its candidate pairs in a *pair buffer* — an int64 (capacity, 2)
+array and a row count — in whatever order its traversal meets them: :func:`new_pair_buffer` makes one,
+:func:`push_pair` appends a row (doubling the buffer when it is full). The two hottest sweeps (sap's columns and
+the sphere columns) record branch-free instead — the *two-try record*: write the row while there is room, add the
+test's outcome to the count, and sweep again with a buffer of that count (:func:`work_pair_buffer`) if it was
+short; it is written out in them, since any helper call that takes the buffer costs a reference-count update per
+pair (measured 2.5x slower). The kernel hands the buffer to :func:`canonicalise_pairs`, which puts the rows in
+that one form in O(k): one integer key per pair, a radix sort, repeats dropped. :func:`canonical_pairs` is the
+same operation at the public boundary (validated).
+:func:`split_work` and :func:`run_split` share a kernel's work among threads and merge their buffers.
 
 This module also holds the checks shared by the broad phases: :func:`as_boxes` validates ``lo``/``hi`` box
 arrays at the public boundary, and :func:`as_boxes_3d` pads 1-D and 2-D boxes to 3-D with a zero-width extra
@@ -11,12 +18,22 @@ axis (which every box then overlaps), so each kernel is written once, in 3-D.
 """
 from __future__ import annotations
 
+import threading
+from concurrent.futures import ThreadPoolExecutor
+
 import numpy as np
 
 from engine._config import njit
 from engine._validate import as_count, as_float_array
+from engine.broadphase.counting_sort import radix_sort_pairs
 
-__all__ = ["canonical_pairs", "empty_pairs", "as_boxes", "as_boxes_3d", "boxes_overlap", "with_tests"]
+#: the most threads a broad-phase call may ask for
+MAX_THREADS = 256
+
+__all__ = ["canonical_pairs", "empty_pairs", "as_boxes", "as_boxes_3d", "as_one_box", "as_live_id", "boxes_overlap",
+           "with_tests",
+           "new_pair_buffer", "grow_pair_buffer", "push_pair", "canonicalise_pairs",
+           "as_threads", "split_work", "run_split", "work_pair_buffer"]
 
 
 def empty_pairs() -> np.ndarray:
@@ -30,60 +47,66 @@ def with_tests(pairs: np.ndarray, tests: int, return_tests: bool):
 
 
 @njit
-def _grow(buffer, needed):
-    """A copy of the int64 pair buffer (cap, 2) with room for at least ``needed`` rows (doubling)."""
+def new_pair_buffer(expected):
+    """An empty pair buffer: int64 (max(expected, 16), 2), to be filled from row 0 by :func:`push_pair`."""
+    return np.empty((max(expected, 16), 2), dtype=np.int64)
+
+
+@njit
+def grow_pair_buffer(buffer, needed):
+    """A copy of the pair buffer ``buffer`` (int64 (capacity, 2)) with room for at least ``needed`` rows
+    (the capacity at least doubles, so n pushes cost O(n) copies in all)."""
     capacity = max(2 * buffer.shape[0], needed, 16)
     out = np.empty((capacity, 2), dtype=np.int64)
     out[: buffer.shape[0]] = buffer
     return out
 
 
-@njit
-def _canonical_pairs_kernel(candidates, count, n):
-    """Canonical form of the first ``count`` rows of ``candidates`` (objects numbered 0..n-1).
+@njit(inline="always")
+def push_pair(buffer, count, i, j):
+    """Append the row (i, j) to the pair buffer holding ``count`` rows; returns (buffer, count + 1).
 
-    Counting sort on i = min(row) (one bucket per object), then each bucket sorted on j = max(row) and its
-    repeats dropped; rows with i == j (a self-test, which the chapter excludes) are dropped too.
+    ``buffer`` is int64 (capacity, 2); when it is full a grown copy is returned, so callers always write
+    ``buffer, count = push_pair(buffer, count, i, j)``.
     """
-    start = np.zeros(n + 1, dtype=np.int64)
-    for t in range(count):
-        a = candidates[t, 0]
-        b = candidates[t, 1]
-        start[min(a, b) + 1] += 1
-    for i in range(n):
-        start[i + 1] += start[i]
-    fill = start[:n].copy()
-    second = np.empty(count, dtype=np.int64)
-    for t in range(count):
-        a = candidates[t, 0]
-        b = candidates[t, 1]
-        i = min(a, b)
-        second[fill[i]] = max(a, b)
-        fill[i] += 1
-    out = np.empty((count, 2), dtype=np.int64)
+    if count == buffer.shape[0]:
+        buffer = grow_pair_buffer(buffer, count + 1)
+    buffer[count, 0] = i
+    buffer[count, 1] = j
+    return buffer, count + 1
+
+
+@njit
+def canonicalise_pairs(candidates, count, n):
+    """Canonical pairs (int64 (k, 2), a new array) of the first ``count`` rows of the pair buffer ``candidates``
+    (int64 (capacity, 2); objects numbered 0..n-1).
+
+    Each row (a, b) with a != b becomes the integer key min(a, b) · 2^s + max(a, b) (2^s > n − 1); the keys are
+    radix-sorted (``counting_sort.radix_sort_pairs``: a few linear passes, no comparison sort), repeats dropped
+    and the rows decoded. Rows with a == b (a self-test, which the chapter excludes) are dropped.
+    """
+    shift = 1
+    while (1 << shift) < n:
+        shift += 1
+    keys = np.empty(count, dtype=np.int64)
     k = 0
-    for i in range(n):
-        s = start[i]
-        e = start[i + 1]
-        if e - s > 24:
-            second[s:e] = np.sort(second[s:e])
-        else:  # insertion sort: buckets are tiny in practice
-            for p in range(s + 1, e):
-                v = second[p]
-                q = p - 1
-                while q >= s and second[q] > v:
-                    second[q + 1] = second[q]
-                    q -= 1
-                second[q + 1] = v
-        previous = -1
-        for p in range(s, e):
-            j = second[p]
-            if j != previous and j != i:
-                out[k, 0] = i
-                out[k, 1] = j
-                k += 1
-            previous = j
-    return out[:k].copy()
+    for t in range(count):
+        a = candidates[t, 0]
+        b = candidates[t, 1]
+        if a != b:
+            keys[k] = (min(a, b) << shift) | max(a, b)
+            k += 1
+    no_values = np.empty(0, dtype=np.int64)
+    keys, _ = radix_sort_pairs(keys, no_values, np.empty(k, dtype=np.int64), no_values, k)
+    out = np.empty((k, 2), dtype=np.int64)
+    rows = 0
+    low = (1 << shift) - 1
+    for t in range(k):
+        if t == 0 or keys[t] != keys[t - 1]:
+            out[rows, 0] = keys[t] >> shift
+            out[rows, 1] = keys[t] & low
+            rows += 1
+    return out[:rows].copy()
 
 
 def canonical_pairs(pairs, n: int | None = None) -> np.ndarray:
@@ -116,7 +139,7 @@ def canonical_pairs(pairs, n: int | None = None) -> np.ndarray:
     if top > n:
         bad = int(np.flatnonzero((arr >= n).any(axis=1))[0])
         raise ValueError(f"pairs[{bad}] = {arr[bad].tolist()} indexes past n = {n}")
-    return _canonical_pairs_kernel(arr, arr.shape[0], int(n))
+    return canonicalise_pairs(arr, arr.shape[0], int(n))
 
 
 def as_boxes(lo, hi) -> tuple[np.ndarray, np.ndarray]:
@@ -132,6 +155,30 @@ def as_boxes(lo, hi) -> tuple[np.ndarray, np.ndarray]:
         i, k = (int(v) for v in np.argwhere(inverted)[0])
         raise ValueError(f"lo must not exceed hi: lo[{i}, {k}] = {lo_arr[i, k]!r} > hi[{i}, {k}] = {hi_arr[i, k]!r}")
     return lo_arr, hi_arr
+
+
+def as_one_box(lo_i, hi_i, d: int, names: tuple[str, str] = ("lo_i", "hi_i")) -> tuple[np.ndarray, np.ndarray]:
+    """Validate one box [lo_i, hi_i]: float64 copies of shape (d,) each, lo_i <= hi_i; ``names`` are the
+    argument names the errors quote."""
+    lo_name, hi_name = names
+    lo_arr = as_float_array(lo_i, lo_name, shape=(d,))
+    hi_arr = as_float_array(hi_i, hi_name, shape=(d,))
+    bad = np.flatnonzero(lo_arr > hi_arr)
+    if bad.size:
+        k = int(bad[0])
+        raise ValueError(f"{lo_name} must not exceed {hi_name}: {lo_name}[{k}] = {lo_arr[k]!r} > "
+                         f"{hi_name}[{k}] = {hi_arr[k]!r}")
+    return lo_arr, hi_arr
+
+
+def as_live_id(obj_id, is_live) -> int:
+    """``obj_id`` as an int after checking it: TypeError unless an int, ValueError unless ``is_live(obj_id)``
+    (the id of a live object of an incremental broad phase)."""
+    if isinstance(obj_id, bool) or not isinstance(obj_id, int | np.integer):
+        raise TypeError(f"id must be an int, got {type(obj_id).__name__}")
+    if not is_live(int(obj_id)):
+        raise ValueError(f"id {obj_id} is not a live object")
+    return int(obj_id)
 
 
 def as_boxes_3d(lo, hi) -> tuple[np.ndarray, np.ndarray]:
@@ -154,3 +201,58 @@ def boxes_overlap(lo, hi, i, j):
         if lo[i, k] > hi[j, k] or lo[j, k] > hi[i, k]:
             return False
     return True
+
+
+_WORK = threading.local()  # per-thread pair buffers of the two-try sweeps, reused between calls
+
+
+def work_pair_buffer(rows: int) -> np.ndarray:
+    """This thread's reusable pair buffer, int64 (at least ``rows``, 2) (grown by 25 %, never shrunk): a sweep
+    that records into it keeps the size its last call needed, so it seldom sweeps twice, and fresh pages are not
+    faulted in at every call. Its rows are overwritten by the next sweep on this thread: copy what you keep."""
+    buf = getattr(_WORK, "pairs", None)
+    if buf is None or buf.shape[0] < rows:
+        buf = np.empty((max(16, rows + rows // 4), 2), dtype=np.int64)
+        _WORK.pairs = buf
+    return buf
+
+
+def as_threads(threads) -> int:
+    """The checked ``threads`` argument of a broad phase: an int in [1, MAX_THREADS]."""
+    return as_count(threads, "threads", minimum=1, maximum=MAX_THREADS)
+
+
+def split_work(work, threads: int, min_work: int) -> list[tuple[int, int]]:
+    """Cut the items 0..m−1, whose cumulative work is ``work`` ((m + 1,) non-decreasing, work[0] = 0), into at
+    most ``threads`` contiguous ranges (first, last) of about equal work, each of at least ``min_work`` (one
+    range when there is too little work to share)."""
+    m = len(work) - 1
+    parts = min(threads, max(1, int(work[-1]) // max(min_work, 1)))
+    if parts <= 1 or m <= 1:
+        return [(0, m)]
+    cuts = np.searchsorted(work, [work[-1] * t / parts for t in range(1, parts)])
+    bounds = sorted({0, m, *(int(c) for c in cuts)})
+    return list(zip(bounds[:-1], bounds[1:]))
+
+
+def run_split(sweep, ranges, n: int, extra=None):
+    """Run ``sweep(first, last) -> (buffer, count, tests)`` over the item ranges, one thread per range (the
+    kernels release the GIL), and merge them (and ``extra``, one more (buffer, count, tests) if given):
+    ``(canonical pairs of the n objects, total tests)``. The parts hold disjoint sets of pairs, so the result is
+    the same, bit for bit, as one call over all the items."""
+    if extra is not None and extra[1] == 0:
+        tests_extra = int(extra[2])
+        pairs, tests = run_split(sweep, ranges, n)  # nothing to merge but the tests
+        return pairs, tests + tests_extra
+    if len(ranges) == 1 and extra is None:
+        buf, count, tests = sweep(*ranges[0])
+        return canonicalise_pairs(buf, count, n), int(tests)
+    if len(ranges) == 1:
+        parts = [sweep(*ranges[0])]
+    else:
+        with ThreadPoolExecutor(max_workers=len(ranges)) as pool:
+            parts = list(pool.map(lambda r: sweep(*r), ranges))
+    if extra is not None:
+        parts.append(extra)
+    merged = np.concatenate([buf[:count] for buf, count, _ in parts])
+    return canonicalise_pairs(merged, merged.shape[0], n), int(sum(t for _, _, t in parts))

@@ -6,14 +6,15 @@
 distinct points touch.
 
 The default method, "grid", is a uniform grid specialised to spheres (Ericson, *Real-Time Collision Detection*
-7.1.2–7.1.6, and the chapter's "absolue" spatial subdivision): each sphere is stored once, in the cell of its
-centre; cells are at least one largest diameter wide (plus a round-off margin), so two touching spheres are in
-the same or in adjacent cells, and each cell is compared with itself and with 13 of its 26 neighbours (the half
-that comes after it), so every pair is met once. The cells are numbered linearly and filled by a counting sort
-(count, prefix sum, fill) into contiguous sorted arrays — no lists grow inside the kernel. Cells are also at
-least 0.7 × the mean spacing (V/n)^(1/3) wide (about 0.3 spheres per cell), so a sparse scene does not pay for
-empty cells; measured best on the W2 workload between 0.5 and 1 × spacing. Spheres much larger
-than the typical one (radius > 4 × median) are kept out of the grid and tested against every sphere.
+7.1, and the chapter's "absolue" spatial subdivision) and swept like box pruning: each sphere is stored once, in
+the column (along y and z) of its centre, columns at least one largest diameter wide (plus a round-off margin) and
+sorted along x, so that two touching spheres lie in the same or adjacent columns and are met by short sweeps
+(``engine.broadphase.sphere_columns``: one radix sort of integer keys, sorted coordinate arrays, sentinel-ended
+sweeps). Columns are also at least ``SPACING_FACTOR`` × the mean spacing (V/n)^(1/3) wide, so a sparse scene does
+not pay for empty columns. Far-apart clusters keep fine columns (the keys become 64-bit and columns are found by
+binary search instead of a table), so they cost no more than each cluster alone. Spheres much larger than the
+typical one (radius > 4 × median) are kept out of the grid and tested against every sphere. ``threads`` > 1
+sweeps disjoint ranges of columns on that many threads (the pairs are the same: they are put in canonical form).
 
 Any other method of ``BROAD_PHASES`` runs that broad phase on the spheres' bounding boxes (widened by a
 round-off margin so no touching pair is lost) and then applies the same exact test.
@@ -21,22 +22,24 @@ round-off margin so no touching pair is lost) and then applies the same exact te
 from __future__ import annotations
 
 import threading
+from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
+import engine.broadphase.pairs as pair_buffer
 from engine._config import njit
-from engine._validate import as_choice, as_float_array, as_nonnegative
+from engine._validate import MAX_MAGNITUDE, as_choice, as_float_array, as_nonnegative
 from engine.bounding.sphere import spheres_touch
-from engine.broadphase.counting_sort import cell_of, radix_split, sort_within_buckets
-from engine.broadphase.pairs import _canonical_pairs_kernel, _grow, empty_pairs
+from engine.broadphase.pairs import as_threads, canonical_pairs, empty_pairs
+from engine.broadphase.sphere_columns import column_layout, home_columns, sort_into_columns, sweep_columns
 
 __all__ = ["sphere_pairs", "spheres_overlap_pairs"]
 
 _EPS = np.finfo(np.float64).eps
-#: cells are at least this fraction of the mean spacing (V/n)^(1/3) wide (about 0.3 spheres per cell)
-_SPACING_FACTOR = 0.7
-#: up to this many cells the spheres are counting-sorted in one pass; beyond, in two radix passes
-_DIRECT_SORT_CELLS = 1 << 19
+#: columns are at least this fraction of the mean spacing (V/n)^(1/3) wide
+SPACING_FACTOR = 0.0
+#: a thread sweeps at least this many spheres (below that, starting threads costs more than it saves)
+MIN_SPHERES_PER_THREAD = 4096
 
 
 @njit
@@ -46,161 +49,18 @@ def _spheres_touch(c, r, i, j):
 
 
 @njit
-def _sphere_grid_shape(c, cell_size):
-    """(origin (3,), 1/side, nx, ny, nz) of the grid over the centres c (n, 3), at most ~32n cells."""
-    n = c.shape[0]
-    origin = np.empty(3)
-    top = np.empty(3)
-    for k in range(3):
-        origin[k] = np.inf
-        top[k] = -np.inf
-    for i in range(n):
+def _point_bounds(c):
+    """(lowest, highest) coordinate of the points c (n, 3) along each axis, (3,) each."""
+    lo = np.full(3, np.inf)
+    hi = np.full(3, -np.inf)
+    for i in range(c.shape[0]):
         for k in range(3):
             v = c[i, k]
-            if v < origin[k]:
-                origin[k] = v
-            if v > top[k]:
-                top[k] = v
-    size = cell_size
-    while True:  # at most ~32n cells (about 3n at the default cell size)
-        total = 1.0
-        for k in range(3):
-            total *= np.floor((top[k] - origin[k]) / size) + 1.0
-        if total <= max(32.0 * n, 64.0):
-            break
-        size *= 2.0
-    nx = int(np.floor((top[0] - origin[0]) / size)) + 1
-    ny = int(np.floor((top[1] - origin[1]) / size)) + 1
-    nz = int(np.floor((top[2] - origin[2]) / size)) + 1
-    return origin, 1.0 / size, nx, ny, nz
-
-
-@njit
-def _sphere_grid_sort(c, r, large, origin, inv, nx, ny, nz, cell, start, sx, sy, sz, sr, sid,
-                      b_cell, b_x, b_y, b_z, b_r, b_id):
-    # Ericson 7.1.2: one cell per sphere (its centre); cell side >= largest diameter, so a touching pair lies
-    # in the same or an adjacent cell. Counting sort of the spheres by cell number, x varying fastest, into a
-    # sorted structure of arrays (sx, sy, sz, sr, sid); a column (iy, iz) of cells is then one contiguous run
-    # ordered by ix, and start[cell] .. start[cell + 1] are the spheres of a cell. All arrays are work arrays
-    # given by the caller (reused between calls); returns the number of spheres placed in the grid.
-    n = c.shape[0]
-    n_small = 0
-    for i in range(n):
-        if large[i]:
-            cell[i] = -1
-            continue
-        ix = cell_of(c[i, 0], origin[0], inv, nx)
-        iy = cell_of(c[i, 1], origin[1], inv, ny)
-        iz = cell_of(c[i, 2], origin[2], inv, nz)
-        cell[i] = (iy * nz + iz) * nx + ix
-        n_small += 1
-    n_cells = nx * ny * nz
-    if n_cells <= _DIRECT_SORT_CELLS:  # the counters fit in cache: one counting sort straight into place
-        start[: n_cells + 1] = 0
-        for i in range(n):
-            if cell[i] >= 0:
-                start[cell[i] + 1] += 1
-        for t in range(n_cells):
-            start[t + 1] += start[t]
-        fill = start[:n_cells].copy()
-        for i in range(n):
-            key = cell[i]
-            if key >= 0:
-                p = fill[key]
-                fill[key] = p + 1
-                sx[p] = c[i, 0]
-                sy[p] = c[i, 1]
-                sz[p] = c[i, 2]
-                sr[p] = r[i]
-                sid[p] = i
-        return n_small
-    # larger grids: two-pass (MSD radix) counting sort, so the counters of each pass stay in cache: first on
-    # the high bits of the cell number (at most 2048 buckets), then each bucket on its low bits
-    shift, n_buckets = radix_split(n_cells)
-    bucket_start = np.zeros(n_buckets + 1, dtype=np.int64)
-    for i in range(n):
-        if cell[i] >= 0:
-            bucket_start[(cell[i] >> shift) + 1] += 1
-    for b in range(n_buckets):
-        bucket_start[b + 1] += bucket_start[b]
-    # pass 1 moves every payload (cell, x, y, z, r, index) to its bucket: sequential reads, one write stream
-    # per bucket and array
-    fill_bucket = bucket_start[:-1].copy()
-    for i in range(n):
-        if cell[i] >= 0:
-            b = cell[i] >> shift
-            q = fill_bucket[b]
-            fill_bucket[b] = q + 1
-            b_cell[q] = cell[i]
-            b_x[q] = c[i, 0]
-            b_y[q] = c[i, 1]
-            b_z[q] = c[i, 2]
-            b_r[q] = r[i]
-            b_id[q] = i
-    # pass 2 sorts each bucket on the low bits of the cell number, within a cache-sized window
-    dest = sort_within_buckets(b_cell[:n_small], bucket_start, shift, n_cells, start)
-    for t in range(n_small):
-        p = dest[t]
-        sx[p] = b_x[t]
-        sy[p] = b_y[t]
-        sz[p] = b_z[t]
-        sr[p] = b_r[t]
-        sid[p] = b_id[t]
-    start[n_cells] = n_small
-    return n_small
-
-
-@njit
-def _sphere_grid_sweep(nx, ny, nz, start, sx, sy, sz, sr, sid, out):
-    """Each cell against the half of its 26 neighbours that comes after it, and itself (q > p).
-
-    Neighbour cells are read as contiguous runs: in its own column the cell and the next one (ix, ix + 1); in
-    the four columns (dy, dz) = (0, 1), (1, −1), (1, 0), (1, 1) the three cells ix − 1 .. ix + 1. The other
-    four columns meet this cell from their own side, so every pair is met once.
-    Pairs are written to ``out`` while it has room; returns their number (the caller retries if larger).
-    """
-    capacity = out.shape[0]
-    count = 0
-    for iy in range(ny):
-        for iz in range(nz):
-            column = (iy * nz + iz) * nx
-            for ix in range(nx):
-                h0 = start[column + ix]
-                h1 = start[column + ix + 1]
-                if h0 == h1:
-                    continue
-                for side in range(5):
-                    if side == 0:
-                        jy = iy
-                        jz = iz
-                    elif side == 1:
-                        jy = iy
-                        jz = iz + 1
-                    else:
-                        jy = iy + 1
-                        jz = iz + side - 3
-                    if jy >= ny or jz < 0 or jz >= nz:
-                        continue
-                    base = (jy * nz + jz) * nx
-                    o1 = start[base + min(ix + 2, nx)]
-                    o0 = start[base + max(ix - 1, 0)]
-                    for p in range(h0, h1):
-                        px = sx[p]
-                        py = sy[p]
-                        pz = sz[p]
-                        pr = sr[p]
-                        for q in range(p + 1 if side == 0 else o0, o1):
-                            ddx = px - sx[q]
-                            ddy = py - sy[q]
-                            ddz = pz - sz[q]
-                            s = pr + sr[q]
-                            if (ddx * ddx + ddy * ddy + ddz * ddz <= s * s
-                                    and abs(ddx) <= s and abs(ddy) <= s and abs(ddz) <= s):
-                                if count < capacity:
-                                    out[count, 0] = sid[p]
-                                    out[count, 1] = sid[q]
-                                count += 1
-    return count
+            if v < lo[k]:
+                lo[k] = v
+            if v > hi[k]:
+                hi[k] = v
+    return lo, hi
 
 
 @njit
@@ -215,11 +75,7 @@ def _large_sphere_pairs(c, r, large, out, count):
             if j == i or (large[j] and j < i):
                 continue
             if _spheres_touch(c, r, i, j):
-                if count == out.shape[0]:
-                    out = _grow(out, count + 1)
-                out[count, 0] = i
-                out[count, 1] = j
-                count += 1
+                out, count = pair_buffer.push_pair(out, count, i, j)
     return out, count
 
 
@@ -236,37 +92,41 @@ def _work_array(name: str, size: int, dtype) -> np.ndarray:
     return arr
 
 
-def _sphere_grid_pairs(c, r, large, cell_size, equal_radii=False):
-    """Grid broad phase + exact test of spheres (n, 3), radii (n,); canonical pairs."""
+def _sphere_grid_pairs(c, r, large, cell_size, equal_radii, threads):
+    """Column broad phase + exact test of spheres (n, 3), radii (n,); canonical pairs (engine.broadphase.
+    sphere_columns); ``threads`` > 1 sweeps disjoint ranges of columns on that many threads."""
     n = c.shape[0]
-    origin, inv, nx, ny, nz = _sphere_grid_shape(c, cell_size)
-    n_cells = nx * ny * nz
-    radix = n_cells > _DIRECT_SORT_CELLS
-    m = n if radix else 1
+    layout = column_layout(*_point_bounds(c), cell_size, n)
+    key_type = np.int32 if layout.dense else np.int64
+    keys, keys_tmp = (_work_array(f"{name}_{key_type.__name__}", n + 1, key_type) for name in ("keys", "keys_tmp"))
+    index, index_tmp = (_work_array(name, n, np.int64) for name in ("index", "index_tmp"))
     sorted_arrays = [_work_array(name, n, np.float64) for name in ("sx", "sy", "sz", "sr")]
-    n_small = _sphere_grid_sort(
-        c, r, large, origin, inv, nx, ny, nz, _work_array("cell", n, np.int64),
-        _work_array("start", n_cells + 1, np.int64), *sorted_arrays, _work_array("sid", n, np.int64),
-        _work_array("b_cell", m, np.int64), *[_work_array(name, m, np.float64) for name in ("bx", "by", "bz", "br")],
-        _work_array("b_id", m, np.int64))
-    grid = (nx, ny, nz, _WORK.start[: n_cells + 1], *[a[:n_small] for a in sorted_arrays], _WORK.sid[:n_small])
-    out = _work_pairs(max(16, n))
-    count = _sphere_grid_sweep(*grid, out)
-    if count > out.shape[0]:
-        out = _work_pairs(count)
-        count = _sphere_grid_sweep(*grid, out)
+    m, skeys, sid = sort_into_columns(c, r, large, layout, keys, index, keys_tmp, index_tmp, *sorted_arrays,
+                                      np.iinfo(key_type).max)
+    col_ids, col_start = home_columns(skeys, m, layout)
+    grid = (layout, skeys, m, *sorted_arrays, sid, col_ids, col_start)
+    chunks = pair_buffer.split_work(col_start, threads, MIN_SPHERES_PER_THREAD)
+    if len(chunks) == 1:
+        buf, count = _sweep_chunk(grid, chunks[0], pair_buffer.work_pair_buffer(max(16, n)))
+    else:
+        with ThreadPoolExecutor(max_workers=len(chunks)) as pool:
+            rows = n // len(chunks)
+            parts = list(pool.map(lambda chunk: _sweep_chunk(grid, chunk, pair_buffer.new_pair_buffer(rows)), chunks))
+        buf = np.concatenate([b[:k] for b, k in parts])
+        count = buf.shape[0]
     if not equal_radii:
-        out, count = _large_sphere_pairs(c, r, large, out, count)
-    return _canonical_pairs_kernel(out, count, n)
+        buf, count = _large_sphere_pairs(c, r, large, buf, count)
+    return pair_buffer.canonicalise_pairs(buf, count, n)
 
 
-def _work_pairs(rows: int) -> np.ndarray:
-    """A per-thread (rows, 2) int64 work buffer for candidate pairs."""
-    buf = getattr(_WORK, "pairs", None)
-    if buf is None or buf.shape[0] < rows:
-        buf = np.empty((max(16, rows + rows // 4), 2), dtype=np.int64)
-        _WORK.pairs = buf
-    return buf
+def _sweep_chunk(grid, chunk, buf):
+    """The sweeps from the home columns chunk = (first, last) of grid; returns (buffer, pair count), with a
+    buffer grown to the count and swept again when the one given was too small."""
+    count = sweep_columns(*grid, chunk[0], chunk[1], buf, 0)
+    if count > buf.shape[0]:
+        buf = np.empty((count, 2), dtype=np.int64)
+        count = sweep_columns(*grid, chunk[0], chunk[1], buf, 0)
+    return buf, count
 
 
 @njit
@@ -278,8 +138,27 @@ def _exact_filter_kernel(candidates, c, r):
     return candidates[keep]
 
 
+@njit
+def _all_within(a, limit):
+    """Whether every |a[i, k]| <= limit (False on a NaN): the finiteness check of as_float_array, without a copy."""
+    for i in range(a.shape[0]):
+        for k in range(a.shape[1]):
+            if not abs(a[i, k]) <= limit:
+                return False
+    return True
+
+
+def _as_centres(centers) -> np.ndarray:
+    """The checked centres: a caller's C-contiguous float64 (n, 3) array of finite values is used as it is (no
+    kernel writes to it), anything else gets as_float_array's copy and checks (and its error messages)."""
+    if (isinstance(centers, np.ndarray) and centers.dtype == np.float64 and centers.ndim == 2
+            and centers.shape[1] == 3 and centers.flags.c_contiguous and _all_within(centers, MAX_MAGNITUDE)):
+        return centers
+    return as_float_array(centers, "centers", ndim=2)
+
+
 def _as_spheres(centers, radii):
-    c = as_float_array(centers, "centers", ndim=2)
+    c = _as_centres(centers)
     if c.shape[1] not in (1, 2, 3):
         raise ValueError(f"centers must have shape (n, d) with d = 1, 2 or 3, got {c.shape}")
     n = c.shape[0]
@@ -303,17 +182,10 @@ def _as_spheres(centers, radii):
 def _scene_stats(c, r, large):
     """(largest |coordinate| + largest radius, largest radius outside ``large``, mean spacing (V/n)^(1/k))."""
     n = c.shape[0]
-    lo = np.full(3, np.inf)
-    hi = np.full(3, -np.inf)
+    lo, hi = _point_bounds(c)
     r_all = 0.0
     r_small = 0.0
     for i in range(n):
-        for k in range(3):
-            v = c[i, k]
-            if v < lo[k]:
-                lo[k] = v
-            if v > hi[k]:
-                hi[k] = v
         r_all = max(r_all, r[i])
         if not large[i]:
             r_small = max(r_small, r[i])
@@ -329,15 +201,17 @@ def _scene_stats(c, r, large):
     return scale + r_all, r_small, spacing
 
 
-def sphere_pairs(centers, radii, method: str = "grid") -> np.ndarray:
+def sphere_pairs(centers, radii, method: str = "grid", *, threads: int = 1) -> np.ndarray:
     """All pairs of spheres with |c_i − c_j| <= r_i + r_j (touching counts), broad phase + exact test.
 
     centers: (n, d), d in {1, 2, 3}; radii: a scalar or (n,), >= 0. method: "grid" (default, the fastest) or
-    any name of ``BROAD_PHASES`` (run on the spheres' bounding boxes). Returns canonical pairs, int64 (k, 2).
+    any name of ``BROAD_PHASES`` (run on the spheres' bounding boxes). threads: how many threads may share the
+    work (1 to 256; the answer is the same, bit for bit). Returns canonical pairs, int64 (k, 2).
     """
     from engine.broadphase import BROAD_PHASES, find_pairs
 
     method = as_choice(method, "method", BROAD_PHASES)
+    threads = as_threads(threads)
     c, r, equal = _as_spheres(centers, radii)
     n = c.shape[0]
     if n < 2:
@@ -351,17 +225,15 @@ def sphere_pairs(centers, radii, method: str = "grid") -> np.ndarray:
     scale, r_cell, spacing = _scene_stats(c, r, large)
     margin = 16.0 * _EPS * scale  # covers the rounding of coordinate differences and radius sums
     if method == "grid":
-        cell = max(2.0 * r_cell * (1.0 + 1e-9) + margin, _SPACING_FACTOR * spacing)
-        return _sphere_grid_pairs(c, r, large, cell if cell > 0.0 else 1.0, equal)
+        cell = max(2.0 * r_cell * (1.0 + 1e-9) + margin, SPACING_FACTOR * spacing)
+        return _sphere_grid_pairs(c, r, large, cell if cell > 0.0 else 1.0, equal, threads)
     widen = r + margin
-    candidates = find_pairs(c - widen[:, None], c + widen[:, None], method=method)
+    candidates = find_pairs(c - widen[:, None], c + widen[:, None], method=method, threads=threads)
     return _exact_filter_kernel(candidates, c, r)
 
 
 def spheres_overlap_pairs(centers, radii, pairs) -> np.ndarray:
     """Keep the rows of canonical ``pairs`` ((m, 2) int64) whose spheres touch (the exact narrow test)."""
     c, r, _ = _as_spheres(centers, radii)
-    from engine.broadphase.pairs import canonical_pairs
-
     candidates = canonical_pairs(pairs, n=c.shape[0])
     return _exact_filter_kernel(candidates, c, r)

@@ -18,12 +18,15 @@ list is nearly sorted and the repair is close to linear).
 """
 from __future__ import annotations
 
+from collections import namedtuple
+
 import numpy as np
 
+import engine.broadphase.pairs as pair_buffer
 from engine._config import njit
 from engine._validate import as_float_array
-from engine.broadphase.counting_sort import cell_of
-from engine.broadphase.pairs import _canonical_pairs_kernel, _grow, as_boxes, as_boxes_3d, empty_pairs, with_tests
+from engine.broadphase.counting_sort import cell_of, radix_sort_pairs
+from engine.broadphase.pairs import as_boxes, as_boxes_3d, as_live_id, as_one_box, as_threads, empty_pairs, with_tests
 
 __all__ = ["sweep_intervals", "sap_pairs", "sap_example_trace", "IncrementalSAP", "SLIDE_EXAMPLE"]
 
@@ -70,17 +73,13 @@ def _sweep_intervals_kernel(begin, end):
     active = np.empty(n, dtype=np.int64)
     slot = np.empty(n, dtype=np.int64)
     n_active = 0
-    out = np.empty((max(n, 16), 2), dtype=np.int64)
+    out = pair_buffer.new_pair_buffer(n)
     count = 0
     for t in range(2 * n):
         i = interval[t]
         if not is_end[t]:
-            if count + n_active > out.shape[0]:
-                out = _grow(out, count + n_active)
             for a in range(n_active):
-                out[count, 0] = active[a]
-                out[count, 1] = i
-                count += 1
+                out, count = pair_buffer.push_pair(out, count, active[a], i)
             active[n_active] = i
             slot[i] = n_active
             n_active += 1
@@ -90,7 +89,7 @@ def _sweep_intervals_kernel(begin, end):
             last = active[n_active]
             active[s] = last
             slot[last] = s
-    return _canonical_pairs_kernel(out, count, n)
+    return pair_buffer.canonicalise_pairs(out, count, n)
 
 
 def _as_intervals(begin, end):
@@ -158,121 +157,265 @@ def sap_example_trace(begin=None, end=None, labels=None) -> str:
 # ---------------------------------------------------------------------------------------------------------
 # 3-D: sort on one axis, sweep it, prune on the others
 # ---------------------------------------------------------------------------------------------------------
+#: below this many boxes the columns are always a table (small scenes: at most m/8 columns, one below 32 boxes)
+SPARSE_MIN_BOXES = 256
+#: the coarse grid of columns over the two axes other than the sweep axis: origin, 1/size and count of each
+ColumnGrid = namedtuple("ColumnGrid", ["o1", "inv1", "k1", "o2", "inv2", "k2"])
+
+
 @njit
-def _sweep_sorted_kernel(order, lo, hi, axis, n_objects):
-    # Chapter SAP slide in 3-D, box-pruning form (Ericson 7.5.2): boxes sorted by b on `axis`; for box p the
-    # boxes q after it with b_q <= e_p are exactly those in the active list when p enters; test the two other
-    # axes. To keep that run short the sweep is done per column of a coarse grid over the two other axes
-    # (Terdiman's multi-box-pruning): a box enters every column its box covers, each column keeps the sorted
-    # order, and a pair is reported only in the column holding the corner (max b^1, max b^2) of the two boxes,
-    # so exactly once. Structure of arrays: each column's sorted b/e are contiguous.
+def _axis_range(order, lo, hi, a):
+    """(smallest lo, largest hi) of the boxes along axis a."""
+    origin = np.inf
+    top = -np.inf
+    for p in range(order.shape[0]):
+        origin = min(origin, lo[order[p], a])
+        top = max(top, hi[order[p], a])
+    return origin, top
+
+
+@njit
+def _column_count(span, extent_sum, m, kmax):
+    """Columns along one axis: about span / (2 × the mean box extent), within [1, kmax]; a span so small that
+    span / kmax underflows to 0 (denormal coordinates) keeps one column."""
+    size = max(2.0 * extent_sum / m, span / kmax)
+    if span > 0.0 and size > 0.0:
+        return int(min(kmax, max(1.0, span / size)))
+    return 1
+
+
+@njit
+def _choose_columns(order, lo, hi, a1, a2, ranges):
+    """The column grid (Terdiman's multi box pruning): columns about twice the mean box size, halved on both
+    axes until a box enters 4 columns on average. ``ranges`` (4, m) int64 receives the first and last column of
+    each box on a1 and a2 (in sweep order); returns (grid, number of (box, column) entries, sparse).
+
+    At most ~m/8 columns are stored as a table (dense); when the boxes would need more than 4 times the
+    ~sqrt(m/8) of that table along an axis (far-apart clusters: fewer columns would put a cluster in one
+    column), the columns keep their size, up to 2^30 per axis, and only the occupied ones are stored (sparse:
+    sorted 64-bit column keys), from SPARSE_MIN_BOXES boxes on.
+    """
     m = order.shape[0]
-    a1 = (axis + 1) % 3
-    a2 = (axis + 2) % 3
-    # --- the grid over axes a1, a2: columns about twice the mean box size, at most ~m/8 columns
-    o1 = np.inf
-    t1 = -np.inf
-    o2 = np.inf
-    t2 = -np.inf
     ext1 = 0.0
     ext2 = 0.0
     for p in range(m):
-        o = order[p]
-        o1 = min(o1, lo[o, a1])
-        t1 = max(t1, hi[o, a1])
-        o2 = min(o2, lo[o, a2])
-        t2 = max(t2, hi[o, a2])
-        ext1 += hi[o, a1] - lo[o, a1]
-        ext2 += hi[o, a2] - lo[o, a2]
+        ext1 += hi[order[p], a1] - lo[order[p], a1]
+        ext2 += hi[order[p], a2] - lo[order[p], a2]
+    o1, t1 = _axis_range(order, lo, hi, a1)
+    o2, t2 = _axis_range(order, lo, hi, a2)
     span1 = t1 - o1
     span2 = t2 - o2
     kmax = max(1, int(np.sqrt(m / 8.0)))
-    k1 = 1
-    k2 = 1
-    # (a span so small that span·1e-6 underflows to 0, e.g. denormal coordinates, keeps one column)
-    size1 = max(2.0 * ext1 / m, span1 * 1e-6)
-    size2 = max(2.0 * ext2 / m, span2 * 1e-6)
-    if span1 > 0.0 and size1 > 0.0:
-        k1 = int(min(kmax, max(1.0, span1 / size1)))
-    if span2 > 0.0 and size2 > 0.0:
-        k2 = int(min(kmax, max(1.0, span2 / size2)))
-    first1 = np.empty(m, dtype=np.int64)
-    last1 = np.empty(m, dtype=np.int64)
-    first2 = np.empty(m, dtype=np.int64)
-    last2 = np.empty(m, dtype=np.int64)
-    while True:
-        inv1 = k1 / span1 if k1 > 1 else 0.0  # one column: every box in column 0 (no 0·inf)
-        inv2 = k2 / span2 if k2 > 1 else 0.0
+    k1 = _column_count(span1, ext1, m, 1 << 30)
+    k2 = _column_count(span2, ext2, m, 1 << 30)
+    sparse = m >= SPARSE_MIN_BOXES and (k1 > 4 * kmax or k2 > 4 * kmax)
+    if not sparse:
+        k1 = min(k1, kmax)
+        k2 = min(k2, kmax)
+    while True:  # (one column: inv = 0, every box in column 0, no 0·inf)
+        grid = ColumnGrid(o1, k1 / span1 if k1 > 1 else 0.0, k1, o2, k2 / span2 if k2 > 1 else 0.0, k2)
         entries = 0
         for p in range(m):
             o = order[p]
-            first1[p] = cell_of(lo[o, a1], o1, inv1, k1)
-            last1[p] = cell_of(hi[o, a1], o1, inv1, k1)
-            first2[p] = cell_of(lo[o, a2], o2, inv2, k2)
-            last2[p] = cell_of(hi[o, a2], o2, inv2, k2)
-            entries += (last1[p] - first1[p] + 1) * (last2[p] - first2[p] + 1)
+            ranges[0, p] = cell_of(lo[o, a1], grid.o1, grid.inv1, k1)
+            ranges[1, p] = cell_of(hi[o, a1], grid.o1, grid.inv1, k1)
+            ranges[2, p] = cell_of(lo[o, a2], grid.o2, grid.inv2, k2)
+            ranges[3, p] = cell_of(hi[o, a2], grid.o2, grid.inv2, k2)
+            entries += (ranges[1, p] - ranges[0, p] + 1) * (ranges[3, p] - ranges[2, p] + 1)
         if entries <= 4 * m or (k1 == 1 and k2 == 1):
-            break
+            return grid, entries, sparse
         k1 = max(1, k1 // 2)
         k2 = max(1, k2 // 2)
-    # --- counting sort of the entries by column, keeping the sweep order inside each column
-    n_cells = k1 * k2
-    start = np.zeros(n_cells + 1, dtype=np.int64)
+
+
+#: the sort keys: b on the sweep axis mapped to integers 0 .. 2^31 − 1 (monotone), and the sentinel above them
+KEY_STEPS = 1 << 31
+SENTINEL = 1 << 62
+
+#: the sweep axis' integer key map: key(v) = cell_of(v, origin, scale, KEY_STEPS) (monotone in v)
+SweepKeys = namedtuple("SweepKeys", ["origin", "scale"])
+
+
+@njit
+def sweep_keys(order, lo, hi, axis):
+    """The SweepKeys of the boxes along ``axis``: their range mapped onto 0 .. KEY_STEPS − 1."""
+    origin, top = _axis_range(order, lo, hi, axis)
+    span = top - origin
+    return SweepKeys(origin, KEY_STEPS / span if span > 0.0 else 0.0)
+
+
+@njit
+def _gather_entry(t, o, lo, hi, axis, a1, a2, keys, ident, key_b, soa):
+    ident[t] = o
+    key_b[t] = cell_of(lo[o, axis], keys.origin, keys.scale, KEY_STEPS)
+    soa[0, t] = lo[o, axis]
+    soa[1, t] = hi[o, axis]
+    soa[2, t] = lo[o, a1]
+    soa[3, t] = hi[o, a1]
+    soa[4, t] = lo[o, a2]
+    soa[5, t] = hi[o, a2]
+
+
+@njit
+def _fill_columns(order, lo, hi, axis, a1, a2, grid, ranges, entries, keys):
+    """Counting sort of the (box, column) entries by column, keeping the sweep order inside each column.
+
+    Returns (start, ident, key_b, soa): column c holds entries start[c] .. start[c + 1] − 2 and a sentinel at
+    start[c + 1] − 1 (key_b = SENTINEL: it ends every sweep of the column without a bounds check); ident[t] is
+    the box of entry t, key_b[t] the integer key of its b on the sweep axis, soa (6, slots) its b, e on the sweep
+    axis, then on a1, then on a2 (structure of arrays: each column's intervals are contiguous).
+    """
+    m = order.shape[0]
+    n_cells = grid.k1 * grid.k2
+    start = np.ones(n_cells + 1, dtype=np.int64)  # one sentinel per column
+    start[0] = 0
     for p in range(m):
-        for c1 in range(first1[p], last1[p] + 1):
-            for c2 in range(first2[p], last2[p] + 1):
-                start[c1 * k2 + c2 + 1] += 1
+        for c1 in range(ranges[0, p], ranges[1, p] + 1):
+            for c2 in range(ranges[2, p], ranges[3, p] + 1):
+                start[c1 * grid.k2 + c2 + 1] += 1
     for c in range(n_cells):
         start[c + 1] += start[c]
     fill = start[:n_cells].copy()
-    ident = np.empty(entries, dtype=np.int64)
-    b0 = np.empty(entries)
-    e0 = np.empty(entries)
-    b1 = np.empty(entries)
-    e1 = np.empty(entries)
-    b2 = np.empty(entries)
-    e2 = np.empty(entries)
+    slots = entries + n_cells
+    ident = np.empty(slots, dtype=np.int64)
+    key_b = np.empty(slots, dtype=np.int64)
+    soa = np.zeros((6, slots))
     for p in range(m):
-        o = order[p]
-        for c1 in range(first1[p], last1[p] + 1):
-            for c2 in range(first2[p], last2[p] + 1):
-                t = fill[c1 * k2 + c2]
-                fill[c1 * k2 + c2] = t + 1
-                ident[t] = o
-                b0[t] = lo[o, axis]
-                e0[t] = hi[o, axis]
-                b1[t] = lo[o, a1]
-                e1[t] = hi[o, a1]
-                b2[t] = lo[o, a2]
-                e2[t] = hi[o, a2]
-    # --- the sweep, column by column
-    out = np.empty((max(m, 16), 2), dtype=np.int64)
+        for c1 in range(ranges[0, p], ranges[1, p] + 1):
+            for c2 in range(ranges[2, p], ranges[3, p] + 1):
+                t = fill[c1 * grid.k2 + c2]
+                fill[c1 * grid.k2 + c2] = t + 1
+                _gather_entry(t, order[p], lo, hi, axis, a1, a2, keys, ident, key_b, soa)
+    for c in range(n_cells):
+        key_b[start[c + 1] - 1] = SENTINEL
+    return start, ident, key_b, soa
+
+
+@njit
+def _fill_columns_sparse(order, lo, hi, axis, a1, a2, grid, ranges, entries, keys):
+    """``_fill_columns`` storing only the occupied columns: the entries' column keys c1 · k2 + c2 radix-sorted
+    (stable, so the sweep order is kept inside each column). Returns (column keys, start, ident, key_b, soa),
+    column i holding entries start[i] .. start[i + 1] − 2 and its sentinel."""
+    column_of = np.empty(entries, dtype=np.int64)
+    source = np.empty(entries, dtype=np.int64)
+    t = 0
+    for p in range(order.shape[0]):
+        for c1 in range(ranges[0, p], ranges[1, p] + 1):
+            for c2 in range(ranges[2, p], ranges[3, p] + 1):
+                column_of[t] = c1 * grid.k2 + c2
+                source[t] = p
+                t += 1
+    column_of, source = radix_sort_pairs(column_of, source, np.empty(entries, dtype=np.int64),
+                                         np.empty(entries, dtype=np.int64), entries)
+    column_key = np.empty(entries, dtype=np.int64)
+    start = np.empty(entries + 1, dtype=np.int64)
+    ident = np.empty(2 * entries, dtype=np.int64)
+    key_b = np.empty(2 * entries, dtype=np.int64)
+    soa = np.zeros((6, 2 * entries))
+    columns = 0
+    for t in range(entries):
+        if t == 0 or column_of[t] != column_of[t - 1]:
+            if columns > 0:
+                key_b[t + columns - 1] = SENTINEL  # ends the previous column
+            column_key[columns] = column_of[t]
+            start[columns] = t + columns
+            columns += 1
+        _gather_entry(t + columns - 1, order[source[t]], lo, hi, axis, a1, a2, keys, ident, key_b, soa)
+    key_b[entries + columns - 1] = SENTINEL
+    start[columns] = entries + columns
+    return column_key[:columns].copy(), start[: columns + 1].copy(), ident, key_b, soa
+
+
+@njit
+def _sweep_columns(grid, keys, column_key, start, ident, key_b, soa, first, last, out):
+    # Chapter SAP slide, box-pruning form: in each column, for entry p the entries q after it with b_q <= e_p
+    # are exactly those in the active list when p enters; test the two other axes, and report the pair only in
+    # the column holding the lower corner (max b^1, max b^2) of the two boxes, so exactly once. The entries are
+    # in the order of their integer keys, so the sweep runs while key(b_q) <= key(e_p) (a superset, as the key
+    # map is monotone) and tests the sweep axis exactly too; the column's sentinel stops it.
+    # Columns first .. last − 1 (column i has key column_key[i] = c1 · k2 + c2); the pairs are recorded in out
+    # (the two-try record); returns (count, tests), count > len(out) when out was too small.
+    b0, e0, b1, e1, b2, e2 = soa[0], soa[1], soa[2], soa[3], soa[4], soa[5]
     count = 0
     tests = 0  # box tests on the two other axes: the pairs whose intervals overlap on the sweep axis
-    for c1 in range(k1):
-        for c2 in range(k2):
-            cell = c1 * k2 + c2
-            end = start[cell + 1]
-            for p in range(start[cell], end):
-                end0 = e0[p]
-                lo1 = b1[p]
-                hi1 = e1[p]
-                lo2 = b2[p]
-                hi2 = e2[p]
-                q = p + 1
-                while q < end and b0[q] <= end0:
-                    tests += 1
-                    if (b1[q] <= hi1) & (lo1 <= e1[q]) & (b2[q] <= hi2) & (lo2 <= e2[q]):
-                        # report in the column of the overlap's lower corner only
-                        if (cell_of(max(lo1, b1[q]), o1, inv1, k1) == c1
-                                and cell_of(max(lo2, b2[q]), o2, inv2, k2) == c2):
-                            if count == out.shape[0]:
-                                out = _grow(out, count + 1)
-                            out[count, 0] = ident[p]
-                            out[count, 1] = ident[q]
-                            count += 1
-                    q += 1
-    return _canonical_pairs_kernel(out, count, n_objects), tests
+    capacity = out.shape[0]
+    for cell in range(first, last):
+        c1 = column_key[cell] // grid.k2
+        c2 = column_key[cell] - c1 * grid.k2
+        for p in range(start[cell], start[cell + 1] - 1):
+            lo0 = b0[p]
+            end0 = e0[p]
+            lo1 = b1[p]
+            hi1 = e1[p]
+            lo2 = b2[p]
+            hi2 = e2[p]
+            key_end = cell_of(end0, keys.origin, keys.scale, KEY_STEPS)
+            q = p + 1
+            while key_b[q] <= key_end:
+                overlap0 = (b0[q] <= end0) & (lo0 <= e0[q])
+                tests += overlap0
+                keep = (overlap0 & (b1[q] <= hi1) & (lo1 <= e1[q]) & (b2[q] <= hi2) & (lo2 <= e2[q])
+                        & (cell_of(max(lo1, b1[q]), grid.o1, grid.inv1, grid.k1) == c1)
+                        & (cell_of(max(lo2, b2[q]), grid.o2, grid.inv2, grid.k2) == c2))
+                if count < capacity:  # the two-try record of engine.broadphase.pairs
+                    out[count, 0] = ident[p]
+                    out[count, 1] = ident[q]
+                count += np.int64(keep)
+                q += 1
+    return count, tests
+
+
+@njit
+def _prepare_columns(order, lo, hi, axis):
+    # Chapter SAP slide in 3-D, box-pruning form (Ericson 7.5.2): boxes in the order of their key on `axis`,
+    # swept per column of a coarse grid over the two other axes (Terdiman's multi box pruning) so that each run
+    # stays short.
+    a1 = (axis + 1) % 3
+    a2 = (axis + 2) % 3
+    keys = sweep_keys(order, lo, hi, axis)
+    ranges = np.empty((4, order.shape[0]), dtype=np.int64)
+    grid, entries, sparse = _choose_columns(order, lo, hi, a1, a2, ranges)
+    if sparse:
+        return (grid, keys, *_fill_columns_sparse(order, lo, hi, axis, a1, a2, grid, ranges, entries, keys))
+    start, ident, key_b, soa = _fill_columns(order, lo, hi, axis, a1, a2, grid, ranges, entries, keys)
+    return grid, keys, np.arange(grid.k1 * grid.k2), start, ident, key_b, soa
+
+
+@njit
+def sweep_order(lo, hi, axis):
+    """The boxes (n, 3) in the order of their integer sweep keys on ``axis`` (ties by index): int64 (n,), by
+    one radix sort of 31-bit keys (Terdiman's integer-mapped keys) instead of a comparison sort of floats."""
+    n = lo.shape[0]
+    everyone = np.arange(n)
+    keys = sweep_keys(everyone, lo, hi, axis)
+    key_b = np.empty(n, dtype=np.int64)
+    for i in range(n):
+        key_b[i] = cell_of(lo[i, axis], keys.origin, keys.scale, KEY_STEPS)
+    return radix_sort_pairs(key_b, everyone, np.empty(n, dtype=np.int64), np.empty(n, dtype=np.int64), n)[1].copy()
+
+
+#: a thread sweeps at least this many (box, column) entries
+MIN_ENTRIES_PER_THREAD = 4096
+
+
+def _sweep_sorted(order, lo, hi, axis: int, n_objects: int, threads: int = 1):
+    """Sweep-and-prune of the boxes (n, 3) lo, hi in sweep-key order ``order`` along ``axis``: (canonical
+    pairs, tests); ``threads`` > 1 sweeps disjoint ranges of columns on that many threads."""
+    grid, keys, column_key, start, ident, key_b, soa = _prepare_columns(order, lo, hi, axis)
+    ranges = pair_buffer.split_work(start, threads, MIN_ENTRIES_PER_THREAD)
+    # one range: this thread's reusable buffer; several: a buffer of its own per range (a pool thread may run
+    # two ranges one after the other, and the merge reads every range's buffer at the end)
+    buffer = pair_buffer.work_pair_buffer if len(ranges) == 1 else pair_buffer.new_pair_buffer
+
+    def sweep(first, last):
+        out = buffer(start[last] - start[first])
+        count, tests = _sweep_columns(grid, keys, column_key, start, ident, key_b, soa, first, last, out)
+        if count > out.shape[0]:  # too many pairs for the buffer: again, with room for all of them
+            out = buffer(count)
+            count, tests = _sweep_columns(grid, keys, column_key, start, ident, key_b, soa, first, last, out)
+        return out, count, tests
+
+    return pair_buffer.run_split(sweep, ranges, n_objects)
 
 
 def _widest_axis(lo, hi) -> int:
@@ -299,13 +442,15 @@ def _centre_variance(lo, hi):
     return var
 
 
-def sap_pairs(lo, hi, axis: int | None = None, *, return_tests: bool = False):
+def sap_pairs(lo, hi, axis: int | None = None, *, return_tests: bool = False, threads: int = 1):
     """All pairs of overlapping closed boxes by sweep-and-prune.
 
     lo, hi: (n, d), d in {1, 2, 3}, lo <= hi. axis: the sweep axis (default: the axis of largest spread of the
     box centres). Returns canonical pairs, int64 (k, 2); with ``return_tests=True``, ``(pairs, tests)`` where
-    tests counts the box tests made (pairs overlapping on the sweep axis within a column).
+    tests counts the box tests made (pairs overlapping on the sweep axis within a column). threads: how many
+    threads may share the sweep (the same answer, bit for bit).
     """
+    threads = as_threads(threads)
     lo3, hi3 = as_boxes_3d(lo, hi)
     d = np.shape(lo)[1]
     if axis is not None:
@@ -317,8 +462,7 @@ def sap_pairs(lo, hi, axis: int | None = None, *, return_tests: bool = False):
     if n < 2:
         return with_tests(empty_pairs(), 0, return_tests)
     axis = _widest_axis(lo3, hi3) if axis is None else int(axis)
-    order = np.argsort(lo3[:, axis], kind="stable")
-    pairs, tests = _sweep_sorted_kernel(order, lo3, hi3, axis, n)
+    pairs, tests = _sweep_sorted(sweep_order(lo3, hi3, axis), lo3, hi3, axis, n, threads)
     return with_tests(pairs, tests, return_tests)
 
 
@@ -403,27 +547,12 @@ class IncrementalSAP:
         return np.flatnonzero(self._alive[: self._size]).astype(np.int64)
 
     def _check_id(self, obj_id) -> int:
-        if isinstance(obj_id, bool) or not isinstance(obj_id, int | np.integer):
-            raise TypeError(f"id must be an int, got {type(obj_id).__name__}")
-        if not (0 <= obj_id < self._size and self._alive[obj_id]):
-            raise ValueError(f"id {obj_id} is not a live object")
-        return int(obj_id)
-
-    def _one_box(self, lo_i, hi_i, names=("lo_i", "hi_i")):
-        lo_name, hi_name = names
-        lo_i = as_float_array(lo_i, lo_name, shape=(self._d,))
-        hi_i = as_float_array(hi_i, hi_name, shape=(self._d,))
-        bad = np.flatnonzero(lo_i > hi_i)
-        if bad.size:
-            k = int(bad[0])
-            raise ValueError(f"{lo_name} must not exceed {hi_name}: {lo_name}[{k}] = {lo_i[k]!r} > "
-                             f"{hi_name}[{k}] = {hi_i[k]!r}")
-        return lo_i, hi_i
+        return as_live_id(obj_id, lambda i: 0 <= i < self._size and bool(self._alive[i]))
 
     # -- objects ----------------------------------------------------------------------------------------
     def add(self, lo_i, hi_i) -> int:
         """Insert the box [lo_i, hi_i] ((d,) each); returns its id."""
-        lo_i, hi_i = self._one_box(lo_i, hi_i)
+        lo_i, hi_i = as_one_box(lo_i, hi_i, self._d)
         if self._free:
             obj_id = self._free.pop()
         else:
@@ -454,7 +583,7 @@ class IncrementalSAP:
     def move(self, obj_id, lo_i, hi_i) -> None:
         """Give object ``obj_id`` the new box [lo_i, hi_i]; the order is repaired at the next query."""
         obj_id = self._check_id(obj_id)
-        lo_i, hi_i = self._one_box(lo_i, hi_i)
+        lo_i, hi_i = as_one_box(lo_i, hi_i, self._d)
         self._lo[obj_id, : self._d] = lo_i
         self._hi[obj_id, : self._d] = hi_i
 
@@ -474,4 +603,4 @@ class IncrementalSAP:
         if self._order.shape[0] < 2:
             return empty_pairs()
         self.last_swaps = int(_insertion_sort_order(self._order, self._lo, self.axis))
-        return _sweep_sorted_kernel(self._order, self._lo, self._hi, self.axis, self._size)[0]
+        return _sweep_sorted(self._order, self._lo, self._hi, self.axis, self._size)[0]

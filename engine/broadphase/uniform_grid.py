@@ -4,8 +4,13 @@ Chapter slides "Phase Large : Subdivision (découpage) spatiale" — space is cu
 share a cell are compared ("deux objets éloignés l'un de l'autre ne peuvent vraisemblablement pas être en
 collision"); the uniform cut is the "absolue" one. Ericson, *Real-Time Collision Detection* 7.1.
 
-- Cell size: by default twice the mean largest side of the boxes, enlarged if needed so the grid has at most
-  about 8·n cells (an empty or point-like scene gets one cell per object on average).
+- Cell size: by default twice the mean largest side of the boxes, or the mean spacing (V/n)^(1/k) if larger (an
+  empty or point-like scene gets one cell per object on average; ``default_cell_size``); the cells are stored
+  densely, enlarged if needed so the grid has at most about 8·n cells.
+- Far-apart clusters would then share coarse cells, one cluster per cell: the quadratic cliff. So when the
+  spacing exceeds ``SPARSE_SPACING_RATIO`` × twice the mean largest side (boxes that fill a small part of their
+  bounding volume), or when the cap on the cell count would enlarge the cells, only the occupied cells are
+  stored (sorted 64-bit cell keys, up to 2^21 cells per axis) and the cells keep their size.
 - A box is entered in every cell its box covers. A pair is reported only in the cell holding the lower corner
   (max lo_i, max lo_j) of the two boxes, which both cover — so exactly once, no duplicate.
 - Boxes covering more than 64 cells (one huge box among tiny ones) are kept out of the grid and tested against
@@ -18,14 +23,19 @@ from __future__ import annotations
 
 import numpy as np
 
+import engine.broadphase.pairs as pair_buffer
 from engine._config import njit
 from engine._validate import as_positive
-from engine.broadphase.counting_sort import cell_of, radix_split, sort_within_buckets
-from engine.broadphase.pairs import _canonical_pairs_kernel, _grow, as_boxes_3d, boxes_overlap, empty_pairs, with_tests
+from engine.broadphase.counting_sort import cell_of, grid_dims, radix_sort_pairs, radix_split, sort_within_buckets
+from engine.broadphase.pairs import as_boxes_3d, as_threads, boxes_overlap, empty_pairs, with_tests
 
 __all__ = ["grid_pairs", "default_cell_size"]
 
 _MAX_CELLS_PER_BOX = 64
+#: with the default cell size, when the spacing term exceeds this many times 2 × the mean largest side (the
+#: boxes fill a small part of their bounding volume: clusters far apart), the cells are 2 × the mean largest side
+#: and only the occupied ones are stored
+SPARSE_SPACING_RATIO = 8.0
 
 
 @njit
@@ -37,45 +47,42 @@ def _cell_range(lo, hi, i, origin, inv, dims):
 
 
 @njit
-def _grid_pairs_kernel(lo, hi, cell_size):
-    # Ericson 7.1.3-7.1.6: each box goes into every cell it overlaps; boxes sharing a cell are tested.
-    n = lo.shape[0]
+def _grid_layout(lo, hi, cell_size):
+    """(origin (3,), 1/side, dims (3,) int64, dense): cells from the scene's lowest corner. Dense: at most ~8n
+    cells, stored as a table. When that cap would coarsen the cells (far-apart clusters), the cells keep their
+    size (up to 2^21 per axis, so that a 64-bit key numbers them) and only the occupied ones are stored (sparse:
+    sorted cell keys)."""
     origin = np.empty(3)
     top = np.empty(3)
     for k in range(3):
         origin[k] = lo[:, k].min()
         top[k] = hi[:, k].max()
-    # cells per axis, the whole grid kept below ~8n cells
-    size = cell_size
-    dims = np.ones(3, dtype=np.int64)
-    while True:
-        total = 1.0
-        for k in range(3):
-            total *= np.floor((top[k] - origin[k]) / size) + 1.0
-        if total <= max(8.0 * n, 64.0):
-            break
-        size *= 2.0
-    for k in range(3):
-        dims[k] = int(np.floor((top[k] - origin[k]) / size)) + 1
-    inv = 1.0 / size
-    # the cell ranges are recomputed in each pass rather than stored (less memory traffic)
-    large = np.zeros(n, dtype=np.bool_)
-    n_large = 0
+    size, nx, ny, nz = grid_dims(origin, top, cell_size, max(8.0 * lo.shape[0], 64.0))
+    if size > cell_size:
+        sparse_size, sx, sy, sz = grid_dims(origin, top, cell_size, 2.0 ** 63)
+        while max(sx, sy, sz) > 1 << 21:
+            sparse_size, sx, sy, sz = grid_dims(origin, top, 2.0 * sparse_size, 2.0 ** 63)
+        if sparse_size < size:
+            return origin, 1.0 / sparse_size, np.array([sx, sy, sz]), False
+    return origin, 1.0 / size, np.array([nx, ny, nz]), True
+
+
+@njit
+def _enter_boxes(lo, hi, origin, inv, dims, large):
+    """The (cell, box) entries: every cell each box covers, in box order — (keys, ids), int64 (entries,) each.
+    Boxes covering more than _MAX_CELLS_PER_BOX cells are marked in ``large`` instead and enter no cell."""
+    n = lo.shape[0]
     entries = 0
-    for i in range(n):
+    for i in range(n):  # the cell ranges are recomputed in the second pass rather than stored
         x0, x1, y0, y1, z0, z1 = _cell_range(lo, hi, i, origin, inv, dims)
         cells = (x1 - x0 + 1) * (y1 - y0 + 1) * (z1 - z0 + 1)
         if cells > _MAX_CELLS_PER_BOX:
             large[i] = True
-            n_large += 1
         else:
             entries += cells
-    # counting sort of the (cell, box) entries by cell number, in two passes (MSD radix) so that the counters
-    # of each pass stay in cache: first on the high bits of the cell number (<= 2048 buckets), then each bucket
-    # on its low bits; the entries carry their boxes along, so each cell's boxes end up contiguous.
-    n_cells = dims[0] * dims[1] * dims[2]
-    shift, n_buckets = radix_split(n_cells)
-    bucket_start = np.zeros(n_buckets + 1, dtype=np.int64)
+    keys = np.empty(entries, dtype=np.int64)
+    ids = np.empty(entries, dtype=np.int64)
+    t = 0
     for i in range(n):
         if large[i]:
             continue
@@ -83,89 +90,151 @@ def _grid_pairs_kernel(lo, hi, cell_size):
         for cx in range(x0, x1 + 1):
             for cy in range(y0, y1 + 1):
                 for cz in range(z0, z1 + 1):
-                    bucket_start[(((cx * dims[1] + cy) * dims[2] + cz) >> shift) + 1] += 1
+                    keys[t] = (cx * dims[1] + cy) * dims[2] + cz
+                    ids[t] = i
+                    t += 1
+    return keys, ids
+
+
+@njit
+def _sort_entries(lo, hi, keys, ids, n_cells):
+    """The entries sorted by cell: (start (n_cells + 1,), member, elo, ehi); cell c holds entries start[c] ..
+    start[c + 1] − 1, member[t] is the box of entry t and elo, ehi (entries, 3) its box, contiguous by cell.
+
+    Counting sort in two passes (MSD radix) so that the counters of each pass stay in cache: first on the high
+    bits of the cell number (<= 2048 buckets), then each bucket on its low bits; stable, so box order is kept.
+    """
+    entries = keys.shape[0]
+    shift, n_buckets = radix_split(n_cells)
+    bucket_start = np.zeros(n_buckets + 1, dtype=np.int64)
+    for t in range(entries):
+        bucket_start[(keys[t] >> shift) + 1] += 1
     for b in range(n_buckets):
         bucket_start[b + 1] += bucket_start[b]
     fill = bucket_start[:-1].copy()
     b_key = np.empty(entries, dtype=np.int64)
     b_id = np.empty(entries, dtype=np.int64)
-    b_lo = np.empty((entries, 3))
-    b_hi = np.empty((entries, 3))
-    for i in range(n):
-        if large[i]:
-            continue
-        x0, x1, y0, y1, z0, z1 = _cell_range(lo, hi, i, origin, inv, dims)
-        for cx in range(x0, x1 + 1):
-            for cy in range(y0, y1 + 1):
-                for cz in range(z0, z1 + 1):
-                    key = (cx * dims[1] + cy) * dims[2] + cz
-                    t = fill[key >> shift]
-                    fill[key >> shift] = t + 1
-                    b_key[t] = key
-                    b_id[t] = i
-                    for k in range(3):
-                        b_lo[t, k] = lo[i, k]
-                        b_hi[t, k] = hi[i, k]
+    for t in range(entries):
+        q = fill[keys[t] >> shift]
+        fill[keys[t] >> shift] = q + 1
+        b_key[q] = keys[t]
+        b_id[q] = ids[t]
     start = np.empty(n_cells + 1, dtype=np.int64)
-    member = np.empty(entries, dtype=np.int64)
-    elo = np.empty((entries, 3))  # the members' boxes, contiguous cell by cell
-    ehi = np.empty((entries, 3))
     dest = sort_within_buckets(b_key, bucket_start, shift, n_cells, start)
+    member = np.empty(entries, dtype=np.int64)
+    elo = np.empty((entries, 3))
+    ehi = np.empty((entries, 3))
     for t in range(entries):
         q = dest[t]
         member[q] = b_id[t]
         for k in range(3):
-            elo[q, k] = b_lo[t, k]
-            ehi[q, k] = b_hi[t, k]
+            elo[q, k] = lo[b_id[t], k]
+            ehi[q, k] = hi[b_id[t], k]
     start[n_cells] = entries
-    out = np.empty((max(n, 16), 2), dtype=np.int64)
+    return start, member, elo, ehi
+
+
+@njit
+def _sort_entries_sparse(lo, hi, keys, ids):
+    """The entries sorted by cell key (one radix sort; only the occupied cells): (cell keys (c,), start
+    (c + 1,), member, elo, ehi) as in ``_sort_entries``, cell i being the run start[i] .. start[i + 1] − 1."""
+    entries = keys.shape[0]
+    skeys, member = radix_sort_pairs(keys, ids, np.empty(entries, dtype=np.int64), np.empty(entries, dtype=np.int64),
+                                     entries)
+    cell_key = np.empty(entries, dtype=np.int64)
+    start = np.empty(entries + 1, dtype=np.int64)
+    cells = 0
+    for t in range(entries):
+        if t == 0 or skeys[t] != skeys[t - 1]:
+            cell_key[cells] = skeys[t]
+            start[cells] = t
+            cells += 1
+    start[cells] = entries
+    elo = np.empty((entries, 3))
+    ehi = np.empty((entries, 3))
+    for t in range(entries):
+        for k in range(3):
+            elo[t, k] = lo[member[t], k]
+            ehi[t, k] = hi[member[t], k]
+    return cell_key[:cells].copy(), start[: cells + 1].copy(), member.copy(), elo, ehi
+
+
+@njit
+def _cell_pairs(cell_key, start, member, elo, ehi, origin, inv, dims, first, last, out):
+    """Boxes sharing a cell, each pair reported only in the cell of the lower corner of its overlap, for the
+    cells first .. last − 1 (cell i has key cell_key[i] = (cx · ny + cy) · nz + cz and entries start[i] ..
+    start[i + 1] − 1); returns the pair buffer (out, count) and the tests made."""
     count = 0
     tests = 0
-    # boxes sharing a cell; report in the cell of the lower corner of the overlap only
-    for cx in range(dims[0]):
-        for cy in range(dims[1]):
-            for cz in range(dims[2]):
-                c = (cx * dims[1] + cy) * dims[2] + cz
-                for p in range(start[c], start[c + 1]):
-                    for q in range(p + 1, start[c + 1]):
-                        tests += 1
-                        if boxes_overlap(elo, ehi, p, q):
-                            if (cell_of(max(elo[p, 0], elo[q, 0]), origin[0], inv, dims[0]) == cx
-                                    and cell_of(max(elo[p, 1], elo[q, 1]), origin[1], inv, dims[1]) == cy
-                                    and cell_of(max(elo[p, 2], elo[q, 2]), origin[2], inv, dims[2]) == cz):
-                                if count == out.shape[0]:
-                                    out = _grow(out, count + 1)
-                                out[count, 0] = member[p]
-                                out[count, 1] = member[q]
-                                count += 1
-    # boxes too large for the grid: against every box (once per pair of large boxes)
-    if n_large > 0:
-        for i in range(n):
-            if not large[i]:
-                continue
-            for j in range(n):
-                if j == i or (large[j] and j < i):
-                    continue
+    for c in range(first, last):
+        if start[c + 1] - start[c] < 2:
+            continue
+        key = cell_key[c]
+        cz = key % dims[2]
+        cy = (key // dims[2]) % dims[1]
+        cx = key // (dims[1] * dims[2])
+        for p in range(start[c], start[c + 1]):
+            for q in range(p + 1, start[c + 1]):
                 tests += 1
-                if boxes_overlap(lo, hi, i, j):
-                    if count == out.shape[0]:
-                        out = _grow(out, count + 1)
-                    out[count, 0] = i
-                    out[count, 1] = j
-                    count += 1
-    return _canonical_pairs_kernel(out, count, n), tests
+                if boxes_overlap(elo, ehi, p, q):
+                    if (cell_of(max(elo[p, 0], elo[q, 0]), origin[0], inv, dims[0]) == cx
+                            and cell_of(max(elo[p, 1], elo[q, 1]), origin[1], inv, dims[1]) == cy
+                            and cell_of(max(elo[p, 2], elo[q, 2]), origin[2], inv, dims[2]) == cz):
+                        out, count = pair_buffer.push_pair(out, count, member[p], member[q])
+    return out, count, tests
+
+
+@njit
+def _large_box_pairs(lo, hi, large, out):
+    """The boxes too large for the grid against every box (once per pair of large boxes); returns the pair
+    buffer (out, count) and the tests made."""
+    count = 0
+    tests = 0
+    for i in range(lo.shape[0]):
+        if not large[i]:
+            continue
+        for j in range(lo.shape[0]):
+            if j == i or (large[j] and j < i):
+                continue
+            tests += 1
+            if boxes_overlap(lo, hi, i, j):
+                out, count = pair_buffer.push_pair(out, count, i, j)
+    return out, count, tests
+
+
+@njit
+def _prepare_grid(lo, hi, cell_size):
+    # Ericson 7.1.3-7.1.6: each box goes into every cell it overlaps; boxes sharing a cell are tested.
+    origin, inv, dims, dense = _grid_layout(lo, hi, cell_size)
+    large = np.zeros(lo.shape[0], dtype=np.bool_)
+    keys, ids = _enter_boxes(lo, hi, origin, inv, dims, large)
+    if dense:
+        n_cells = dims[0] * dims[1] * dims[2]
+        start, member, elo, ehi = _sort_entries(lo, hi, keys, ids, n_cells)
+        return origin, inv, dims, large, np.arange(n_cells), start, member, elo, ehi
+    cell_key, start, member, elo, ehi = _sort_entries_sparse(lo, hi, keys, ids)
+    return origin, inv, dims, large, cell_key, start, member, elo, ehi
+
+
+#: a thread tests the boxes of at least this many (box, cell) entries
+MIN_ENTRIES_PER_THREAD = 4096
+
+
+@njit
+def _mean_largest_side(lo, hi):
+    mean_side = 0.0
+    for i in range(lo.shape[0]):
+        side = 0.0
+        for k in range(3):
+            side = max(side, hi[i, k] - lo[i, k])
+        mean_side += side
+    return mean_side / lo.shape[0]
 
 
 @njit
 def _default_cell_size(lo, hi):
     n = lo.shape[0]
-    mean_side = 0.0
-    for i in range(n):
-        side = 0.0
-        for k in range(3):
-            side = max(side, hi[i, k] - lo[i, k])
-        mean_side += side
-    mean_side /= n
+    mean_side = _mean_largest_side(lo, hi)
     # a fallback for point-like scenes: the side of a cell holding one object on average
     volume = 1.0
     dims = 0
@@ -185,6 +254,8 @@ def default_cell_size(lo, hi) -> float:
     max(2 × the mean over the boxes of their largest side, (V / n)^(1/k)), where the scene's extent (largest hi
     minus smallest lo) is positive along k of the axes and V is the product of those extents (the side of a
     cell holding one object on average: the fallback of point-like scenes; 0 when k = 0); 1.0 if that is 0.
+    When the spacing term exceeds ``SPARSE_SPACING_RATIO`` times 2 × the mean largest side (far-apart
+    clusters), ``grid_pairs`` uses cells of 2 × the mean largest side instead, storing only the occupied ones.
     """
     lo3, hi3 = as_boxes_3d(lo, hi)
     if lo3.shape[0] == 0:
@@ -192,18 +263,29 @@ def default_cell_size(lo, hi) -> float:
     return float(_default_cell_size(lo3, hi3))
 
 
-def grid_pairs(lo, hi, cell_size: float | None = None, *, return_tests: bool = False):
+def grid_pairs(lo, hi, cell_size: float | None = None, *, return_tests: bool = False, threads: int = 1):
     """All pairs of overlapping closed boxes with a uniform grid.
 
     lo, hi: (n, d), d in {1, 2, 3}, lo <= hi. cell_size: the cell side (> 0; default from the box sizes, see the
     module docstring). Returns canonical pairs, int64 (k, 2); with ``return_tests=True``, ``(pairs, tests)``
     where tests counts the box–box overlap tests made (boxes sharing a cell, and the too-large boxes' tests).
+    threads: how many threads may share the tests (the same answer, bit for bit).
     """
+    threads = as_threads(threads)
     lo3, hi3 = as_boxes_3d(lo, hi)
     size = None if cell_size is None else as_positive(cell_size, "cell_size")
     if lo3.shape[0] < 2:
         return with_tests(empty_pairs(), 0, return_tests)
     if size is None:
         size = float(_default_cell_size(lo3, hi3))
-    pairs, tests = _grid_pairs_kernel(lo3, hi3, size)
+        fine = 2.0 * float(_mean_largest_side(lo3, hi3))
+        if 0.0 < SPARSE_SPACING_RATIO * fine < size:
+            size = fine  # far-apart clusters: the spacing term would put a cluster in a cell; store occupied cells
+    n = lo3.shape[0]
+    origin, inv, dims, large, cell_key, start, member, elo, ehi = _prepare_grid(lo3, hi3, size)
+    ranges = pair_buffer.split_work(start, threads, MIN_ENTRIES_PER_THREAD)
+    large_pairs = _large_box_pairs(lo3, hi3, large, pair_buffer.new_pair_buffer(16))
+    pairs, tests = pair_buffer.run_split(
+        lambda first, last: _cell_pairs(cell_key, start, member, elo, ehi, origin, inv, dims, first, last,
+                                        pair_buffer.new_pair_buffer(n)), ranges, n, extra=large_pairs)
     return with_tests(pairs, tests, return_tests)

@@ -16,6 +16,7 @@ The loop also stops when the bracket can no longer shrink in floating point (tol
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 from .._validate import as_float, as_positive
@@ -25,7 +26,19 @@ __all__ = ["bisect", "BisectionResult", "max_bisection_iterations"]
 
 @dataclass(frozen=True)
 class BisectionResult:
-    """What ``bisect(..., full_output=True)`` reports besides the root."""
+    """What ``bisect(..., full_output=True)`` reports besides the root.
+
+    Attributes
+    ----------
+    root : float
+        The midpoint of the final bracket.
+    a, b : float
+        The final bracket, ``a <= root <= b``.
+    iterations : int
+        The number of halvings (evaluations of f at a midpoint).
+    converged : bool
+        ``b - a <= tol``, or an exact zero of f was hit.
+    """
 
     root: float
     a: float  #: final bracket, a <= root <= b
@@ -35,7 +48,20 @@ class BisectionResult:
 
 
 def max_bisection_iterations(a: float, b: float, tol: float) -> int:
-    """The bound ceil(log2((b - a) / tol)) + 1 on the number of halvings for a bracket [a, b]."""
+    """The bound ceil(log2((b − a)/tol)) + 1 on the number of halvings of the bracket [a, b].
+
+    Parameters
+    ----------
+    a, b : float
+        The bracket's ends.
+    tol : float
+        The width at which the bisection stops, > 0.
+
+    Returns
+    -------
+    int
+        At least 1.
+    """
     width = abs(b - a)
     if width <= tol:
         return 1
@@ -51,17 +77,37 @@ def _sign(value: float, x: float) -> int:
     return (value > 0.0) - (value < 0.0)
 
 
-def bisect(f, a, b, tol, *, full_output: bool = False):
-    """Root of a continuous scalar function ``f`` on the bracket [a, b] by Algorithme 3.
+def bisect(f: Callable[[float], float], a: float, b: float, tol: float, *,
+           full_output: bool = False) -> float | tuple[float, BisectionResult]:
+    """Root of a continuous scalar function on a bracket, by the chapter's Algorithme 3.
 
-    ``f(a)`` and ``f(b)`` must have opposite signs, or one of them be exactly 0 (that endpoint is returned
-    exactly). The ends may be given in either order. The result lies within ``tol`` of a root (it is the
-    midpoint of a final bracket of width <= tol, so within tol/2), after at most
-    ``ceil(log2(|b - a| / tol)) + 1`` evaluations of f at midpoints.
+    The result lies within ``tol`` of a root (it is the midpoint of a final bracket of width <= tol, so within
+    tol/2), after at most ``ceil(log2(|b − a|/tol)) + 1`` evaluations of f at midpoints.
 
-    Returns the root (float), or ``(root, BisectionResult)`` with ``full_output=True``.
-    Raises ValueError when [a, b] does not bracket a sign change, when ``tol <= 0``, when a bound is not
-    finite, or when f returns NaN; TypeError when ``f`` is not callable.
+    Parameters
+    ----------
+    f : callable
+        ``f(x) -> float``; ``f(a)`` and ``f(b)`` must have opposite signs, or one of them be exactly 0 (that end
+        is then returned exactly).
+    a, b : float
+        The bracket's ends, in either order; finite.
+    tol : float
+        The width of the final bracket, > 0.
+    full_output : bool, optional
+        Also return a :class:`BisectionResult`.
+
+    Returns
+    -------
+    root : float
+        Or ``(root, BisectionResult)`` with ``full_output=True``.
+
+    Raises
+    ------
+    ValueError
+        When [a, b] does not bracket a sign change, when ``tol <= 0``, when a bound is not finite, or when f
+        returns NaN.
+    TypeError
+        When ``f`` is not callable.
     """
     if not callable(f):
         raise TypeError(f"f must be callable f(x) -> float, got {type(f).__name__}")

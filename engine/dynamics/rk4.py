@@ -5,15 +5,30 @@ Chapter: "Reprendre le code de la chute libre avec frottements (avec RK4)" and t
 """
 from __future__ import annotations
 
+from collections.abc import Callable
+from typing import Any
+
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .._validate import as_float, as_float_array
 
 __all__ = ["rk4_step", "state_vector", "split_state"]
 
 
-def state_vector(position, velocity) -> np.ndarray:
-    """Y = (position, velocity) as one flat float64 vector of shape (2d,), for positions and velocities (d,)."""
+def state_vector(position: ArrayLike, velocity: ArrayLike) -> np.ndarray:
+    """The state Y = (position, velocity) as one flat vector.
+
+    Parameters
+    ----------
+    position, velocity : array_like, shape (d,)
+        A scalar counts as d = 1.
+
+    Returns
+    -------
+    numpy.ndarray, shape (2d,), float64
+        ``position`` then ``velocity``.
+    """
     p = as_float_array(np.atleast_1d(position), "position", ndim=1)
     v = as_float_array(np.atleast_1d(velocity), "velocity", ndim=1)
     if p.shape != v.shape:
@@ -21,8 +36,19 @@ def state_vector(position, velocity) -> np.ndarray:
     return np.concatenate([p, v])
 
 
-def split_state(y) -> tuple[np.ndarray, np.ndarray]:
-    """The inverse of ``state_vector``: (position (d,), velocity (d,)), copies of the halves of Y (2d,)."""
+def split_state(y: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+    """The inverse of ``state_vector``.
+
+    Parameters
+    ----------
+    y : array_like, shape (2d,)
+        A flat state vector of even length.
+
+    Returns
+    -------
+    position, velocity : numpy.ndarray, shape (d,), float64
+        The two halves of ``y`` (copies).
+    """
     y = as_float_array(y, "y", ndim=1)
     if y.shape[0] % 2:
         raise ValueError(f"y must be a flat state vector of even length, got shape {y.shape}")
@@ -30,11 +56,8 @@ def split_state(y) -> tuple[np.ndarray, np.ndarray]:
     return y[:d], y[d:]
 
 
-def rk4_step(f, t, y, dt):
-    """One classical RK4 step of dY/dt = f(t, Y): returns Y(t + dt), a new array shaped like ``y``.
-
-    ``f(t, y)`` must return an array of ``y``'s shape. ``y`` may have any shape (a scalar gives a float).
-    ``dt`` may be negative (integration backwards) or zero. The caller's ``y`` is never modified.
+def rk4_step(f: Callable[[float, Any], Any], t: float, y: ArrayLike, dt: float) -> np.ndarray | float:
+    """One classical RK4 step of dY/dt = f(t, Y)::
 
         k1 = f(t, Y)
         k2 = f(t + dt/2, Y + dt/2 k1)
@@ -42,8 +65,29 @@ def rk4_step(f, t, y, dt):
         k4 = f(t + dt,   Y + dt k3)
         Y(t + dt) = Y + dt/6 (k1 + 2 k2 + 2 k3 + k4)
 
-    Raises ValueError when ``t``, ``dt`` or ``y`` are not finite, when ``f`` returns the wrong shape, or when
-    the step produces a non-finite state (so no NaN escapes).
+    Parameters
+    ----------
+    f : callable
+        ``f(t, y)`` returns the derivative, an array of ``y``'s shape.
+    t : float
+        The time at the start of the step.
+    y : array_like, any shape, or float
+        The state at ``t``; never modified.
+    dt : float
+        The step; may be negative (integration backwards) or zero.
+
+    Returns
+    -------
+    numpy.ndarray (float64, shaped like ``y``) or float
+        Y(t + dt); a float when ``y`` is a scalar.
+
+    Raises
+    ------
+    ValueError
+        When ``t``, ``dt`` or ``y`` are not finite, when ``f`` returns the wrong shape, or when the step
+        produces a non-finite state (so no NaN escapes).
+    TypeError
+        When ``f`` is not callable.
     """
     if not callable(f):
         raise TypeError(f"f must be callable f(t, y), got {type(f).__name__}")

@@ -20,7 +20,17 @@ __all__ = ["drop_particle", "drop_cube", "Impact", "FallResult", "CubeDrop"]
 
 @dataclass(frozen=True)
 class Impact:
-    """One collision with the ground: time tc (s) and vertical velocities just before and after (m/s)."""
+    """One collision with the ground.
+
+    Attributes
+    ----------
+    t : float
+        The collision time tc (s), located by bisection.
+    v_before, v_after : float
+        The vertical velocity just before and just after the impact (m/s), v_after = −e·v_before.
+    came_to_rest : bool
+        The bounce was slower than ``rest_speed``: resting contact from tc on.
+    """
 
     t: float
     v_before: float
@@ -30,11 +40,22 @@ class Impact:
 
 @dataclass(frozen=True)
 class FallResult:
-    """Trajectory samples (each (m,)): ``t``, height ``y``, velocity ``v``, ``contact_force`` (N, 0 in flight).
+    """The falling particle's trajectory and impacts, as returned by :func:`drop_particle`.
 
-    Samples are taken every ``dt`` and at every impact time; ``impacts`` lists the collisions in time order;
-    ``rest_time`` is the time resting contact began (None if the body never came to rest);
-    ``bisection_iterations`` counts the trial re-integrations spent locating impacts.
+    Samples are taken every ``dt`` and at every impact time.
+
+    Attributes
+    ----------
+    t, y, v : numpy.ndarray, shape (m,), float64
+        Times (s), heights (m) and vertical velocities (m/s) of the samples.
+    contact_force : numpy.ndarray, shape (m,), float64
+        The ground's force on the particle (N): 0 in flight, m·g while resting.
+    impacts : list of Impact
+        The collisions, in time order.
+    rest_time : float or None
+        When resting contact began (None if the particle never came to rest).
+    bisection_iterations : int
+        The trial re-integrations spent locating the impacts.
     """
 
     t: np.ndarray
@@ -48,7 +69,21 @@ class FallResult:
 
 @dataclass(frozen=True)
 class CubeDrop:
-    """The falling cube: contact time, centre (3,) and velocity (3,) after it is stopped, and its trajectory."""
+    """The falling cube, as returned by :func:`drop_cube`.
+
+    Attributes
+    ----------
+    t_contact : float or None
+        When the cube's lowest point reached the ground (None if not by ``t_end``).
+    position, velocity : numpy.ndarray, shape (3,), float64
+        The centre and the velocity after the cube is stopped (or at ``t_end``).
+    t, y, v : numpy.ndarray, shape (m,), float64
+        Trajectory samples: times, heights of the centre, vertical velocities.
+    size : float
+        The cube's edge.
+    v_contact : float or None
+        The vertical velocity at tc, just before the cube is stopped (m/s).
+    """
 
     t_contact: float | None
     position: np.ndarray
@@ -90,18 +125,47 @@ def _check_common(height, mass, drag, quadratic_drag, gravity, dt, t_end, tol):
     return height, mass, drag, quadratic_drag, gravity, dt, t_end, tol
 
 
-def drop_particle(height, *, mass=1.0, drag=0.0, restitution=1.0, gravity=9.81, dt=0.01, t_end=5.0,
-                  tol=DEFAULT_TIME_TOL, quadratic_drag=0.0, rest_speed=None) -> FallResult:
+def drop_particle(height: float, *, mass: float = 1.0, drag: float = 0.0, restitution: float = 1.0,
+                  gravity: float = 9.81, dt: float = 0.01, t_end: float = 5.0, tol: float = DEFAULT_TIME_TOL,
+                  quadratic_drag: float = 0.0, rest_speed: float | None = None) -> FallResult:
     """A particle released from rest at y = ``height`` falls onto the ground y = 0 and bounces.
 
-    RK4 with time step ``dt`` on dY/dt = (v, F/m), F = -m g - drag v - quadratic_drag |v| v. Every impact is
+    RK4 with time step ``dt`` on dY/dt = (v, F/m), F = −m·g − drag·v − quadratic_drag·abs(v)·v. Every impact is
     located by bisection (Algorithme 3, tolerance ``tol`` seconds on tc), the solver is stopped at tc and
-    restarted from Y(tc)+ with v_after = -restitution v_before. A bounce slower than ``rest_speed`` (m/s; default
-    g dt, a bounce too short to resolve with steps of dt) ends the bouncing: the particle rests on the ground
-    held by the contact force N = m g, with no further stop/restart.
+    restarted from Y(tc)+ with v_after = −restitution·v_before. A bounce slower than ``rest_speed`` ends the
+    bouncing: the particle rests on the ground held by the contact force N = m·g, with no further stop/restart.
 
-    Raises ValueError naming the argument for a negative or non-finite height, mass <= 0, negative drag,
-    restitution outside [0, 1], dt <= 0, t_end <= 0, tol <= 0 or tol >= dt, rest_speed <= 0.
+    Parameters
+    ----------
+    height : float
+        The initial height (m), >= 0.
+    mass : float, optional
+        Mass (kg), > 0.
+    drag, quadratic_drag : float, optional
+        Linear (F = −k·v) and quadratic (F = −c·abs(v)·v) drag coefficients, >= 0.
+    restitution : float, optional
+        e in [0, 1].
+    gravity : float, optional
+        g (m/s²), >= 0.
+    dt : float, optional
+        The RK4 step (s), > 0.
+    t_end : float, optional
+        The simulated time (s), > 0; at most ``MAX_STEPS`` steps.
+    tol : float, optional
+        The bisection's tolerance on tc (s), 0 < tol < dt.
+    rest_speed : float, optional
+        The bounce speed below which the particle comes to rest (m/s); default g·dt, a bounce too short to
+        resolve with steps of dt.
+
+    Returns
+    -------
+    FallResult
+
+    Raises
+    ------
+    ValueError
+        Naming the argument, for a negative or non-finite height, mass <= 0, negative drag, restitution outside
+        [0, 1], dt <= 0, t_end <= 0, tol <= 0 or tol >= dt, rest_speed <= 0.
     """
     height, mass, drag, quadratic_drag, gravity, dt, t_end, tol = _check_common(
         height, mass, drag, quadratic_drag, gravity, dt, t_end, tol)
@@ -122,15 +186,33 @@ def drop_particle(height, *, mass=1.0, drag=0.0, restitution=1.0, gravity=9.81, 
                       bisection_iterations=int(iterations))
 
 
-def drop_cube(height, *, size=1.0, mass=1.0, drag=0.0, gravity=9.81, dt=0.01, tol=DEFAULT_TIME_TOL,
-              t_end=60.0, quadratic_drag=0.0) -> CubeDrop:
+def drop_cube(height: float, *, size: float = 1.0, mass: float = 1.0, drag: float = 0.0, gravity: float = 9.81,
+              dt: float = 0.01, tol: float = DEFAULT_TIME_TOL, t_end: float = 60.0,
+              quadratic_drag: float = 0.0) -> CubeDrop:
     """An axis-aligned cube of edge ``size``, centre at (0, height, 0), falls from rest onto the ground y = 0.
 
-    RK4 on the centre; contact when the lowest point (y - size/2) reaches 0, tc found by bisection; the cube is
-    then stopped: centre fixed at y = size/2, velocity zero (the slide's cube "Application"). ``t_contact`` is
-    None if the cube has not reached the ground by ``t_end`` (then ``position``/``velocity`` are the state at
-    t_end). Raises ValueError for a height below size/2 (the cube would start inside the ground), size <= 0, and
-    the same bad inputs as ``drop_particle``.
+    RK4 on the centre; contact when the lowest point (y − size/2) reaches 0, tc found by bisection; the cube is
+    then stopped: centre fixed at y = size/2, velocity zero (the slide's cube "Application").
+
+    Parameters
+    ----------
+    height : float
+        The initial height of the centre (m), >= size/2 (the cube starts above the ground).
+    size : float, optional
+        The cube's edge (m), > 0.
+    mass, drag, gravity, dt, tol, t_end, quadratic_drag : float, optional
+        As for :func:`drop_particle`.
+
+    Returns
+    -------
+    CubeDrop
+        ``t_contact`` is None if the cube has not reached the ground by ``t_end`` (then ``position`` and
+        ``velocity`` are the state at t_end).
+
+    Raises
+    ------
+    ValueError
+        For a height below size/2, size <= 0, and the same bad inputs as :func:`drop_particle`.
     """
     size = as_positive(size, "size")
     height, mass, drag, quadratic_drag, gravity, dt, t_end, tol = _check_common(

@@ -1,7 +1,7 @@
 """``collide gas``: run the confined gas and report Z, Γ (with standard errors), energy drift and speed.
 
-The lead wires the argparse subcommand to ``run_gas_command``; it prints a short report on stdout, a progress
-bar on stderr, and writes the speed histogram against the Maxwell–Boltzmann curve as a PNG.
+``run_gas_command`` prints a short report on stdout (a progress bar on stderr when it is a terminal), then writes
+the speed histogram against the Maxwell–Boltzmann curve as a PNG.
 """
 from __future__ import annotations
 
@@ -21,20 +21,22 @@ from engine.gas.simulate import simulate_gas
 __all__ = ["run_gas_command"]
 
 
-def _progress_bar(stream, width=40):
-    state = {"last": -1}
+def progress_bar(stream, description: str = "gas"):
+    """A ``progress(fraction)`` callable drawing a tqdm bar on ``stream`` — only when ``stream`` is a terminal (tqdm's
+    ``disable=None``), so logs get no carriage-return frames — and the bar, to close when the run ends."""
+    from tqdm import tqdm
+
+    bar = tqdm(total=1000, desc=description, file=stream, disable=None, leave=False,
+               bar_format="{desc}: {percentage:5.1f}%|{bar}| {elapsed} elapsed, {remaining} left")
 
     def show(fraction: float) -> None:
-        filled = int(round(width * min(max(fraction, 0.0), 1.0)))
-        if filled == state["last"]:
-            return
-        state["last"] = filled
-        stream.write(f"\r[{'#' * filled}{'.' * (width - filled)}] {100.0 * fraction:5.1f}%")
-        if filled == width:
-            stream.write("\n")
-        stream.flush()
+        target = int(round(1000 * min(max(fraction, 0.0), 1.0)))
+        if target > bar.n:
+            bar.update(target - bar.n)
+            if target == 1000:  # the end is always drawn (updates in between are throttled)
+                bar.refresh()
 
-    return show
+    return show, bar
 
 
 def run_gas_command(n=2000, eta=0.2, method="events", boundary="walls", t_measure=20.0, seed=0, out="gas_speeds.png",
@@ -54,13 +56,15 @@ def run_gas_command(n=2000, eta=0.2, method="events", boundary="walls", t_measur
     if isinstance(n, bool) or not isinstance(n, int) or n < 1:
         raise ValueError(f"n must be a positive int, got {n!r}")
     radius = radius_for_packing(n, eta, 10.0, boundary)
-    res = simulate_gas(n, radius=radius, method=method, boundary=boundary, t_measure=t_measure,
-                       t_equilibrate=t_equilibrate, dt=dt, broad_phase=broad_phase, seed=seed,
-                       progress=_progress_bar(stderr) if progress else None)
+    show, bar = progress_bar(stderr) if progress else (None, None)
+    try:
+        res = simulate_gas(n, radius=radius, method=method, boundary=boundary, t_measure=t_measure,
+                           t_equilibrate=t_equilibrate, dt=dt, broad_phase=broad_phase, seed=seed, progress=show)
+    finally:
+        if bar is not None:
+            bar.close()
     ks, pvalue = maxwell_boltzmann_test(res.scaled_speeds[-n:])
     path = pathlib.Path(out)
-    plot_speed_histogram(res.scaled_speeds, path,
-                         f"{method}, {boundary}, N = {n}, eta = {eta:g} (KS p = {pvalue:.2f})")
     what = "event-driven" if method == "events" else f"stepped, dt = {dt:g}, broad phase {broad_phase}"
     lines = [
         f"confined gas: N = {n}, eta = {eta:g}, sigma = {res.sigma:.5g}, box = 10, {boundary}, {what}",
@@ -83,4 +87,7 @@ def run_gas_command(n=2000, eta=0.2, method="events", boundary="walls", t_measur
         f"  speed histogram: {path}",
     ]
     stdout.write("\n".join(lines) + "\n")
+    stdout.flush()
+    plot_speed_histogram(res.scaled_speeds, path,
+                         f"{method}, {boundary}, N = {n}, eta = {eta:g} (KS p = {pvalue:.2f})")
     return 0
