@@ -274,6 +274,11 @@ def test_bad_input_raises():
         time_of_impact(CUBE, [np.nan, 0, 0], CUBE + 5, [0, 0, 0])
     with pytest.raises(ValueError, match="t_max"):
         time_of_impact(CUBE, [0, 0, 0], CUBE + 5, [0, 0, 0], t_max=-1.0)
+    # the velocities are required: None is refused naming the argument (it was once read as zero velocity)
+    with pytest.raises(TypeError, match="velocity_a"):
+        time_of_impact(CUBE, None, CUBE + 5, [0, 0, 0])
+    with pytest.raises(TypeError, match="velocity_b"):
+        time_of_impact(CUBE, [0, 0, 0], CUBE + 5, None)
 
 
 # --- collide contact A.json B.json ----------------------------------------------------------------------------

@@ -118,6 +118,7 @@ def _toi_batch(pts, off, cen, vel, spin, rad, pr, tm, tol, max_iter):
 
 
 def _vec(value, name):
+    """An optional (3,) vector (angular velocity, centre): None means zero."""
     return as_float_array(np.zeros(3) if value is None else value, name, shape=(3,))
 
 
@@ -136,8 +137,8 @@ def time_of_impact(points_a, velocity_a, points_b, velocity_b, *, t_max: float =
     """
     pa = as_float_array(points_a, "points_a", shape=(None, 3), min_rows=1)
     pb = as_float_array(points_b, "points_b", shape=(None, 3), min_rows=1)
-    va = _vec(velocity_a, "velocity_a")
-    vb = _vec(velocity_b, "velocity_b")
+    va = as_float_array(velocity_a, "velocity_a", shape=(3,))  # required: None is refused, not taken as zero
+    vb = as_float_array(velocity_b, "velocity_b", shape=(3,))
     wa = _vec(angular_velocity_a, "angular_velocity_a")
     wb = _vec(angular_velocity_b, "angular_velocity_b")
     ca = pa.mean(axis=0) if center_a is None else _vec(center_a, "center_a")
