@@ -227,7 +227,8 @@ def _touching_answer(pa, pb, V, VA, nv, size2, dx, dy, dz, out):
 
 @njit
 def _expand_polytope(pa, pb, poly, nv, size2, max_iter):
-    """EPA's loop (van den Bergen 4.3.3) on the tetrahedron V[0:4], faces 0–3. Returns (status, closest face):
+    """EPA's loop (van den Bergen 4.3.3) on the tetrahedron V[0:4], faces 0–3. Returns (status, closest face,
+    number of faces):
     OVERLAP when the closest face lies on M's boundary, else EPA_NOT_CONVERGED (iteration cap, storage, a face
     folded inwards or a horizon that is not one loop: round-off has broken the polytope)."""
     V, VA, VB, F, fadj, N, D, alive, stamp = poly[:9]
@@ -259,7 +260,7 @@ def _expand_polytope(pa, pb, poly, nv, size2, max_iter):
         ia, ib, wx, wy, wz = support_minkowski(pa, pb, N[best, 0], N[best, 1], N[best, 2])
         V[nv, 0], V[nv, 1], V[nv, 2], VA[nv], VB[nv] = wx, wy, wz, ia, ib
         if wx * N[best, 0] + wy * N[best, 1] + wz * N[best, 2] - best_d <= tol:
-            return OVERLAP, best
+            return OVERLAP, best, n_faces
         if not closed:
             break  # round-off oriented the first faces inconsistently: no horizon to follow
         n_visible, n_horizon = visible_faces_and_horizon(best, wx, wy, wz, 0.0, F, fadj, N, D, stamp, it, poly.stack,
@@ -276,19 +277,13 @@ def _expand_polytope(pa, pb, poly, nv, size2, max_iter):
             alive[f] = True
         n_faces += n_horizon
         nv += 1
-    return EPA_NOT_CONVERGED, -1
+    return EPA_NOT_CONVERGED, -1, n_faces
 
 
 @njit
-def _face_witnesses(pa, pb, V, VA, VB, F, N, D, best, out):
-    """Depth, normal and witness points of the closest face ``best``: the origin's projection on it, in
-    barycentric coordinates of its three vertices, applied to their rows of A and of B."""
-    out[0] = max(D[best], 0.0)
-    out[1], out[2], out[3] = N[best, 0], N[best, 1], N[best, 2]
-    a = F[best, 0]
-    b = F[best, 1]
-    c = F[best, 2]
-    px, py, pz = D[best] * N[best, 0], D[best] * N[best, 1], D[best] * N[best, 2]
+def _barycentric(V, F, f, px, py, pz):
+    """Barycentric weights (la, lb, lc) of the projection of p on the plane of face f (Ericson 3.4)."""
+    a, b, c = F[f, 0], F[f, 1], F[f, 2]
     v0 = (V[b, 0] - V[a, 0], V[b, 1] - V[a, 1], V[b, 2] - V[a, 2])
     v1 = (V[c, 0] - V[a, 0], V[c, 1] - V[a, 1], V[c, 2] - V[a, 2])
     v2 = (px - V[a, 0], py - V[a, 1], pz - V[a, 2])
@@ -304,7 +299,34 @@ def _face_witnesses(pa, pb, V, VA, VB, F, N, D, best, out):
     else:
         lb = 0.0
         lc = 0.0
-    la = 1.0 - lb - lc
+    return 1.0 - lb - lc, lb, lc
+
+
+@njit
+def _face_witnesses(pa, pb, V, VA, VB, F, N, D, alive, n_faces, best, out):
+    """Depth, normal and witness points of the closest face ``best``: the origin's projection p = D n on it, in
+    barycentric coordinates of the three vertices of the face that holds p, applied to their rows of A and B.
+
+    p lies on P's boundary (the ball of radius D about the origin is inside P and touches its plane at p), so some
+    live face in best's plane holds it; when several triangles share that plane, p may lie outside ``best`` itself
+    (weights < 0: extrapolated witnesses, outside A and B), hence the face of that plane whose smallest weight is
+    the largest."""
+    out[0] = max(D[best], 0.0)
+    out[1], out[2], out[3] = N[best, 0], N[best, 1], N[best, 2]
+    px, py, pz = D[best] * N[best, 0], D[best] * N[best, 1], D[best] * N[best, 2]
+    face = best
+    la, lb, lc = _barycentric(V, F, best, px, py, pz)
+    if min(la, lb, lc) < 0.0:
+        reach = 0.0  # the size of best's vertices: the scale of the coplanarity test
+        for k in range(3):
+            reach = max(reach, abs(V[F[best, k], 0]), abs(V[F[best, k], 1]), abs(V[F[best, k], 2]))
+        for f in range(n_faces):
+            if not alive[f] or f == best or abs(N[f, 0] * px + N[f, 1] * py + N[f, 2] * pz - D[f]) > EPA_TOL * reach:
+                continue
+            ma, mb, mc = _barycentric(V, F, f, px, py, pz)
+            if min(ma, mb, mc) > min(la, lb, lc):
+                face, la, lb, lc = f, ma, mb, mc
+    a, b, c = F[face, 0], F[face, 1], F[face, 2]
     for k in range(3):
         out[4 + k] = la * pa[VA[a], k] + lb * pa[VA[b], k] + lc * pa[VA[c], k]
         out[7 + k] = la * pb[VB[a], k] + lb * pb[VB[b], k] + lc * pb[VB[c], k]
@@ -320,8 +342,8 @@ def epa_kernel(pa, pb, W, IA, IB, n_simplex, max_iter, poly, out):
     if nv <= 1:
         _touching_answer(pa, pb, poly.V, poly.VA, nv, size2, dx, dy, dz, out)
         return OVERLAP
-    status, best = _expand_polytope(pa, pb, poly, nv, size2, max_iter)
+    status, best, n_faces = _expand_polytope(pa, pb, poly, nv, size2, max_iter)
     if status != OVERLAP:
         return EPA_NOT_CONVERGED
-    _face_witnesses(pa, pb, poly.V, poly.VA, poly.VB, poly.F, poly.N, poly.D, best, out)
+    _face_witnesses(pa, pb, poly.V, poly.VA, poly.VB, poly.F, poly.N, poly.D, poly.alive, n_faces, best, out)
     return OVERLAP
