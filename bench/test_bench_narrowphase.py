@@ -18,7 +18,7 @@ import os
 import numpy as np
 import pytest
 
-from engine.narrowphase.contact import contact_feature, contact_feature_pairs
+from engine.narrowphase.contact_manifold import contact_feature, contact_feature_pairs
 from engine.narrowphase.gjk import gjk_distance_batch, pack_point_sets
 from engine.narrowphase.primitives import overlap_circle_curve
 from engine.narrowphase.sat import overlap_convex_sat, overlap_convex_sat_pairs, overlap_obb_obb_batch
@@ -80,7 +80,8 @@ def test_gjk_box_box_batch_engine(benchmark, boxes):
 
 def test_gjk_box_box_batch_engine_kernel_only(benchmark, boxes):
     """The compiled loop alone (no validation, no copies): what the public boundary costs is the difference."""
-    from engine.narrowphase.gjk import MAX_ITERATIONS, _gjk_batch
+    from engine.narrowphase.gjk import MAX_ITERATIONS, NO_OFFSETS, NO_PAIRS, gjk_pairs_kernel, gjk_scratch
+    from engine.narrowphase.status import GJK_NOT_CONVERGED
 
     a = np.ascontiguousarray(boxes["corners"][:N_BATCH])
     b = np.ascontiguousarray(boxes["corners"][N_BATCH:])
@@ -88,9 +89,10 @@ def test_gjk_box_box_batch_engine_kernel_only(benchmark, boxes):
     ca = np.empty((N_BATCH, 3))
     cb = np.empty((N_BATCH, 3))
     status = np.empty(N_BATCH, np.int64)
-    _run(benchmark, lambda: _gjk_batch(a, b, MAX_ITERATIONS, dist, ca, cb, status), N_BATCH, "engine-kernel",
-         "gjk box-box")
-    assert (status != 2).all()
+    scratch = gjk_scratch(8)
+    _run(benchmark, lambda: gjk_pairs_kernel(a, b, NO_PAIRS, NO_OFFSETS, MAX_ITERATIONS, scratch, dist, ca, cb,
+                                             status), N_BATCH, "engine-kernel", "gjk box-box")
+    assert (status != GJK_NOT_CONVERGED).all()
 
 
 def test_gjk_hull20_batch_engine(benchmark, hulls):

@@ -11,6 +11,8 @@ import numbers
 
 import numpy as np
 
+from ._config import njit
+
 __all__ = [
     "MAX_MAGNITUDE",
     "MAX_STEPS",
@@ -21,6 +23,13 @@ __all__ = [
     "as_float_array",
     "as_choice",
     "as_count",
+    "as_max_iterations",
+    "as_radii",
+    "check_offsets",
+    "check_pairs",
+    "check_index",
+    "pair_indices",
+    "check_orthonormal_rows",
 ]
 
 
@@ -131,6 +140,115 @@ def as_count(value, name: str, minimum: int = 0, maximum: int | None = MAX_COUNT
     if maximum is not None and value > maximum:
         raise ValueError(f"{name} must be <= {maximum}, got {value}")
     return value
+
+
+def as_max_iterations(value, name: str = "max_iterations") -> int:
+    """An iteration cap: an int >= 1 (``as_count`` with minimum 1)."""
+    return as_count(value, name, minimum=1)
+
+
+def as_radii(value, name: str, n: int, *, scalar: bool = True) -> np.ndarray:
+    """Radii (n,) >= 0 as a fresh float64 array; with ``scalar`` a single number stands for n equal radii."""
+    if scalar and np.ndim(value) == 0:
+        return np.full(n, as_nonnegative(value, name))
+    arr = as_float_array(value, name, shape=(n,))
+    if (arr < 0).any():
+        i = int(np.argmax(arr < 0))
+        raise ValueError(f"{name} must be >= 0: {name}[{i}] = {arr[i]!r}")
+    return arr
+
+
+def check_offsets(offsets, n_points: int, name: str = "offsets") -> np.ndarray:
+    """Offsets (S + 1,) of S packed point sets over ``n_points`` rows: integers from 0 to n_points, strictly
+    increasing (every set has a point); returned as int64."""
+    off = np.asarray(offsets)
+    if off.dtype.kind not in "iu":
+        raise TypeError(f"{name} must be an integer array, got dtype {off.dtype}")
+    if off.ndim != 1 or off.shape[0] < 1:
+        raise ValueError(f"{name} must have shape (n_shapes + 1,), got {off.shape}")
+    off = off.astype(np.int64)
+    if off[0] != 0 or off[-1] != n_points:
+        raise ValueError(f"{name} must start at 0 and end at len(points) = {n_points}, got {off[0]}..{off[-1]}")
+    steps = np.diff(off)
+    if (steps < 1).any():
+        s = int(np.argmax(steps < 1))
+        raise ValueError(f"{name} must be strictly increasing (every shape needs a point): {name}[{s}] = "
+                         f"{off[s]} >= {name}[{s + 1}] = {off[s + 1]}")
+    return off
+
+
+def check_pairs(pairs, n_shapes: int, name: str = "pairs") -> np.ndarray:
+    """A (k, 2) int64 array of shape indices in [0, n_shapes); ValueError naming the first bad row."""
+    arr = np.asarray(pairs)
+    if arr.size == 0:
+        return np.empty((0, 2), np.int64)
+    if arr.dtype.kind not in "iu":
+        raise TypeError(f"{name} must be an integer array, got dtype {arr.dtype}")
+    if arr.ndim != 2 or arr.shape[1] != 2:
+        raise ValueError(f"{name} must have shape (k, 2), got {arr.shape}")
+    arr = np.ascontiguousarray(arr, dtype=np.int64)
+    bad = (arr < 0) | (arr >= n_shapes)
+    if bad.any():
+        r = int(np.argwhere(bad)[0][0])
+        raise ValueError(f"{name}[{r}] = {arr[r].tolist()} holds an index outside [0, {n_shapes})")
+    return arr
+
+
+def check_index(index, n_items: int, k: int | None, name: str) -> np.ndarray:
+    """An (k,) int64 index array into [0, n_items); ValueError naming the first index out of range."""
+    arr = np.asarray(index)
+    if arr.dtype.kind not in "iu":
+        raise TypeError(f"{name} must be an integer array, got dtype {arr.dtype}")
+    if arr.ndim != 1 or (k is not None and arr.shape[0] != k):
+        raise ValueError(f"{name} must have shape ({'k' if k is None else k},), got {arr.shape}")
+    arr = np.ascontiguousarray(arr, dtype=np.int64)
+    bad = (arr < 0) | (arr >= n_items)
+    if bad.any():
+        p = int(np.argmax(bad))
+        raise ValueError(f"{name}[{p}] = {arr[p]} is outside [0, {n_items})")
+    return arr
+
+
+def pair_indices(n_a: int, n_b: int, index_a, index_b):
+    """Resolve the (index_a, index_b) convention of batched pair tests: both None means aligned arrays (pair p =
+    row p of A against row p of B, which must have the same length); both given selects rows. Returns two (k,)
+    int64 arrays."""
+    if index_a is None and index_b is None:
+        if n_a != n_b:
+            raise ValueError(f"without index arrays the A and B arrays must have the same length, got {n_a} and "
+                             f"{n_b}")
+        idx = np.arange(n_a, dtype=np.int64)
+        return idx, idx
+    if index_a is None or index_b is None:
+        raise ValueError("index_a and index_b must be given together")
+    ia = check_index(index_a, n_a, None, "index_a")
+    ib = check_index(index_b, n_b, ia.shape[0], "index_b")
+    return ia, ib
+
+
+@njit
+def _orthonormal_errors(axes, err):
+    """max |A A^T − I| of every (3, 3) block of ``axes`` (n, 3, 3), into err (n,)."""
+    for n in range(axes.shape[0]):
+        worst = 0.0
+        for i in range(3):
+            for j in range(3):
+                d = axes[n, i, 0] * axes[n, j, 0] + axes[n, i, 1] * axes[n, j, 1] + axes[n, i, 2] * axes[n, j, 2]
+                if i == j:
+                    d -= 1.0
+                worst = max(worst, abs(d))
+        err[n] = worst
+
+
+def check_orthonormal_rows(axes: np.ndarray, name: str, tol: float) -> None:
+    """ValueError naming the first (3, 3) block of ``axes`` (n, 3, 3) float64 whose rows are not orthonormal to
+    ``tol`` (max |A A^T − I|)."""
+    if axes.shape[0]:
+        err = np.empty(axes.shape[0])
+        _orthonormal_errors(axes, err)
+        if (err > tol).any():
+            i = int(np.argmax(err > tol))
+            raise ValueError(f"{name}[{i}] must be orthonormal rows (max |A A^T - I| = {err[i]:.3g})")
 
 
 def as_choice(value, name: str, choices) -> str:

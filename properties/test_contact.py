@@ -8,10 +8,11 @@ import pytest
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
-from engine.narrowphase.contact import contact_feature, time_of_impact, time_of_impact_pairs
 from engine.narrowphase.contact_io import describe_contact, load_shape
-from engine.narrowphase.epa import epa_penetration
+from engine.narrowphase.contact_manifold import contact_feature
 from engine.narrowphase.gjk import gjk_distance, pack_point_sets
+from engine.narrowphase.penetration import epa_penetration
+from engine.narrowphase.time_of_impact import time_of_impact, time_of_impact_pairs
 from properties.strategies.narrow import (
     aabbs,
     box_corners,
@@ -273,6 +274,11 @@ def test_bad_input_raises():
         time_of_impact(CUBE, [np.nan, 0, 0], CUBE + 5, [0, 0, 0])
     with pytest.raises(ValueError, match="t_max"):
         time_of_impact(CUBE, [0, 0, 0], CUBE + 5, [0, 0, 0], t_max=-1.0)
+    # the velocities are required: None is refused naming the argument (it was once read as zero velocity)
+    with pytest.raises(TypeError, match="velocity_a"):
+        time_of_impact(CUBE, None, CUBE + 5, [0, 0, 0])
+    with pytest.raises(TypeError, match="velocity_b"):
+        time_of_impact(CUBE, [0, 0, 0], CUBE + 5, None)
 
 
 # --- collide contact A.json B.json ----------------------------------------------------------------------------

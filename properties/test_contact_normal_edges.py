@@ -4,7 +4,7 @@
   wherever the pair sits — in particular placed symmetrically about the origin (the closest points then have
   opposite coordinates, whose sum is 0) and with gaps down to 1e-150. The normal is the direction of
   closest_b − closest_a, rescaled by its largest component before it is squared
-  (``engine.narrowphase.contact._normal_and_depth``). (Below about 1e-154 GJK's own squared distance is
+  (``engine.narrowphase.penetration.penetration_kernel``). (Below about 1e-154 GJK's own squared distance is
   subnormal: 1e-162 comes out as 2.2e-162 and 1e-300 as touching; see properties/MUTATION.md.)
 - Two parallel edges that meet end to end across a gap h (edge–edge, the parallel branch of Ericson 5.1.9 with
   an overlap of zero length): one contact point, the shared end lifted to the mid-plane.

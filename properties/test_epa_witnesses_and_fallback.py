@@ -3,7 +3,7 @@
 - Witnesses: for overlapping hulls, ``epa_penetration(..., witnesses=True)`` returns the deepest points
   p_A of A and p_B of B: p_A − p_B is the origin's projection on M's closest face, i.e. ``depth * normal``, and
   each lies on its own hull (Qhull's facet planes: signed distance <= round-off).
-- The exact fallback (``_minkowski_fallback``: Qhull on the Minkowski difference, what the public functions
+- The exact fallback (``minkowski_fallback``: Qhull on the Minkowski difference, what the public functions
   return where EPA folds on round-off) gives the same depth and normal as EPA on hulls in general position, and,
   when M is flat (two coplanar sets), depth 0 along the normal of their plane with witnesses taken from the
   inputs' rows. It is reached through the public functions only on rare degenerate inputs, hence tested here
@@ -16,7 +16,7 @@ from hypothesis import assume, given
 from hypothesis import strategies as st
 
 from engine.narrowphase import epa_penetration
-from engine.narrowphase.epa import _minkowski_fallback
+from engine.narrowphase.penetration import minkowski_fallback
 from properties.strategies.narrow import exact_penetration_depth, hull_signed_distance, rotations, vectors
 
 seeds = st.integers(0, 2**32 - 1)
@@ -48,7 +48,7 @@ def test_exact_fallback_agrees_with_epa_in_general_position(seed, n_a, n_b, offs
     exact = exact_penetration_depth(a, b)
     assume(exact > 1e-3)
     depth, normal = epa_penetration(a, b)
-    f_depth, f_normal, f_a, f_b = _minkowski_fallback(a, b)
+    f_depth, f_normal, f_a, f_b = minkowski_fallback(a, b)
     assert abs(f_depth - depth) <= 1e-9 * max(np.abs(a).max(), np.abs(b).max(), 1.0)
     assert np.allclose(f_normal, normal, atol=1e-6)
     assert abs(np.linalg.norm(f_normal) - 1.0) <= 1e-12
@@ -66,7 +66,7 @@ def test_exact_fallback_on_coplanar_sets_is_touching_along_their_plane_normal(se
     flat_b = np.c_[rng.normal(size=(n_b, 2)) * 0.5, np.zeros(n_b)]
     a = flat_a @ rot.T + shift
     b = flat_b @ rot.T + shift
-    depth, normal, wa, wb = _minkowski_fallback(a, b)
+    depth, normal, wa, wb = minkowski_fallback(a, b)
     assert depth == 0.0
     assert abs(abs(normal @ rot[:, 2]) - 1.0) <= 1e-9, (normal, rot[:, 2])
     assert any(np.array_equal(wa, p) for p in a) and any(np.array_equal(wb, p) for p in b)

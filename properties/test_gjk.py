@@ -6,7 +6,6 @@ import pytest
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
-from engine.narrowphase.epa import epa_penetration, epa_penetration_pairs
 from engine.narrowphase.gjk import (
     GJKNotConverged,
     gjk_distance,
@@ -14,6 +13,7 @@ from engine.narrowphase.gjk import (
     gjk_distance_pairs,
     pack_point_sets,
 )
+from engine.narrowphase.penetration import epa_penetration, epa_penetration_pairs
 from properties.strategies.narrow import (
     aabb_depth,
     aabb_distance,
@@ -301,13 +301,13 @@ def triangles(draw):
 
 @given(triangles())
 def test_triangle_subalgorithm_against_brute_force(tri):
-    """The simplex sub-algorithm's triangle case (``_triangle_any``), degenerate triangles included (GJK meets them
-    when round-off lets a support point nearly repeat): its m supporting vertices and weights give a point of the
-    triangle as close to the origin as the brute-force answer."""
-    from engine.narrowphase.gjk import _triangle_any
+    """The simplex sub-algorithm's triangle case (``closest_on_triangle_any``), degenerate triangles included (GJK
+    meets them when round-off lets a support point nearly repeat): its m supporting vertices and weights give a
+    point of the triangle as close to the origin as the brute-force answer."""
+    from engine.narrowphase.simplex import closest_on_triangle_any
 
     a, b, c = tri
-    m, s0, s1, s2, l0, l1, l2 = _triangle_any(*a, *b, *c)
+    m, s0, s1, s2, l0, l1, l2 = closest_on_triangle_any(*a, *b, *c)
     assert m in (1, 2, 3)
     idx = [s0, s1, s2][:m]
     lam = np.array([l0, l1, l2][:m])
@@ -345,10 +345,15 @@ fractions = st.tuples(*[st.floats(0.0, 1.0)] * 3).map(np.array)
 def test_epa_kernel_needs_no_fallback_in_general_position(a, b):
     """Random clouds are in general position: the expanding polytope itself must converge there (the exact Qhull
     fallback of ``epa_penetration`` is for degenerate inputs only, and must not hide a broken EPA)."""
-    from engine.narrowphase.epa import _EPA_NOT_CONVERGED, _penetration
+    from engine.narrowphase.epa import epa_polytope
+    from engine.narrowphase.gjk import gjk_scratch
+    from engine.narrowphase.penetration import penetration_kernel
+    from engine.narrowphase.status import EPA_NOT_CONVERGED
 
     out = np.empty(10)
-    assert _penetration(a, b, 128, out) != _EPA_NOT_CONVERGED
+    assert penetration_kernel(a, b, 128, gjk_scratch(max(len(a), len(b))), epa_polytope(), np.empty(7),
+                              out) != EPA_NOT_CONVERGED
+    out[0] = max(-out[0], 0.0)  # the chain's signed distance (−depth when overlapping) as the depth
     exact = exact_penetration_depth(a, b)
     scale = _scale(a, b)
     if exact > 1e-7 * scale:
@@ -369,7 +374,7 @@ def test_epa_axis_aligned_boxes_exact(box_a, where, box_b):
 
 @given(vectors, vectors, st.floats(0.1, 3.0), st.floats(0.1, 3.0), st.floats(1e-3, 0.999))
 def test_epa_spheres_exact(c1, direction, r1, r2, fraction):
-    from engine.narrowphase.contact import contact_feature
+    from engine.narrowphase.contact_manifold import contact_feature
 
     assume(np.linalg.norm(direction) > 1e-3)
     c2 = c1 + direction / np.linalg.norm(direction) * fraction * (r1 + r2)

@@ -32,7 +32,7 @@ from engine.narrowphase import (
     overlap_convex_sat_pairs,
     pack_point_sets,
 )
-from engine.narrowphase.contact import FEATURE_TOL
+from engine.narrowphase.contact_manifold import FEATURE_TOL
 from properties.strategies.narrow import box_corners, hull_signed_distance, point_clouds, rotations, sizes
 
 _NAMES = {1: "vertex", 2: "edge", 3: "face"}

@@ -52,7 +52,7 @@ def test_obb_overlap_agrees_with_coal(pair):
     band = COAL_BAND * _scale(a, b)
     assume(d > band or d == 0.0)
     if d == 0.0:
-        from engine.narrowphase.epa import epa_penetration
+        from engine.narrowphase.penetration import epa_penetration
 
         assume(epa_penetration(a.corners(), b.corners())[0] > band)
     assert obb_overlap(a, b) == _coal_collide(a, b)
@@ -119,7 +119,7 @@ def test_convex_sat_iff_gjk_distance_zero(a, b):
     scale = max(np.abs(np.concatenate([a, b])).max(), 1.0)
     assume(d == 0.0 or d > GAP * scale)
     if d == 0.0:
-        from engine.narrowphase.epa import epa_penetration
+        from engine.narrowphase.penetration import epa_penetration
 
         assume(epa_penetration(a, b)[0] > GAP * scale)
     assert overlap_convex_sat(a, b) == (d == 0.0)

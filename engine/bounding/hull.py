@@ -19,14 +19,16 @@ face (edge) plane.
 from __future__ import annotations
 
 import math
+from collections import namedtuple
 
 import numpy as np
 
 from .._config import njit
 from .._validate import as_nonnegative
 from .aabb import as_points
+from .horizon import link_neighbours, stitch_cone, visible_faces_and_horizon
 
-__all__ = ["ConvexHull", "convex_hull", "is_convex"]
+__all__ = ["ConvexHull", "convex_hull", "is_convex", "monotone_chain", "HULL_EPS"]
 
 #: distances below HULL_EPS times the coordinate scale count as "on the plane" (quickhull's thick planes)
 HULL_EPS = 1e-12
@@ -94,8 +96,9 @@ def _not_left_turn(o, a, b):
 
 
 @njit
-def _monotone_chain_kernel(points, order):
-    """Indices of the hull vertices, counter-clockwise, from points visited in lexicographic ``order``.
+def monotone_chain(points, order):
+    """Indices (int64) of the 2-D hull vertices of ``points`` (n, >= 2) float64, counter-clockwise, from the
+    points visited in lexicographic (x, then y) ``order`` (n,) int64.
 
     Andrew's algorithm: lower chain left to right, upper chain right to left; a point is popped while the last
     two chain points and the new point do not turn strictly left (cross <= 0, or a turn below FLAT_ANGLE), so
@@ -128,7 +131,7 @@ def _hull_2d(pts: np.ndarray) -> ConvexHull:
     if (np.diff(pts[order, 0]) == 0).any():
         order = np.lexsort((pts[:, 1], pts[:, 0]))
     order = order.astype(np.int64)
-    verts = _monotone_chain_kernel(pts, order)
+    verts = monotone_chain(pts, order)
     if verts.shape[0] < 3:
         what = "coincide" if np.ptp(pts, axis=0).max() == 0 else "are collinear"
         raise ValueError(f"points: all points {what}; a 2-D hull needs 3 non-collinear points")
@@ -263,178 +266,144 @@ def _grown(arr, size, fill):
     return out
 
 
+#: quickhull's per-face arrays (one row per face slot; the mesh layout of engine.bounding.horizon) and its search
+#: scratch: ``alive``, the conflict lists (``head``: first outside point, ``far`` / ``far_d``: the farthest one and
+#: its distance), ``visible``, ``stack``, ``horizon`` (3 × capacity rows), ``new_faces``
+QuickhullMesh = namedtuple("QuickhullMesh", ["fv", "fadj", "fn", "fd", "alive", "head", "far", "far_d", "stamp",
+                                             "visible", "stack", "horizon", "new_faces"])
+
+
 @njit
-def _quickhull_kernel(points, eps, capacity):
-    """Quickhull in 3-D. Returns (faces (m, 3), status): status 0 ok, 1/2/3 degenerate input of that
-    dimension + 1, 4 numerically invalid horizon. ``capacity`` is the initial number of face slots."""
-    n = points.shape[0]
-    empty = np.zeros((0, 3), dtype=np.int64)
-    simplex, status = _initial_simplex(points, eps)
-    if status != 0:
-        return empty, status
+def _new_mesh(capacity):
+    return QuickhullMesh(np.zeros((capacity, 3), dtype=np.int64), np.full((capacity, 3), -1, dtype=np.int64),
+                         np.zeros((capacity, 3)), np.zeros(capacity), np.zeros(capacity, dtype=np.bool_),
+                         np.full(capacity, -1, dtype=np.int64), np.full(capacity, -1, dtype=np.int64),
+                         np.zeros(capacity), np.full(capacity, -1, dtype=np.int64), np.empty(capacity, dtype=np.int64),
+                         np.empty(capacity, dtype=np.int64), np.empty((3 * capacity, 3), dtype=np.int64),
+                         np.empty(capacity, dtype=np.int64))
 
-    fv = np.zeros((capacity, 3), dtype=np.int64)        # face vertices, counter-clockwise from outside
-    fadj = np.full((capacity, 3), -1, dtype=np.int64)   # face across edge e = (fv[e], fv[(e + 1) % 3])
-    fn = np.zeros((capacity, 3))                         # unit outward normals
-    fd = np.zeros(capacity)                              # plane offsets
-    alive = np.zeros(capacity, dtype=np.bool_)
-    head = np.full(capacity, -1, dtype=np.int64)         # conflict list: first outside point of each face
-    far = np.full(capacity, -1, dtype=np.int64)          # farthest outside point of each face
-    far_d = np.zeros(capacity)
-    stamp = np.full(capacity, -1, dtype=np.int64)        # visited mark of the visibility search
-    nxt = np.full(n, -1, dtype=np.int64)                 # next point in the same conflict list
-    start_face = np.full(n, -1, dtype=np.int64)          # new face whose horizon edge starts at a vertex
-    end_face = np.full(n, -1, dtype=np.int64)            # new face whose horizon edge ends at a vertex
 
-    # the tetrahedron, each face oriented away from the opposite vertex
+@njit
+def _grown_mesh(m, capacity):
+    """Every per-face array of ``m`` with ``capacity`` rows (amortised doubling)."""
+    return QuickhullMesh(_grown(m.fv, capacity, 0), _grown(m.fadj, capacity, -1), _grown(m.fn, capacity, 0.0),
+                         _grown(m.fd, capacity, 0.0), _grown(m.alive, capacity, False),
+                         _grown(m.head, capacity, -1), _grown(m.far, capacity, -1), _grown(m.far_d, capacity, 0.0),
+                         _grown(m.stamp, capacity, -1), _grown(m.visible, capacity, 0),
+                         _grown(m.stack, capacity, 0), _grown(m.horizon, 3 * capacity, 0),
+                         _grown(m.new_faces, capacity, 0))
+
+
+@njit
+def _initial_tetrahedron(points, simplex, m, nxt, eps):
+    """Faces 0..3 of the mesh: the tetrahedron ``simplex``, each face oriented away from the opposite vertex and
+    linked to its neighbours; every other point goes to the conflict list of the face it lies farthest outside of."""
     tri = np.array([[0, 1, 2], [0, 3, 1], [1, 3, 2], [2, 3, 0]], dtype=np.int64)
     opposite = np.array([3, 2, 0, 1], dtype=np.int64)
     for f in range(4):
         a = simplex[tri[f, 0]]
         b = simplex[tri[f, 1]]
         c = simplex[tri[f, 2]]
-        fd[f] = _plane(points, a, b, c, fn[f])
-        if _distance(points, simplex[opposite[f]], fn[f], fd[f]) > 0.0:
+        m.fd[f] = _plane(points, a, b, c, m.fn[f])
+        if _distance(points, simplex[opposite[f]], m.fn[f], m.fd[f]) > 0.0:
             b, c = c, b
-            fd[f] = _plane(points, a, b, c, fn[f])
-        fv[f, 0] = a
-        fv[f, 1] = b
-        fv[f, 2] = c
-        alive[f] = True
-    for f in range(4):  # neighbours: the face holding the reversed edge
-        for e in range(3):
-            a = fv[f, e]
-            b = fv[f, (e + 1) % 3]
-            for g in range(4):
-                for e2 in range(3):
-                    if fv[g, e2] == b and fv[g, (e2 + 1) % 3] == a:
-                        fadj[f, e] = g
-    nfaces = 4
-
-    # every other point goes to the conflict list of the face it lies farthest outside of
+            m.fd[f] = _plane(points, a, b, c, m.fn[f])
+        m.fv[f, 0] = a
+        m.fv[f, 1] = b
+        m.fv[f, 2] = c
+        m.alive[f] = True
+    link_neighbours(m.fv, 4, m.fadj)
     first_faces = np.arange(4)
-    for i in range(n):
+    for i in range(points.shape[0]):
         if i == simplex[0] or i == simplex[1] or i == simplex[2] or i == simplex[3]:
             continue
-        _assign_outside_point(points, i, first_faces, 4, fn, fd, eps, head, nxt, far, far_d)
+        _assign_outside_point(points, i, first_faces, 4, m.fn, m.fd, eps, m.head, nxt, m.far, m.far_d)
 
-    visible = np.empty(capacity, dtype=np.int64)
-    stack = np.empty(capacity, dtype=np.int64)
-    horizon = np.empty((3 * capacity, 3), dtype=np.int64)  # (a, b, face beyond the edge)
-    new_faces = np.empty(capacity, dtype=np.int64)
+
+@njit
+def _cone_planes(points, m, first, count, apex):
+    """Planes of the new faces ``first .. first + count - 1`` (a, b, apex), alive, with empty conflict lists."""
+    for nf in range(first, first + count):
+        m.fd[nf] = _plane(points, m.fv[nf, 0], m.fv[nf, 1], apex, m.fn[nf])
+        m.alive[nf] = True
+        m.head[nf] = -1
+        m.far[nf] = -1
+        m.far_d[nf] = 0.0
+
+
+@njit
+def _hand_over_points(points, apex, n_visible, n_new, m, nxt, eps):
+    """The visible faces die; their outside points (but the apex) move to the new face they lie farthest outside
+    of, or are dropped when they are inside the new hull."""
+    for v in range(n_visible):
+        g = m.visible[v]
+        m.alive[g] = False
+        i = m.head[g]
+        while i != -1:
+            following = nxt[i]
+            if i != apex:
+                _assign_outside_point(points, i, m.new_faces, n_new, m.fn, m.fd, eps, m.head, nxt, m.far, m.far_d)
+            i = following
+        m.head[g] = -1
+
+
+@njit
+def _alive_faces(m, n_faces):
+    count = 0
+    for g in range(n_faces):
+        if m.alive[g]:
+            count += 1
+    faces = np.empty((count, 3), dtype=np.int64)
+    count = 0
+    for g in range(n_faces):
+        if m.alive[g]:
+            faces[count] = m.fv[g]
+            count += 1
+    return faces
+
+
+@njit
+def _quickhull_kernel(points, eps, capacity):
+    """Quickhull in 3-D (Ericson 12.4.2). Returns (faces (m, 3), status): status 0 ok, 1/2/3 degenerate input of
+    that dimension + 1, 4 numerically invalid horizon. ``capacity`` is the initial number of face slots.
+
+        the tetrahedron of four extreme points; every other point on the conflict list of a face it is outside
+        for each face f with a non-empty conflict list:
+            p <- the farthest point of f's list
+            replace the faces p sees by the cone of new faces on their horizon (engine.bounding.horizon)
+            hand the dead faces' points over to the new faces
+    """
+    n = points.shape[0]
+    simplex, status = _initial_simplex(points, eps)
+    if status != 0:
+        return np.zeros((0, 3), dtype=np.int64), status
+    m = _new_mesh(capacity)
+    nxt = np.full(n, -1, dtype=np.int64)  # next point in the same conflict list
+    start_face = np.full(n, -1, dtype=np.int64)  # stitch_cone's scratch
+    end_face = np.full(n, -1, dtype=np.int64)
+    _initial_tetrahedron(points, simplex, m, nxt, eps)
+    n_faces = 4
     f = 0
     iteration = 0
-    while f < nfaces:
-        if not alive[f] or head[f] == -1:
+    while f < n_faces:
+        if not m.alive[f] or m.head[f] == -1:
             f += 1
             continue
         iteration += 1
-        p = far[f]
-        # 1. visible faces: depth-first search from f over neighbours; the horizon is the set of edges
-        #    between a visible face and a face that p does not see
-        nvis = 0
-        nhor = 0
-        top = 0
-        stack[top] = f
-        top += 1
-        stamp[f] = iteration
-        while top > 0:
-            top -= 1
-            g = stack[top]
-            visible[nvis] = g
-            nvis += 1
-            for e in range(3):
-                h = fadj[g, e]
-                if stamp[h] == iteration:
-                    continue
-                if _distance(points, p, fn[h], fd[h]) > eps:
-                    stamp[h] = iteration
-                    stack[top] = h
-                    top += 1
-                else:
-                    horizon[nhor, 0] = fv[g, e]
-                    horizon[nhor, 1] = fv[g, (e + 1) % 3]
-                    horizon[nhor, 2] = h
-                    nhor += 1
-        # a horizon edge whose outer face turned visible later in the search is not a horizon edge
-        k = 0
-        for t in range(nhor):
-            if stamp[horizon[t, 2]] != iteration:
-                horizon[k] = horizon[t]
-                k += 1
-        nhor = k
-        if nfaces + nhor > capacity:  # grow every per-face array (amortised doubling)
-            capacity = 2 * (nfaces + nhor)
-            fv = _grown(fv, capacity, 0)
-            fadj = _grown(fadj, capacity, -1)
-            fn = _grown(fn, capacity, 0.0)
-            fd = _grown(fd, capacity, 0.0)
-            alive = _grown(alive, capacity, False)
-            head = _grown(head, capacity, -1)
-            far = _grown(far, capacity, -1)
-            far_d = _grown(far_d, capacity, 0.0)
-            stamp = _grown(stamp, capacity, -1)
-            visible = _grown(visible, capacity, 0)
-            stack = _grown(stack, capacity, 0)
-            horizon = _grown(horizon, 3 * capacity, 0)
-            new_faces = _grown(new_faces, capacity, 0)
-        # 2. the cone of new faces (a, b, p) on the horizon edges, linked to the faces beyond and to each other
-        for t in range(nhor):
-            a = horizon[t, 0]
-            b = horizon[t, 1]
-            h = horizon[t, 2]
-            nf = nfaces
-            nfaces += 1
-            fv[nf, 0] = a
-            fv[nf, 1] = b
-            fv[nf, 2] = p
-            fd[nf] = _plane(points, a, b, p, fn[nf])
-            alive[nf] = True
-            head[nf] = -1
-            far[nf] = -1
-            far_d[nf] = 0.0
-            fadj[nf, 0] = h
-            for e in range(3):
-                if fv[h, e] == b and fv[h, (e + 1) % 3] == a:
-                    fadj[h, e] = nf
-            if start_face[a] != -1 or end_face[b] != -1:
-                return empty, 4  # the horizon is not a simple loop
-            start_face[a] = nf
-            end_face[b] = nf
-            new_faces[t] = nf
-        for t in range(nhor):
-            nf = new_faces[t]
-            fadj[nf, 1] = start_face[fv[nf, 1]]   # edge (b, p) borders the face starting at b
-            fadj[nf, 2] = end_face[fv[nf, 0]]     # edge (p, a) borders the face ending at a
-            if fadj[nf, 1] == -1 or fadj[nf, 2] == -1:
-                return empty, 4
-        for t in range(nhor):
-            start_face[horizon[t, 0]] = -1
-            end_face[horizon[t, 1]] = -1
-        # 3. the visible faces die; their outside points move to the new face they lie farthest outside of
-        for v in range(nvis):
-            g = visible[v]
-            alive[g] = False
-            i = head[g]
-            while i != -1:
-                following = nxt[i]
-                if i != p:
-                    _assign_outside_point(points, i, new_faces, nhor, fn, fd, eps, head, nxt, far, far_d)
-                i = following
-            head[g] = -1
+        p = m.far[f]
+        n_visible, n_horizon = visible_faces_and_horizon(f, points[p, 0], points[p, 1], points[p, 2], eps, m.fv,
+                                                         m.fadj, m.fn, m.fd, m.stamp, iteration, m.stack,
+                                                         m.visible, m.horizon)
+        if n_faces + n_horizon > m.fv.shape[0]:
+            m = _grown_mesh(m, 2 * (n_faces + n_horizon))
+        if not stitch_cone(p, m.horizon, n_horizon, m.fv, m.fadj, m.stamp, n_faces, start_face, end_face,
+                           m.new_faces):
+            return np.zeros((0, 3), dtype=np.int64), 4  # the horizon is not a simple loop
+        _cone_planes(points, m, n_faces, n_horizon, p)
+        n_faces += n_horizon
+        _hand_over_points(points, p, n_visible, n_horizon, m, nxt, eps)
         f += 1
-
-    m = 0
-    for g in range(nfaces):
-        if alive[g]:
-            m += 1
-    faces = np.empty((m, 3), dtype=np.int64)
-    m = 0
-    for g in range(nfaces):
-        if alive[g]:
-            faces[m] = fv[g]
-            m += 1
-    return faces, 0
+    return _alive_faces(m, n_faces), 0
 
 
 @njit

@@ -5,21 +5,63 @@ Every test has a single-pair form and a batched form over arrays of pairs in one
 take either aligned arrays (pair p = row p of A against row p of B) or index arrays ``index_a``, ``index_b`` (k,)
 into per-shape arrays — the form a dispatch table (shape kind × shape kind → batched test) calls. Convex point
 sets are packed as ``points`` (N, 3) + ``offsets`` (S + 1,) and paired by a (k, 2) ``pairs`` array.
+
+The kernel layer
+----------------
+The public functions above validate their arguments (engine._validate) and call compiled kernels, which other
+modules (engine.world's compiled frame, for one) may call directly, without going through ``_`` names. Arrays are
+float64 C-contiguous unless said otherwise, index arrays int64; a kernel never allocates in its per-pair loop (the
+scratch bundles are allocated once per call, each by one function).
+
+================================  ================================================================================
+module: kernels                   what they compute (shapes)
+================================  ================================================================================
+``status``                        the one numbering of kernel outcomes — SEPARATED, OVERLAP, GJK_NOT_CONVERGED,
+                                  INVALID_INPUT, EPA_NOT_CONVERGED, TOI_NOT_CONVERGED — and ``raise_for_status``
+                                  (GJKNotConverged, EPANotConverged, TOINotConverged derive from NotConverged)
+``support``: ``support_index``,   the support mapping s(d) of points (n, 3); of coordinate rows S[row:row + 3]
+``support_index_rows``,           (x, y, z rows of n points); of M = A − B: (ia, ib, w)
+``support_minkowski``
+``rescale``: ``rescale_unit``,    the power of two that brings a tiny or huge pair into [2^-200, 2^200]
+``largest_coordinate``
+``simplex``: ``closest_on_*``     GJK's sub-algorithm: closest point of a segment / triangle / tetrahedron to the
+                                  origin (scalars in: the vertices; out: supporting vertices and weights)
+``gjk``: ``gjk_scratch``,         ``GJKScratch`` (W (4, 3), IA, IB (4,), lam (4,), S (6, n), status (1,)); GJK on
+``gjk_pairs_kernel``,             k pairs, shapes addressed by row ranges of (S, N, 3) arrays (packed with a pair
+``gjk_kernel``                    list, or aligned), or on one pair pa (n, 3), pb (m, 3) (out (7,): closest
+                                  points, distance)
+``epa``: ``epa_polytope``,        ``Polytope`` (EPA's mesh and flood-fill scratch, the layout of
+``epa_kernel``                    engine.bounding.horizon); EPA from GJK's simplex: out (10,) depth, normal,
+                                  witness points
+``touching_normal``:              the normal of hulls touching at a point p: a direction of M's normal cone
+``touching_normal_at_vertex``
+``penetration``:                  the chain GJK → EPA → rescale for one pair (out (10,): signed distance, normal,
+``penetration_kernel``,           points on A and B) and k packed pairs; ``penetration_pairs`` adds the exact
+``penetration_pairs_kernel``,     Qhull fallback (``minkowski_fallback``) and raises for unsolved pairs
+``penetration_pairs``
+``features``: ``plane_basis``,    the contact plane's frame (2, 3); a shape's support set projected on it (m, 2);
+``support_set``,                  its reduction to a vertex, an edge or a counter-clockwise polygon
+``feature_polygon``
+``clipping``: ``clip_polygon``,   Sutherland–Hodgman, Cyrus–Beck, crossing / overlap of two edges, flat-vertex
+``clip_segment``,                 removal, on (n, 2) polygons
+``closest_segments_2d``,
+``drop_flat_vertices``
+``contact_manifold``:             ``FeatureScratch``; the contact features and points of one pair given its normal
+``feature_scratch``,              and closest points, and of k packed pairs
+``contact_points``,
+``contact_points_pairs``
+``motion``: ``pose_at``           the vertices (n, 3) of a body moving with constant v, ω at time t
+``time_of_impact``:               conservative advancement on one pair / k packed pairs (times (k,), status (k,))
+``toi_kernel``,
+``toi_pairs_kernel``
+================================  ================================================================================
 """
 from __future__ import annotations
 
-from .contact import (
-    Contact,
-    ContactBatch,
-    TOINotConverged,
-    contact_feature,
-    contact_feature_pairs,
-    time_of_impact,
-    time_of_impact_pairs,
-)
 from .contact_io import describe_contact, load_shape
-from .epa import EPANotConverged, epa_penetration, epa_penetration_pairs
-from .gjk import GJKNotConverged, gjk_distance, gjk_distance_batch, gjk_distance_pairs, pack_point_sets
+from .contact_manifold import Contact, ContactBatch, contact_feature, contact_feature_pairs
+from .gjk import gjk_distance, gjk_distance_batch, gjk_distance_pairs, pack_point_sets
+from .penetration import epa_penetration, epa_penetration_pairs
 from .primitives import (
     distance_point_segment,
     max_on_intervals,
@@ -44,6 +86,8 @@ from .primitives import (
     overlap_sphere_sphere_batch,
 )
 from .sat import obb_overlap, overlap_convex_sat, overlap_convex_sat_pairs, overlap_obb_obb_batch
+from .status import EPANotConverged, GJKNotConverged, TOINotConverged
+from .time_of_impact import time_of_impact, time_of_impact_pairs
 
 __all__ = [
     "Contact", "ContactBatch", "TOINotConverged", "contact_feature", "contact_feature_pairs", "time_of_impact",

@@ -34,7 +34,9 @@ import numpy as np
 
 from .._validate import as_float_array, as_nonnegative, as_positive
 from ..bounding.aabb import as_rotation_matrix
-from .contact import _pose, contact_feature, time_of_impact
+from .contact_manifold import contact_feature
+from .motion import pose_at
+from .time_of_impact import time_of_impact
 
 __all__ = ["ShapeSpec", "load_shape", "describe_contact", "SHAPE_KINDS"]
 
@@ -55,7 +57,7 @@ class ShapeSpec:
     def at(self, t: float) -> np.ndarray:
         """The core vertices at time t, (n, 3)."""
         out = np.empty_like(self.core)
-        _pose(self.core, self.center, self.velocity, self.angular_velocity, float(t), out)
+        pose_at(self.core, self.center, self.velocity, self.angular_velocity, float(t), out)
         return out
 
 

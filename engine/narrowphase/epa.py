@@ -5,57 +5,63 @@ the origin to the boundary of M, and the normal is the outward normal of M's fac
 Expanding Polytope Algorithm grows a polytope P ⊂ M that contains the origin until its face closest to the
 origin is a face of M:
 
-    P <- the tetrahedron of GJK's last simplex (origin inside)
-    loop:
+    P <- the tetrahedron of GJK's last simplex (origin inside)       (_initial_polytope)
+    loop:                                                            (_expand_polytope)
         f <- face of P closest to the origin, at distance d along its outward unit normal n
         w <- s_M(n) = s_A(n) − s_B(−n)
         if n·w − d <= eps: return (d, n)          (f lies on the boundary of M)
         remove every face of P that sees w, and join w to the horizon (the silhouette) edges
-
-Where round-off folds the polytope (many coplanar support points, e.g. boxes sharing axes; about 1 pair in
-10^4 of such adversarial inputs), the public functions fall back on the exact answer from Qhull on the
-Minkowski difference (scipy), so no wrong depth and no error escapes for small shapes.
+                                                  (engine.bounding.horizon, shared with quickhull)
+    witness points: the origin's projection on f, in barycentric coordinates applied to A and B  (_face_witnesses)
 
 Van den Bergen, *Collision Detection in Interactive 3D Environments*, section 4.3.3; Ericson, *Real-Time
 Collision Detection*, section 9.5 (remarks on penetration depth). Moving B by ``depth * normal`` (or A by
 ``-depth * normal``) brings the hulls into touching contact: the normal points from A towards B.
+
+Kernels (public within the package): ``epa_polytope`` (the one allocation of EPA's storage, ``Polytope``) and
+``epa_kernel``. The public functions ``epa_penetration`` / ``epa_penetration_pairs`` (GJK, then this, with the
+exact fallback and the rescaling) are in engine.narrowphase.penetration.
 """
 from __future__ import annotations
 
 import math
+from collections import namedtuple
 
 import numpy as np
 
 from .._config import njit
-from .._validate import as_float_array
-from .gjk import (
-    _NOT_CONVERGED,
-    _OVERLAP,
-    MAX_ITERATIONS,
-    GJKNotConverged,
-    _as_max_iterations,
-    _check_offsets,
-    _gjk,
-    _support,
-    check_pairs,
-    rescale_unit,
-)
+from ..bounding.horizon import link_neighbours, stitch_cone, visible_faces_and_horizon
+from .status import EPA_NOT_CONVERGED, OVERLAP
+from .support import support_minkowski
+from .touching_normal import touching_normal_at_vertex, unit_vector
 
-__all__ = ["EPANotConverged", "epa_penetration", "epa_penetration_pairs", "EPA_TOL"]
+__all__ = ["EPA_TOL", "MAX_VERTS", "MAX_FACES", "Polytope", "epa_polytope", "epa_kernel"]
 
 #: EPA stops when the support point beyond the closest face is within EPA_TOL × size(M) of it
 EPA_TOL = 1e-10
 #: room for the expanding polytope (vertices, faces); exceeding it is reported as non-convergence
-_MAX_VERTS = 256
-_MAX_FACES = 1024
+MAX_VERTS = 256
+MAX_FACES = 1024
 
-_EPA_OK = 0
-_EPA_NOT_CONVERGED = 3
-_EPA_SEPARATED = 4
+#: EPA's polytope (see ``epa_polytope``)
+Polytope = namedtuple("Polytope", ["V", "VA", "VB", "F", "fadj", "N", "D", "alive", "stamp", "stack", "visible",
+                                   "horizon", "new_faces", "start_face", "end_face"])
 
 
-class EPANotConverged(RuntimeError):
-    """EPA reached its iteration cap (or its polytope storage) before its stopping test."""
+@njit
+def epa_polytope():
+    """EPA's storage, allocated here and nowhere else (reusable from one pair to the next): vertices ``V``
+    (MAX_VERTS, 3) float64 (points of M) with their rows ``VA``, ``VB`` (MAX_VERTS,) int64 in A and B; faces in
+    the mesh layout of engine.bounding.horizon — ``F`` (MAX_FACES, 3) int64, ``fadj`` (MAX_FACES, 3) int64, unit
+    normals ``N`` (MAX_FACES, 3), offsets ``D`` (MAX_FACES,), ``alive`` (MAX_FACES,) bool, ``stamp`` — and the
+    flood fill's scratch (``stack``, ``visible``, ``horizon`` (3 MAX_FACES, 3), ``new_faces``, ``start_face``,
+    ``end_face``)."""
+    return Polytope(np.empty((MAX_VERTS, 3)), np.empty(MAX_VERTS, np.int64), np.empty(MAX_VERTS, np.int64),
+                    np.empty((MAX_FACES, 3), np.int64), np.empty((MAX_FACES, 3), np.int64),
+                    np.empty((MAX_FACES, 3)), np.empty(MAX_FACES), np.zeros(MAX_FACES, np.bool_),
+                    np.full(MAX_FACES, -1, np.int64), np.empty(MAX_FACES, np.int64), np.empty(MAX_FACES, np.int64),
+                    np.empty((3 * MAX_FACES, 3), np.int64), np.empty(MAX_FACES, np.int64),
+                    np.full(MAX_VERTS, -1, np.int64), np.full(MAX_VERTS, -1, np.int64))
 
 
 @njit
@@ -79,7 +85,7 @@ def _face_plane(V, F, N, D, f, ox, oy, oz, orient):
     e2 = math.sqrt(e2x * e2x + e2y * e2y + e2z * e2z)
     if not length > 1e-12 * e1 * e2:
         # a zero-area sliver (w collinear with a horizon edge): kept in the mesh so that it stays closed, never
-        # chosen as the closest face, and removed as soon as the flood fill reaches it
+        # chosen as the closest face (offset +inf), and removed as soon as the flood fill reaches it
         N[f, 0] = 0.0
         N[f, 1] = 0.0
         N[f, 2] = 0.0
@@ -101,369 +107,183 @@ def _face_plane(V, F, N, D, f, ox, oy, oz, orient):
 
 
 @njit
-def _support_m(pa, pb, dx, dy, dz, V, VA, VB, nv):
-    ia = _support(pa, dx, dy, dz)
-    ib = _support(pb, -dx, -dy, -dz)
-    V[nv, 0] = pa[ia, 0] - pb[ib, 0]
-    V[nv, 1] = pa[ia, 1] - pb[ib, 1]
-    V[nv, 2] = pa[ia, 2] - pb[ib, 2]
-    VA[nv] = ia
-    VB[nv] = ib
-
-
-#: the normal-cone search (``_normal_cone_direction``) costs (n + m)³: beyond this many points it is skipped
-MAX_CONE_POINTS = 200
+def _put_vertex(V, VA, VB, k, ia, ib, wx, wy, wz):
+    V[k, 0] = wx
+    V[k, 1] = wy
+    V[k, 2] = wz
+    VA[k] = ia
+    VB[k] = ib
 
 
 @njit
-def _normal_cone_direction(pa, pb, px, py, pz, tol):
-    """A unit n with n·(a − p) <= tol for every row a of A and n·(p − b) <= tol for every row b of B, where p is a
-    point common to the two hulls: then max over A of n·a = n·p = min over B of n·b, so n is the normal of a plane
-    through p that separates the hulls — a direction of the normal cone of M = A − B at the origin. That cone is
-    the polar of the cone spanned by the generators g (every a − p and p − b); its edges are orthogonal to two
-    generators, so every ±g_i × g_k is tried and the normalised sum of those that qualify (a direction inside the
-    cone) is returned, with found; when they cancel (a cone holding a whole line), −Σ ĝ, else one qualifying edge.
-    O((n + m)³)."""
-    na = pa.shape[0]
-    n = na + pb.shape[0]
-    G = np.empty((n, 3))
-    for i in range(na):
-        G[i, 0], G[i, 1], G[i, 2] = pa[i, 0] - px, pa[i, 1] - py, pa[i, 2] - pz
-    for j in range(pb.shape[0]):
-        G[na + j, 0], G[na + j, 1], G[na + j, 2] = px - pb[j, 0], py - pb[j, 1], pz - pb[j, 2]
-    sx = 0.0
-    sy = 0.0
-    sz = 0.0
-    fx, fy, fz = 1.0, 0.0, 0.0  # the first qualifying edge
-    found = False
-    for i in range(n):
-        for k in range(i + 1, n):
-            cx, cy, cz, nonzero = _unit(G[i, 1] * G[k, 2] - G[i, 2] * G[k, 1], G[i, 2] * G[k, 0] - G[i, 0] * G[k, 2],
-                                        G[i, 0] * G[k, 1] - G[i, 1] * G[k, 0])
-            if not nonzero:
-                continue
-            for sgn in (1.0, -1.0):
-                ok = True
-                for j in range(n):
-                    if sgn * (cx * G[j, 0] + cy * G[j, 1] + cz * G[j, 2]) > tol:
-                        ok = False
-                        break
-                if ok:
-                    sx += sgn * cx
-                    sy += sgn * cy
-                    sz += sgn * cz
-                    if not found:
-                        fx, fy, fz = sgn * cx, sgn * cy, sgn * cz
-                    found = True
-    # the sum of the qualifying edges lies inside the cone, unless they cancel (a cone that holds a whole line,
-    # e.g. for two segments: then its edges are ±g_i × g_k and the inside is around −(ĝ_i + ĝ_k))
-    if found and _unit_within(G, sx, sy, sz, tol):
-        return _unit(sx, sy, sz)
-    mx = 0.0
-    my = 0.0
-    mz = 0.0
-    for j in range(n):
-        gx, gy, gz, nonzero = _unit(G[j, 0], G[j, 1], G[j, 2])
-        if nonzero:
-            mx -= gx
-            my -= gy
-            mz -= gz
-    if _unit_within(G, mx, my, mz, tol):
-        return _unit(mx, my, mz)
-    if found:
-        return fx, fy, fz, True
-    return 1.0, 0.0, 0.0, False
+def _blow_up_segment(pa, pb, V, VA, VB, size2):
+    """The origin lies on the segment V[0]V[1]: add the support point of M farther along ±d, d a unit direction
+    orthogonal to the segment (crossed with the coordinate axis least aligned with it). Returns (nv, d): nv = 3,
+    or −2 when M has no extent along d on either side (touching; d is the touching plane's normal)."""
+    sx, sy, sz = V[1, 0] - V[0, 0], V[1, 1] - V[0, 1], V[1, 2] - V[0, 2]
+    if abs(sx) <= abs(sy) and abs(sx) <= abs(sz):
+        dx, dy, dz = 0.0, -sz, sy
+    elif abs(sy) <= abs(sz):
+        dx, dy, dz = sz, 0.0, -sx
+    else:
+        dx, dy, dz = -sy, sx, 0.0
+    # a unit d (rescaled before squaring): best below is then a length, comparable with EPA_TOL · size at any
+    # scale (with |d| ~ |segment| it was an area, and tiny shapes passed for flat)
+    dx, dy, dz, _ = unit_vector(dx, dy, dz)
+    best = -1.0
+    for sgn in (1.0, -1.0):
+        ia, ib, wx, wy, wz = support_minkowski(pa, pb, sgn * dx, sgn * dy, sgn * dz)
+        h = sgn * (wx * dx + wy * dy + wz * dz)
+        if h > best:
+            best = h
+            _put_vertex(V, VA, VB, 2, ia, ib, wx, wy, wz)
+    if best <= EPA_TOL * math.sqrt(size2):
+        return -2, dx, dy, dz
+    return 3, dx, dy, dz
 
 
 @njit
-def _unit(x, y, z):
-    """(x, y, z) / |(x, y, z)|, rescaled before squaring; (1, 0, 0, False) for the zero vector."""
-    big = max(abs(x), abs(y), abs(z))
-    if big == 0.0:
-        return 1.0, 0.0, 0.0, False
-    x /= big
-    y /= big
-    z /= big
-    length = math.sqrt(x * x + y * y + z * z)
-    return x / length, y / length, z / length, True
+def _blow_up_triangle(pa, pb, V, VA, VB, size2):
+    """The origin lies in the triangle V[0]V[1]V[2]. If M does not extend beyond its plane on one side, the origin
+    is on M's boundary: returns −1 (touching). Else adds the support point along the triangle's normal n as apex
+    V[3] and returns 4: the tetrahedron holds the origin on its base, which EPA copes with (that face has
+    distance 0 and is expanded first; a bipyramid would hold it inside, but is not convex when the apexes are
+    offset)."""
+    e1x, e1y, e1z = V[1, 0] - V[0, 0], V[1, 1] - V[0, 1], V[1, 2] - V[0, 2]
+    e2x, e2y, e2z = V[2, 0] - V[0, 0], V[2, 1] - V[0, 1], V[2, 2] - V[0, 2]
+    nx = e1y * e2z - e1z * e2y
+    ny = e1z * e2x - e1x * e2z
+    nz = e1x * e2y - e1y * e2x
+    ia, ib, ux, uy, uz = support_minkowski(pa, pb, nx, ny, nz)
+    _, _, lx, ly, lz = support_minkowski(pa, pb, -nx, -ny, -nz)
+    length = math.sqrt(nx * nx + ny * ny + nz * nz)
+    h_up = (ux * nx + uy * ny + uz * nz) / max(length, 1e-300)
+    h_down = -(lx * nx + ly * ny + lz * nz) / max(length, 1e-300)
+    tol = EPA_TOL * math.sqrt(size2)
+    if length == 0.0 or h_up <= tol or h_down <= tol:
+        return -1
+    _put_vertex(V, VA, VB, 3, ia, ib, ux, uy, uz)
+    return 4
 
 
 @njit
-def _unit_within(G, x, y, z, tol):
-    """Whether the unit direction of (x, y, z) exists and has n·g <= tol for every row g of G."""
-    nx, ny, nz, ok = _unit(x, y, z)
-    if not ok:
-        return False
-    for j in range(G.shape[0]):
-        if nx * G[j, 0] + ny * G[j, 1] + nz * G[j, 2] > tol:
-            return False
-    return True
-
-
-@njit
-def _touching_normal_at_vertex(pa, pb, rel_tol, px, py, pz):
-    """The origin is on the boundary of M = A − B, at the common point p of the two hulls (depth 0): a unit
-    direction n along which M does not extend, max over M of m·n <= tol (a normal of the touching plane).
-    Candidates: the direction from A's centroid to B's, then the six axis directions, then the normal cone of M
-    at the origin (``_normal_cone_direction``, for up to MAX_CONE_POINTS points); returns (nx, ny, nz, found).
-    ``rel_tol`` is relative to the shapes' size."""
-    scale = 0.0
-    for i in range(pa.shape[0]):
-        for c in range(3):
-            scale = max(scale, abs(pa[i, c] - pa[0, c]))
-    for i in range(pb.shape[0]):
-        for c in range(3):
-            scale = max(scale, abs(pb[i, c] - pa[0, c]))
-    tol = rel_tol * max(scale, 1e-300)
-    cx = 0.0
-    cy = 0.0
-    cz = 0.0
-    for i in range(pb.shape[0]):
-        cx += pb[i, 0] / pb.shape[0]
-        cy += pb[i, 1] / pb.shape[0]
-        cz += pb[i, 2] / pb.shape[0]
-    for i in range(pa.shape[0]):
-        cx -= pa[i, 0] / pa.shape[0]
-        cy -= pa[i, 1] / pa.shape[0]
-        cz -= pa[i, 2] / pa.shape[0]
-    for k in range(7):
-        if k == 0:
-            dx, dy, dz = cx, cy, cz
-        else:
-            dx, dy, dz = 0.0, 0.0, 0.0
-            sign = 1.0 if k % 2 == 1 else -1.0
-            axis = (k - 1) // 2
-            if axis == 0:
-                dx = sign
-            elif axis == 1:
-                dy = sign
-            else:
-                dz = sign
-        dx, dy, dz, nonzero = _unit(dx, dy, dz)  # rescaled first: a tiny (1e-162) direction's squares underflow
-        if not nonzero:
-            continue
-        ia = _support(pa, dx, dy, dz)
-        ib = _support(pb, -dx, -dy, -dz)
-        h = (pa[ia, 0] - pb[ib, 0]) * dx + (pa[ia, 1] - pb[ib, 1]) * dy + (pa[ia, 2] - pb[ib, 2]) * dz
-        if h <= tol:
-            return dx, dy, dz, True
-    if pa.shape[0] + pb.shape[0] <= MAX_CONE_POINTS:
-        return _normal_cone_direction(pa, pb, px, py, pz, tol)
-    return 1.0, 0.0, 0.0, False
-
-
-@njit
-def _epa(pa, pb, W, IA, IB, n_simplex, max_iter, out):
-    """EPA from GJK's final simplex. Writes depth, normal (3), point on A (3), point on B (3) into ``out``."""
-    V = np.empty((_MAX_VERTS, 3))
-    VA = np.empty(_MAX_VERTS, np.int64)
-    VB = np.empty(_MAX_VERTS, np.int64)
-    F = np.empty((_MAX_FACES, 3), np.int64)
-    N = np.empty((_MAX_FACES, 3))
-    D = np.empty(_MAX_FACES)
-    alive = np.zeros(_MAX_FACES, np.bool_)
+def _initial_polytope(pa, pb, W, IA, IB, n_simplex, V, VA, VB, F):
+    """GJK's final simplex (W (4, 3), rows IA, IB (4,), n_simplex points, the origin on or in it) blown up into a
+    tetrahedron of points of M. Returns (nv, size², d): nv = 4 (faces 0–3 set), or a touching case — 1 (the origin
+    is a vertex of M), −1 (on a flat triangle's plane), −2 (M flat across a segment, d its normal)."""
     size2 = 0.0
     for k in range(n_simplex):
-        V[k, 0] = W[k, 0]
-        V[k, 1] = W[k, 1]
-        V[k, 2] = W[k, 2]
-        VA[k] = IA[k]
-        VB[k] = IB[k]
+        _put_vertex(V, VA, VB, k, IA[k], IB[k], W[k, 0], W[k, 1], W[k, 2])
         size2 = max(size2, W[k, 0] ** 2 + W[k, 1] ** 2 + W[k, 2] ** 2)
     nv = n_simplex
-    dx, dy, dz = 0.0, 0.0, 0.0  # the flat direction of a segment simplex (set below)
-    # --- blow a lower-dimensional simplex up into a tetrahedron (the origin lies on the simplex) ---------------
-    if nv == 1:
-        # the origin is a support point of M, hence on its boundary: touching, depth 0
-        nv = 1
+    dx, dy, dz = 0.0, 0.0, 0.0
     if nv == 2:
-        # a direction orthogonal to the segment: cross with the coordinate axis least aligned with it
-        sx, sy, sz = V[1, 0] - V[0, 0], V[1, 1] - V[0, 1], V[1, 2] - V[0, 2]
-        ax = abs(sx)
-        ay = abs(sy)
-        az = abs(sz)
-        if ax <= ay and ax <= az:
-            dx, dy, dz = 0.0, -sz, sy
-        elif ay <= az:
-            dx, dy, dz = sz, 0.0, -sx
-        else:
-            dx, dy, dz = -sy, sx, 0.0
-        # a unit d (rescaled before squaring): best below is then a length, comparable with EPA_TOL · size at any
-        # scale (with |d| ~ |segment| it was an area, and tiny shapes passed for flat)
-        dx, dy, dz, _ = _unit(dx, dy, dz)
-        best = -1.0
-        for sgn in (1.0, -1.0):
-            _support_m(pa, pb, sgn * dx, sgn * dy, sgn * dz, V, VA, VB, 2)
-            h = sgn * (V[2, 0] * dx + V[2, 1] * dy + V[2, 2] * dz)
-            if h > best:
-                best = h
-                VA[3] = VA[2]
-                VB[3] = VB[2]
-                V[3, 0], V[3, 1], V[3, 2] = V[2, 0], V[2, 1], V[2, 2]
-        V[2, 0], V[2, 1], V[2, 2] = V[3, 0], V[3, 1], V[3, 2]
-        VA[2] = VA[3]
-        VB[2] = VB[3]
-        nv = 3
-        if best <= EPA_TOL * math.sqrt(size2):
-            nv = -2  # M has no extent along d (either sign): touching, and d is the touching plane's normal
+        nv, dx, dy, dz = _blow_up_segment(pa, pb, V, VA, VB, size2)
     if nv == 3:
-        e1x, e1y, e1z = V[1, 0] - V[0, 0], V[1, 1] - V[0, 1], V[1, 2] - V[0, 2]
-        e2x, e2y, e2z = V[2, 0] - V[0, 0], V[2, 1] - V[0, 1], V[2, 2] - V[0, 2]
-        nx = e1y * e2z - e1z * e2y
-        ny = e1z * e2x - e1x * e2z
-        nz = e1x * e2y - e1y * e2x
-        # the origin lies in the triangle: if M does not extend beyond its plane on one side, it is on the boundary
-        _support_m(pa, pb, nx, ny, nz, V, VA, VB, 3)
-        _support_m(pa, pb, -nx, -ny, -nz, V, VA, VB, 4)
-        length = math.sqrt(nx * nx + ny * ny + nz * nz)
-        h_up = (V[3, 0] * nx + V[3, 1] * ny + V[3, 2] * nz) / max(length, 1e-300)
-        h_down = -(V[4, 0] * nx + V[4, 1] * ny + V[4, 2] * nz) / max(length, 1e-300)
-        tol = EPA_TOL * math.sqrt(size2)
-        if length == 0.0 or h_up <= tol or h_down <= tol:
-            nv = -1  # the origin is on M's boundary (or M is flat): touching
-        else:
-            # M extends on both sides: the tetrahedron (triangle, upper apex) holds the origin on its base; EPA
-            # copes with the origin on the boundary (that face has distance 0 and is expanded first). A bipyramid
-            # would hold it inside, but is not convex when the apexes are offset.
-            nv = 4
+        nv = _blow_up_triangle(pa, pb, V, VA, VB, size2)
     if nv == 4:
         tris = ((0, 1, 2), (0, 3, 1), (0, 2, 3), (1, 3, 2))
         for f in range(4):
             F[f, 0] = tris[f][0]
             F[f, 1] = tris[f][1]
             F[f, 2] = tris[f][2]
-    if nv <= 1:
-        # touching: depth 0, the normal from the simplex (any unit vector if it is a single point)
-        out[0] = 0.0
-        out[1], out[2], out[3] = 1.0, 0.0, 0.0
-        if nv == 1:
-            # the origin is a vertex of M (GJK's one-point simplex): any direction of M's normal cone there
-            nx1, ny1, nz1, found = _touching_normal_at_vertex(pa, pb, EPA_TOL, pa[VA[0], 0], pa[VA[0], 1],
-                                                                pa[VA[0], 2])
-            if found:
-                out[1], out[2], out[3] = nx1, ny1, nz1
-        if nv == -2:
-            # M lies in a plane (or on a line) containing the segment and orthogonal to d: moving along d by any
-            # amount separates the cores, so d — not a direction inside M — is the minimum translation
-            length = math.sqrt(dx * dx + dy * dy + dz * dz)
-            if length > 0.0:
-                out[1], out[2], out[3] = dx / length, dy / length, dz / length
-        if nv == -1:
-            # the touching plane's normal: the lower-dimensional case above found a flat direction
-            e1x, e1y, e1z = V[1, 0] - V[0, 0], V[1, 1] - V[0, 1], V[1, 2] - V[0, 2]
-            e2x, e2y, e2z = V[2, 0] - V[0, 0], V[2, 1] - V[0, 1], V[2, 2] - V[0, 2]
-            nx = e1y * e2z - e1z * e2y
-            ny = e1z * e2x - e1x * e2z
-            nz = e1x * e2y - e1y * e2x
-            length = math.sqrt(nx * nx + ny * ny + nz * nz)
-            if length > 0.0:
-                # choose the side on which M does not extend
-                ia = _support(pa, nx, ny, nz)
-                ib = _support(pb, -nx, -ny, -nz)
-                h = ((pa[ia, 0] - pb[ib, 0]) * nx + (pa[ia, 1] - pb[ib, 1]) * ny + (pa[ia, 2] - pb[ib, 2]) * nz)
-                s = 1.0 if h <= EPA_TOL * math.sqrt(size2) * length else -1.0
-                out[1], out[2], out[3] = s * nx / length, s * ny / length, s * nz / length
-        for c in range(3):
-            out[4 + c] = pa[VA[0], c]
-            out[7 + c] = pa[VA[0], c]
-        return _EPA_OK
-    # an interior point of the initial polytope, to orient its faces outwards
-    cx = 0.0
+    return nv, size2, dx, dy, dz
+
+
+@njit
+def _touching_answer(pa, pb, V, VA, nv, size2, dx, dy, dz, out):
+    """Depth 0 for the touching cases of ``_initial_polytope``, with the touching plane's normal, and the common
+    point (A's vertex of the first simplex point) as both witnesses."""
+    out[0] = 0.0
+    out[1], out[2], out[3] = 1.0, 0.0, 0.0
+    if nv == 1:
+        # the origin is a vertex of M (GJK's one-point simplex): any direction of M's normal cone there
+        nx1, ny1, nz1, found = touching_normal_at_vertex(pa, pb, EPA_TOL, pa[VA[0], 0], pa[VA[0], 1], pa[VA[0], 2])
+        if found:
+            out[1], out[2], out[3] = nx1, ny1, nz1
+    if nv == -2:
+        # M lies in a plane (or on a line) containing the segment and orthogonal to d: moving along d by any
+        # amount separates the cores, so d — not a direction inside M — is the minimum translation
+        length = math.sqrt(dx * dx + dy * dy + dz * dz)
+        if length > 0.0:
+            out[1], out[2], out[3] = dx / length, dy / length, dz / length
+    if nv == -1:
+        # the triangle's plane: on the side along which M does not extend
+        e1x, e1y, e1z = V[1, 0] - V[0, 0], V[1, 1] - V[0, 1], V[1, 2] - V[0, 2]
+        e2x, e2y, e2z = V[2, 0] - V[0, 0], V[2, 1] - V[0, 1], V[2, 2] - V[0, 2]
+        nx = e1y * e2z - e1z * e2y
+        ny = e1z * e2x - e1x * e2z
+        nz = e1x * e2y - e1y * e2x
+        length = math.sqrt(nx * nx + ny * ny + nz * nz)
+        if length > 0.0:
+            _, _, wx, wy, wz = support_minkowski(pa, pb, nx, ny, nz)
+            h = wx * nx + wy * ny + wz * nz
+            s = 1.0 if h <= EPA_TOL * math.sqrt(size2) * length else -1.0
+            out[1], out[2], out[3] = s * nx / length, s * ny / length, s * nz / length
+    for c in range(3):
+        out[4 + c] = pa[VA[0], c]
+        out[7 + c] = pa[VA[0], c]
+
+
+@njit
+def _expand_polytope(pa, pb, poly, nv, size2, max_iter):
+    """EPA's loop (van den Bergen 4.3.3) on the tetrahedron V[0:4], faces 0–3. Returns (status, closest face,
+    number of faces):
+    OVERLAP when the closest face lies on M's boundary, else EPA_NOT_CONVERGED (iteration cap, storage, a face
+    folded inwards or a horizon that is not one loop: round-off has broken the polytope)."""
+    V, VA, VB, F, fadj, N, D, alive, stamp = poly[:9]
+    cx = 0.0  # an interior point, to orient the first faces outwards
     cy = 0.0
     cz = 0.0
     for k in range(nv):
         cx += V[k, 0] / nv
         cy += V[k, 1] / nv
         cz += V[k, 2] / nv
-    n_faces = 4
-    for f in range(n_faces):
+    for f in range(4):
         _face_plane(V, F, N, D, f, cx, cy, cz, True)
         alive[f] = True
-    for k in range(nv):
+        stamp[f] = -1
+    link_neighbours(F, 4, fadj)
+    closed = True  # every edge has its reversed twin: the orientation above made one consistent mesh
+    for k in range(4):
         size2 = max(size2, V[k, 0] ** 2 + V[k, 1] ** 2 + V[k, 2] ** 2)
+        closed &= fadj[k, 0] >= 0 and fadj[k, 1] >= 0 and fadj[k, 2] >= 0
     tol = EPA_TOL * math.sqrt(size2)
-    stack = np.empty(_MAX_FACES, np.int64)
-    horizon = np.empty((_MAX_FACES, 2), np.int64)
-    status = _EPA_NOT_CONVERGED
-    best = -1
-    for _ in range(max_iter):
-        # the face of P closest to the origin
-        best = -1
-        best_d = np.inf
+    n_faces = 4
+    for it in range(max_iter):
+        best, best_d = -1, np.inf  # the live face of P closest to the origin
         for f in range(n_faces):
             if alive[f] and D[f] < best_d:
-                best_d = D[f]
-                best = f
-        if best < 0 or nv >= _MAX_VERTS or best_d < -tol:
+                best, best_d = f, D[f]
+        if best < 0 or nv >= MAX_VERTS or best_d < -tol:
             break  # out of room, or round-off has folded the polytope (an inward face): give up
-        _support_m(pa, pb, N[best, 0], N[best, 1], N[best, 2], V, VA, VB, nv)
-        wx, wy, wz = V[nv, 0], V[nv, 1], V[nv, 2]
-        h = wx * N[best, 0] + wy * N[best, 1] + wz * N[best, 2]
-        if h - best_d <= tol:
-            status = _EPA_OK
+        ia, ib, wx, wy, wz = support_minkowski(pa, pb, N[best, 0], N[best, 1], N[best, 2])
+        V[nv, 0], V[nv, 1], V[nv, 2], VA[nv], VB[nv] = wx, wy, wz, ia, ib
+        if wx * N[best, 0] + wy * N[best, 1] + wz * N[best, 2] - best_d <= tol:
+            return OVERLAP, best, n_faces
+        if not closed:
+            break  # round-off oriented the first faces inconsistently: no horizon to follow
+        n_visible, n_horizon = visible_faces_and_horizon(best, wx, wy, wz, 0.0, F, fadj, N, D, stamp, it, poly.stack,
+                                                         poly.visible, poly.horizon)
+        if n_faces + n_horizon > MAX_FACES:
             break
-        # remove the faces seen from w, flood-filling from the closest face so the hole stays connected,
-        # and record the horizon edges (in the winding of the removed faces) to join to w
-        n_h = 0
-        top = 0
-        stack[top] = best
-        top += 1
-        alive[best] = False
-        while top > 0:
-            top -= 1
-            f = stack[top]
-            for e in range(3):
-                i = F[f, e]
-                j = F[f, (e + 1) % 3]
-                # the neighbour across edge (i, j) carries the edge (j, i)
-                g = -1
-                for q in range(n_faces):
-                    if alive[q] and ((F[q, 0] == j and F[q, 1] == i) or (F[q, 1] == j and F[q, 2] == i)
-                                     or (F[q, 2] == j and F[q, 0] == i)):
-                        g = q
-                        break
-                if g < 0:
-                    # the neighbour was removed already, unless this edge borders the hole: look it up there
-                    on_horizon = True
-                    for q in range(n_faces):
-                        if (not alive[q]) and q != f and ((F[q, 0] == j and F[q, 1] == i)
-                                                          or (F[q, 1] == j and F[q, 2] == i)
-                                                          or (F[q, 2] == j and F[q, 0] == i)):
-                            on_horizon = False
-                            break
-                    if on_horizon:
-                        return _EPA_NOT_CONVERGED  # broken mesh: give up rather than return nonsense
-                    continue
-                seen = (wx - V[F[g, 0], 0]) * N[g, 0] + (wy - V[F[g, 0], 1]) * N[g, 1] \
-                    + (wz - V[F[g, 0], 2]) * N[g, 2]
-                if seen > 0.0 or D[g] == np.inf:
-                    alive[g] = False
-                    stack[top] = g
-                    top += 1
-                else:
-                    horizon[n_h, 0] = i
-                    horizon[n_h, 1] = j
-                    n_h += 1
-        if n_faces + n_h > _MAX_FACES:
+        for v in range(n_visible):
+            alive[poly.visible[v]] = False
+        if not stitch_cone(nv, poly.horizon, n_horizon, F, fadj, stamp, n_faces, poly.start_face, poly.end_face,
+                           poly.new_faces):
             break
-        new_v = nv
+        for f in range(n_faces, n_faces + n_horizon):
+            _face_plane(V, F, N, D, f, cx, cy, cz, False)
+            alive[f] = True
+        n_faces += n_horizon
         nv += 1
-        for e in range(n_h):
-            F[n_faces, 0] = horizon[e, 0]
-            F[n_faces, 1] = horizon[e, 1]
-            F[n_faces, 2] = new_v
-            _face_plane(V, F, N, D, n_faces, cx, cy, cz, False)
-            alive[n_faces] = True
-            n_faces += 1
-    if status != _EPA_OK:
-        return _EPA_NOT_CONVERGED
-    out[0] = max(D[best], 0.0)
-    out[1], out[2], out[3] = N[best, 0], N[best, 1], N[best, 2]
-    # witness points: barycentric coordinates of the origin's projection on the face, applied to A and B
-    a = F[best, 0]
-    b = F[best, 1]
-    c = F[best, 2]
-    px, py, pz = D[best] * N[best, 0], D[best] * N[best, 1], D[best] * N[best, 2]
+    return EPA_NOT_CONVERGED, -1, n_faces
+
+
+@njit
+def _barycentric(V, F, f, px, py, pz):
+    """Barycentric weights (la, lb, lc) of the projection of p on the plane of face f (Ericson 3.4)."""
+    a, b, c = F[f, 0], F[f, 1], F[f, 2]
     v0 = (V[b, 0] - V[a, 0], V[b, 1] - V[a, 1], V[b, 2] - V[a, 2])
     v1 = (V[c, 0] - V[a, 0], V[c, 1] - V[a, 1], V[c, 2] - V[a, 2])
     v2 = (px - V[a, 0], py - V[a, 1], pz - V[a, 2])
@@ -479,154 +299,51 @@ def _epa(pa, pb, W, IA, IB, n_simplex, max_iter, out):
     else:
         lb = 0.0
         lc = 0.0
-    la = 1.0 - lb - lc
+    return 1.0 - lb - lc, lb, lc
+
+
+@njit
+def _face_witnesses(pa, pb, V, VA, VB, F, N, D, alive, n_faces, best, out):
+    """Depth, normal and witness points of the closest face ``best``: the origin's projection p = D n on it, in
+    barycentric coordinates of the three vertices of the face that holds p, applied to their rows of A and B.
+
+    p lies on P's boundary (the ball of radius D about the origin is inside P and touches its plane at p), so some
+    live face in best's plane holds it; when several triangles share that plane, p may lie outside ``best`` itself
+    (weights < 0: extrapolated witnesses, outside A and B), hence the face of that plane whose smallest weight is
+    the largest."""
+    out[0] = max(D[best], 0.0)
+    out[1], out[2], out[3] = N[best, 0], N[best, 1], N[best, 2]
+    px, py, pz = D[best] * N[best, 0], D[best] * N[best, 1], D[best] * N[best, 2]
+    face = best
+    la, lb, lc = _barycentric(V, F, best, px, py, pz)
+    if min(la, lb, lc) < 0.0:
+        reach = 0.0  # the size of best's vertices: the scale of the coplanarity test
+        for k in range(3):
+            reach = max(reach, abs(V[F[best, k], 0]), abs(V[F[best, k], 1]), abs(V[F[best, k], 2]))
+        for f in range(n_faces):
+            if not alive[f] or f == best or abs(N[f, 0] * px + N[f, 1] * py + N[f, 2] * pz - D[f]) > EPA_TOL * reach:
+                continue
+            ma, mb, mc = _barycentric(V, F, f, px, py, pz)
+            if min(ma, mb, mc) > min(la, lb, lc):
+                face, la, lb, lc = f, ma, mb, mc
+    a, b, c = F[face, 0], F[face, 1], F[face, 2]
     for k in range(3):
         out[4 + k] = la * pa[VA[a], k] + lb * pa[VA[b], k] + lc * pa[VA[c], k]
         out[7 + k] = la * pb[VB[a], k] + lb * pb[VB[b], k] + lc * pb[VB[c], k]
-    return _EPA_OK
 
 
 @njit
-def _largest_coordinate(pa, pb):
-    big = 0.0
-    for i in range(pa.shape[0]):
-        big = max(big, abs(pa[i, 0]), abs(pa[i, 1]), abs(pa[i, 2]))
-    for i in range(pb.shape[0]):
-        big = max(big, abs(pb[i, 0]), abs(pb[i, 1]), abs(pb[i, 2]))
-    return big
-
-
-@njit
-def _penetration(pa, pb, max_iter, out):
-    """GJK then EPA on one pair; out = depth, normal (3), witness on A (3), witness on B (3). Tiny or huge shapes
-    (``rescale_unit``) are solved on copies scaled by a power of two (``rescale_unit``: exact), so that no
-    squared length or cross product turns subnormal, and the lengths scaled back."""
-    unit = rescale_unit(_largest_coordinate(pa, pb))
-    if unit == 1.0:
-        return _penetration_at_scale(pa, pb, max_iter, out)
-    status = _penetration_at_scale(pa * unit, pb * unit, max_iter, out)
-    out[0] /= unit
-    for c in range(4, 10):
-        out[c] /= unit
-    return status
-
-
-@njit
-def _penetration_at_scale(pa, pb, max_iter, out):
-    W = np.empty((4, 3))
-    IA = np.empty(4, np.int64)
-    IB = np.empty(4, np.int64)
-    lam = np.empty(4)
-    g = np.empty(7)
-    status, n = _gjk(pa, pb, max_iter, W, IA, IB, lam, g, np.empty(12, np.int64), np.empty(13))
-    if status == _NOT_CONVERGED:
-        return _NOT_CONVERGED
-    if status != _OVERLAP:
-        # separated: no penetration; report the separating direction (A towards B) with depth 0
-        out[0] = 0.0
-        d = g[6]
-        for c in range(3):
-            out[1 + c] = (g[3 + c] - g[c]) / d if d > 0.0 else (1.0 if c == 0 else 0.0)
-            out[4 + c] = g[c]
-            out[7 + c] = g[3 + c]
-        if d == 0.0:  # touching without a full simplex: a direction of M's normal cone at the common point
-            out[1], out[2], out[3], _ = _touching_normal_at_vertex(pa, pb, EPA_TOL, g[0], g[1], g[2])
-        return _EPA_SEPARATED
-    return _epa(pa, pb, W, IA, IB, n, max_iter, out)
-
-
-@njit
-def _penetration_pairs(points, offsets, pairs, max_iter, depth, normal, status):
-    out = np.empty(10)
-    for p in range(pairs.shape[0]):
-        i = pairs[p, 0]
-        j = pairs[p, 1]
-        st = _penetration(points[offsets[i]:offsets[i + 1]], points[offsets[j]:offsets[j + 1]], max_iter, out)
-        status[p] = st
-        depth[p] = out[0]
-        for c in range(3):
-            normal[p, c] = out[1 + c]
-
-
-def _raise(status, where: str, max_iter: int):
-    if status == _NOT_CONVERGED:
-        raise GJKNotConverged(f"GJK did not converge in max_iterations={max_iter} iterations{where}")
-    if status == _EPA_NOT_CONVERGED:
-        raise EPANotConverged(f"EPA did not converge in max_iterations={max_iter} iterations{where}")
-
-
-def _minkowski_fallback(pa: np.ndarray, pb: np.ndarray):
-    """Exact depth and normal from Qhull on the Minkowski difference {a − b} (scipy.spatial.ConvexHull).
-
-    Used only where the expanding polytope breaks down on round-off (many coplanar support points, e.g. boxes
-    sharing axes); O(n m) points, so meant for the small shapes of a narrow phase. Returns
-    (depth, normal, point_a, point_b) or None when there are too many points.
-    """
-    from scipy.spatial import ConvexHull, QhullError
-
-    if pa.shape[0] * pb.shape[0] > 200_000:
-        return None
-    md = (pa[:, None, :] - pb[None, :, :]).reshape(-1, 3)
-    try:
-        hull = ConvexHull(md)
-    except (QhullError, ValueError):
-        # M is flat: the origin lies on its boundary; depth 0 along the normal of its plane
-        _, _, vt = np.linalg.svd(md - md.mean(axis=0))
-        normal = vt[-1]
-        return 0.0, normal, pa[int(np.argmax(pa @ normal))], pb[int(np.argmin(pb @ normal))]
-    distances = -hull.equations[:, 3]
-    k = int(np.argmin(distances))
-    normal = hull.equations[k, :3].copy()
-    depth = max(float(distances[k]), 0.0)
-    return depth, normal, pa[int(np.argmax(pa @ normal))], pb[int(np.argmin(pb @ normal))]
-
-
-def epa_penetration(points_a, points_b, *, max_iterations: int = MAX_ITERATIONS, witnesses: bool = False):
-    """Penetration depth and normal of the overlapping convex hulls of ``points_a`` (n, 3) and ``points_b`` (m, 3).
-
-    Returns ``(depth, normal)``: depth >= 0 is the length of the shortest translation that separates the hulls
-    (0.0 when they only touch, or do not overlap at all), ``normal`` (3,) a unit vector pointing from A towards
-    B, so that moving B by ``depth * normal`` leaves the hulls touching. With ``witnesses=True`` also returns
-    the deepest points of A and of B, (3,) each: ``(depth, normal, point_a, point_b)``. For separated hulls
-    depth is 0 and the normal is the direction of GJK's closest points (see ``gjk_distance``).
-    """
-    pa = as_float_array(points_a, "points_a", shape=(None, 3), min_rows=1)
-    pb = as_float_array(points_b, "points_b", shape=(None, 3), min_rows=1)
-    max_iter = _as_max_iterations(max_iterations)
-    out = np.empty(10)
-    status = _penetration(pa, pb, max_iter, out)
-    if status == _EPA_NOT_CONVERGED:
-        exact = _minkowski_fallback(pa, pb)
-        if exact is not None:
-            depth, normal, wa, wb = exact
-            return (depth, normal, wa, wb) if witnesses else (depth, normal)
-    _raise(status, "", max_iter)
-    normal = out[1:4].copy()
-    if witnesses:
-        return float(out[0]), normal, out[4:7].copy(), out[7:10].copy()
-    return float(out[0]), normal
-
-
-def epa_penetration_pairs(points, offsets, pairs, *, max_iterations: int = MAX_ITERATIONS):
-    """EPA over k pairs of packed shapes (see ``gjk_distance_pairs`` for ``points``/``offsets``) in one compiled
-    call. Returns ``(depth (k,), normal (k, 3))``; separated pairs get depth 0 and GJK's direction."""
-    pts = as_float_array(points, "points", shape=(None, 3))
-    off = _check_offsets(offsets, pts.shape[0])
-    pr = check_pairs(pairs, off.shape[0] - 1)
-    max_iter = _as_max_iterations(max_iterations)
-    k = pr.shape[0]
-    depth = np.empty(k)
-    normal = np.empty((k, 3))
-    status = np.empty(k, np.int64)
-    if k:
-        _penetration_pairs(pts, off, pr, max_iter, depth, normal, status)
-        for p in np.flatnonzero(status == _EPA_NOT_CONVERGED):  # rare: see _minkowski_fallback
-            i, j = pr[p]
-            exact = _minkowski_fallback(pts[off[i]:off[i + 1]], pts[off[j]:off[j + 1]])
-            if exact is not None:
-                depth[p], normal[p] = exact[0], exact[1]
-                status[p] = _EPA_OK
-        bad = np.flatnonzero((status == _NOT_CONVERGED) | (status == _EPA_NOT_CONVERGED))
-        if bad.size:
-            _raise(int(status[bad[0]]), f" for pairs[{bad[0]}]", max_iter)
-    return depth, normal
+def epa_kernel(pa, pb, W, IA, IB, n_simplex, max_iter, poly, out):
+    """EPA between hull(pa) and hull(pb), (n, 3) and (m, 3) float64, from GJK's final simplex (W (4, 3), rows IA,
+    IB (4,) int64, ``n_simplex`` points: ``gjk_kernel``'s scratch after an OVERLAP), with ``poly`` from
+    ``epa_polytope``. Writes ``out`` (10,): depth, unit normal (A towards B), witness point on A, on B. Returns
+    OVERLAP (depth found; 0 for touching hulls) or EPA_NOT_CONVERGED."""
+    nv, size2, dx, dy, dz = _initial_polytope(pa, pb, W, IA, IB, n_simplex, poly.V, poly.VA, poly.VB, poly.F)
+    if nv <= 1:
+        _touching_answer(pa, pb, poly.V, poly.VA, nv, size2, dx, dy, dz, out)
+        return OVERLAP
+    status, best, n_faces = _expand_polytope(pa, pb, poly, nv, size2, max_iter)
+    if status != OVERLAP:
+        return EPA_NOT_CONVERGED
+    _face_witnesses(pa, pb, poly.V, poly.VA, poly.VB, poly.F, poly.N, poly.D, poly.alive, n_faces, best, out)
+    return OVERLAP

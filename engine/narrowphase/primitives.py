@@ -23,11 +23,18 @@ from __future__ import annotations
 import numpy as np
 
 from .._config import njit
-from .._validate import as_count, as_float, as_float_array, as_nonnegative
+from .._validate import (
+    as_count,
+    as_float,
+    as_float_array,
+    as_nonnegative,
+    as_radii,
+    check_orthonormal_rows,
+    pair_indices,
+)
 from ..bounding.aabb import aabbs_touch, overlap_aabb_aabb
 from ..bounding.obb import OBB, ORTHONORMAL_TOL
 from ..bounding.sphere import overlap_sphere_sphere, spheres_touch
-from .sat import _orthonormal_errors, pair_indices
 
 __all__ = [
     "overlap_sphere_sphere", "overlap_sphere_sphere_batch",
@@ -154,18 +161,6 @@ def _overlap_ground_batch(bottom, altitude, out):
 # validation helpers
 # ---------------------------------------------------------------------------------------------------------------
 
-def _radii(value, name: str, n: int) -> np.ndarray:
-    arr = np.asarray(value)
-    if arr.ndim == 0:
-        arr = np.full(n, as_nonnegative(value, name))
-    else:
-        arr = as_float_array(arr, name, shape=(n,))
-    if (arr < 0).any():
-        i = int(np.argmax(arr < 0))
-        raise ValueError(f"{name} must be >= 0: {name}[{i}] = {arr[i]!r}")
-    return arr
-
-
 def _boxes(lo, hi, name_lo: str, name_hi: str, dims=(1, 2, 3)):
     lo = as_float_array(lo, name_lo, ndim=2)
     hi = as_float_array(hi, name_hi, shape=lo.shape)
@@ -193,12 +188,7 @@ def _obbs(centers, axes, half_extents):
     if (e < 0).any():
         i, k = (int(x) for x in np.argwhere(e < 0)[0])
         raise ValueError(f"box_half_extents must be >= 0: box_half_extents[{i}, {k}] = {e[i, k]!r}")
-    if c.shape[0]:
-        err = np.empty(c.shape[0])
-        _orthonormal_errors(r, err)
-        if (err > ORTHONORMAL_TOL).any():
-            i = int(np.argmax(err > ORTHONORMAL_TOL))
-            raise ValueError(f"box_axes[{i}] must be orthonormal rows (max |A A^T - I| = {err[i]:.3g})")
+    check_orthonormal_rows(r, "box_axes", ORTHONORMAL_TOL)
     return c, r, e
 
 
@@ -210,8 +200,8 @@ def overlap_sphere_sphere_batch(centers_a, radii_a, centers_b, radii_b, index_a=
     """Spheres (n, 3) with radii (n,) or a scalar against spheres (m, 3); bool (k,): |c_a − c_b| <= r_a + r_b."""
     ca = as_float_array(centers_a, "centers_a", shape=(None, 3))
     cb = as_float_array(centers_b, "centers_b", shape=(None, 3))
-    ra = _radii(radii_a, "radii_a", ca.shape[0])
-    rb = _radii(radii_b, "radii_b", cb.shape[0])
+    ra = as_radii(radii_a, "radii_a", ca.shape[0])
+    rb = as_radii(radii_b, "radii_b", cb.shape[0])
     ia, ib = pair_indices(ca.shape[0], cb.shape[0], index_a, index_b)
     out = np.empty(ia.shape[0], np.bool_)
     _overlap_sphere_sphere_batch(ca, ra, cb, rb, ia, ib, out)
@@ -233,7 +223,7 @@ def overlap_aabb_aabb_batch(lo_a, hi_a, lo_b, hi_b, index_a=None, index_b=None):
 def overlap_sphere_aabb_batch(centers, radii, lo, hi, index_a=None, index_b=None):
     """Spheres (n, d) with radii (n,) or a scalar against closed boxes [lo, hi] (m, d); bool (k,)."""
     c = as_float_array(centers, "centers", ndim=2)
-    r = _radii(radii, "radii", c.shape[0])
+    r = as_radii(radii, "radii", c.shape[0])
     lo, hi = _boxes(lo, hi, "lo", "hi")
     if c.shape[1] != lo.shape[1]:
         raise ValueError(f"centers and lo must have the same dimension, got {c.shape[1]} and {lo.shape[1]}")
@@ -253,7 +243,7 @@ def overlap_sphere_obb_batch(centers, radii, box_centers, box_axes, box_half_ext
     """Spheres (n, 3), radii (n,) or scalar, against oriented boxes: centres (m, 3), axes (m, 3, 3) (rows are the
     unit axes), half extents (m, 3). Returns bool (k,)."""
     c = as_float_array(centers, "centers", shape=(None, 3))
-    r = _radii(radii, "radii", c.shape[0])
+    r = as_radii(radii, "radii", c.shape[0])
     bc, ba, be = _obbs(box_centers, box_axes, box_half_extents)
     ia, ib = pair_indices(c.shape[0], bc.shape[0], index_a, index_b)
     out = np.empty(ia.shape[0], np.bool_)
@@ -293,7 +283,7 @@ def overlap_circle_segment_batch(centers, radii, p0, p1, index_a=None, index_b=N
     """Circles (n, 2), radii (n,) or scalar, against segments [p0, p1] (m, 2) — the ball and the paddle.
     Returns bool (k,): the distance from the centre to the segment is <= the radius."""
     c = as_float_array(centers, "centers", shape=(None, 2))
-    r = _radii(radii, "radii", c.shape[0])
+    r = as_radii(radii, "radii", c.shape[0])
     a, b = _segments(p0, p1, 2)
     ia, ib = pair_indices(c.shape[0], a.shape[0], index_a, index_b)
     out = np.empty(ia.shape[0], np.bool_)
@@ -311,9 +301,9 @@ def overlap_sphere_capsule_batch(centers, radii, p0, p1, capsule_radii, index_a=
     """Spheres (n, 3), radii (n,) or scalar, against capsules: segment [p0, p1] (m, 3) swept by a ball of radius
     ``capsule_radii`` (m,) or scalar. Returns bool (k,)."""
     c = as_float_array(centers, "centers", shape=(None, 3))
-    r = _radii(radii, "radii", c.shape[0])
+    r = as_radii(radii, "radii", c.shape[0])
     a, b = _segments(p0, p1, 3)
-    rc = _radii(capsule_radii, "capsule_radii", a.shape[0])
+    rc = as_radii(capsule_radii, "capsule_radii", a.shape[0])
     ia, ib = pair_indices(c.shape[0], a.shape[0], index_a, index_b)
     out = np.empty(ia.shape[0], np.bool_)
     _overlap_sphere_segment_batch(c, r, a, b, rc, ia, ib, out)
@@ -356,7 +346,7 @@ def overlap_sphere_ground_batch(centers, radii, altitude):
     c = as_float_array(centers, "centers", ndim=2)
     if c.shape[1] not in (2, 3):
         raise ValueError(f"centers must have 2 or 3 columns, got shape {c.shape}")
-    r = _radii(radii, "radii", c.shape[0])
+    r = as_radii(radii, "radii", c.shape[0])
     alt = np.asarray(altitude)
     alt = np.full(c.shape[0], as_float(altitude, "altitude")) if alt.ndim == 0 else \
         as_float_array(alt, "altitude", shape=(c.shape[0],))
@@ -606,7 +596,7 @@ def min_distance_to_curve(points, f, half_width, *, samples: int = 64):
     ((n,) or scalar). Returns ``(distance (n,), x_closest (n,))``; sampling + golden-section refinement, every
     point at once (see ``max_on_intervals``)."""
     p = as_float_array(points, "points", shape=(None, 2))
-    w = _radii(half_width, "half_width", p.shape[0])
+    w = as_radii(half_width, "half_width", p.shape[0])
     samples = _check_samples(samples)
     if not callable(f):
         raise TypeError(f"f must be a vectorised callable, got {type(f).__name__}")
@@ -623,7 +613,7 @@ def overlap_circle_curve(centers, radii, f, *, samples: int = 64):
     contact iff the centre is under the curve, or the curve passes within the radius (its closest point then has
     |x − c_x| <= r, so the minimum of the true distance over that window decides). bool (n,)."""
     c = as_float_array(centers, "centers", shape=(None, 2))
-    r = _radii(radii, "radii", c.shape[0])
+    r = as_radii(radii, "radii", c.shape[0])
     samples = _check_samples(samples)
     if c.shape[0] == 0:
         return np.empty(0, np.bool_)

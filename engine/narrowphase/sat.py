@@ -26,9 +26,8 @@ import math
 import numpy as np
 
 from .._config import njit
-from .._validate import as_float_array
+from .._validate import as_float_array, check_offsets, check_orthonormal_rows, check_pairs, pair_indices
 from ..bounding.obb import OBB, ORTHONORMAL_TOL
-from .gjk import _check_offsets, check_pairs
 
 __all__ = ["PARALLEL_EPS", "obb_overlap", "overlap_obb_obb_batch", "overlap_convex_sat", "overlap_convex_sat_pairs",
            "convex_axes"]
@@ -112,20 +111,6 @@ def _overlap_obb_obb_batch(ca, Aa, ea, cb, Ab, eb, index_a, index_b, out):
 
 
 @njit
-def _orthonormal_errors(axes, err):
-    """max |A A^T − I| of every (3, 3) block of ``axes`` (n, 3, 3), into err (n,)."""
-    for n in range(axes.shape[0]):
-        worst = 0.0
-        for i in range(3):
-            for j in range(3):
-                d = axes[n, i, 0] * axes[n, j, 0] + axes[n, i, 1] * axes[n, j, 1] + axes[n, i, 2] * axes[n, j, 2]
-                if i == j:
-                    d -= 1.0
-                worst = max(worst, abs(d))
-        err[n] = worst
-
-
-@njit
 def _overlap_along_axes(pa, pb, axes):
     """SAT on given candidate axes (k, 3): False as soon as one axis separates the projections (closed test)."""
     for k in range(axes.shape[0]):
@@ -167,44 +152,8 @@ def _check_boxes(centers, axes, half_extents, side: str):
     if (e < 0).any():
         i, k = (int(x) for x in np.argwhere(e < 0)[0])
         raise ValueError(f"half_extents_{side} must be >= 0: half_extents_{side}[{i}, {k}] = {e[i, k]!r}")
-    if c.shape[0]:
-        err = np.empty(c.shape[0])
-        _orthonormal_errors(r, err)
-        if (err > ORTHONORMAL_TOL).any():
-            i = int(np.argmax(err > ORTHONORMAL_TOL))
-            raise ValueError(f"axes_{side}[{i}] must be orthonormal rows (max |A A^T - I| = {err[i]:.3g})")
+    check_orthonormal_rows(r, f"axes_{side}", ORTHONORMAL_TOL)
     return c, r, e
-
-
-def check_index(index, n_items: int, k: int | None, name: str) -> np.ndarray:
-    """An (k,) int64 index array into [0, n_items); ValueError naming the first index out of range."""
-    arr = np.asarray(index)
-    if arr.dtype.kind not in "iu":
-        raise TypeError(f"{name} must be an integer array, got dtype {arr.dtype}")
-    if arr.ndim != 1 or (k is not None and arr.shape[0] != k):
-        raise ValueError(f"{name} must have shape ({'k' if k is None else k},), got {arr.shape}")
-    arr = np.ascontiguousarray(arr, dtype=np.int64)
-    bad = (arr < 0) | (arr >= n_items)
-    if bad.any():
-        p = int(np.argmax(bad))
-        raise ValueError(f"{name}[{p}] = {arr[p]} is outside [0, {n_items})")
-    return arr
-
-
-def pair_indices(n_a: int, n_b: int, index_a, index_b):
-    """Resolve the (index_a, index_b) convention shared by the batched narrow tests: both None means aligned
-    arrays (pair p = row p of A against row p of B, which must have the same length); both given selects rows."""
-    if index_a is None and index_b is None:
-        if n_a != n_b:
-            raise ValueError(f"without index arrays the A and B arrays must have the same length, got {n_a} and "
-                             f"{n_b}")
-        idx = np.arange(n_a, dtype=np.int64)
-        return idx, idx
-    if index_a is None or index_b is None:
-        raise ValueError("index_a and index_b must be given together")
-    ia = check_index(index_a, n_a, None, "index_a")
-    ib = check_index(index_b, n_b, ia.shape[0], "index_b")
-    return ia, ib
 
 
 def overlap_obb_obb_batch(centers_a, axes_a, half_extents_a, centers_b, axes_b, half_extents_b,
@@ -340,7 +289,7 @@ def overlap_convex_sat_pairs(points, offsets, pairs) -> np.ndarray:
     tests every pair on its candidate axes (Ericson 5.2.1).
     """
     pts = as_float_array(points, "points", shape=(None, 3))
-    off = _check_offsets(offsets, pts.shape[0])
+    off = check_offsets(offsets, pts.shape[0])
     pr = check_pairs(pairs, off.shape[0] - 1)
     return _overlap_convex_batch(pts, off, pr)
 

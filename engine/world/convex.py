@@ -6,7 +6,7 @@ of those contacts.
 The cores of the pairs' bodies are packed (``points`` (N, 3) + ``offsets``) from the body store's world points;
 a pair overlaps when the GJK distance of its cores is at most the sum of the radii. A contact point's id names,
 for each shape, the kind of its supporting feature along the normal (its vertices within
-``engine.narrowphase.contact.FEATURE_TOL`` × the pair's size of the support plane: vertex, edge, face) and the
+``engine.narrowphase.contact_manifold.FEATURE_TOL`` × the pair's size of the support plane: vertex, edge, face) and the
 support vertex nearest to the point in the contact plane — the same while the same features touch.
 """
 from __future__ import annotations
@@ -15,7 +15,7 @@ import numpy as np
 
 from engine._config import njit
 from engine.narrowphase import contact_feature_pairs, gjk_distance_pairs
-from engine.narrowphase.contact import FEATURE_TOL
+from engine.narrowphase.contact_manifold import FEATURE_TOL
 from engine.narrowphase.contacts import APART, TOUCHING, feature_key, kernel_scratch, point_id, reduce_manifold
 
 __all__ = ["pack_cores", "gjk_overlap_rows", "gjk_contact_rows", "feature_point_ids"]

@@ -1,0 +1,361 @@
+"""The contact manifold: the pipeline's last stage — "l'instant et le lieu précis (vertex, côtés, faces) de
+contact" (the "where"; the "when" is engine.narrowphase.time_of_impact).
+
+``contact_feature`` finds, for two convex shapes (convex hulls of point sets, optionally swept by a ball of radius
+r: spheres, capsules, rounded boxes), the contact normal n (from A towards B; GJK's closest points when they are
+apart, EPA's normal when they overlap: engine.narrowphase.penetration) and the supporting feature of each shape
+along it (engine.narrowphase.features): the vertices of A within ``feature_tol`` of A's support plane max a·n,
+and of B within it of min b·n. One vertex is a *vertex*, two (or collinear ones) an *edge*, three or more a
+*face*; the pair names the contact (vertex–face, edge–edge, face–face, edge–face ...). The contact points are
+the intersection of the two features projected on the plane orthogonal to n (engine.narrowphase.clipping:
+Sutherland–Hodgman for face–face, Ericson 8.3.4 / Box2D's ``b2ClipPolygons``; segment clipping for edge–face;
+closest points of two segments for edge–edge, Ericson 5.1.9), placed on the mid-plane between the two support
+planes:
+
+    n, signed distance, closest points <- the penetration chain (GJK → EPA → exact fallback)
+    F_A <- feature of A's support set along n;  F_B <- feature of B's support set along −n
+    points <- F_A ∩ F_B in the plane ⊥ n, repeated and flat points dropped, lifted to the mid-plane
+
+Kernels (public within the package): ``feature_scratch`` (``FeatureScratch``), ``contact_points`` (one pair) and
+``contact_points_pairs`` (k pairs in one compiled loop).
+"""
+from __future__ import annotations
+
+import math
+from collections import namedtuple
+from dataclasses import dataclass
+
+import numpy as np
+
+from .._config import njit
+from .._validate import as_float_array, as_nonnegative, as_positive, as_radii, check_offsets, check_pairs
+from .clipping import clip_polygon, clip_segment, closest_segments_2d, drop_flat_vertices
+from .features import feature_polygon, plane_basis, support_set
+from .gjk import MAX_ITERATIONS
+from .penetration import ONE_PAIR, penetration_pairs
+from .rescale import largest_coordinate, rescale_unit
+from .status import OVERLAP
+
+__all__ = ["Contact", "ContactBatch", "contact_feature", "contact_feature_pairs", "FEATURE_TOL", "FeatureScratch",
+           "feature_scratch", "contact_points", "contact_points_pairs"]
+
+#: relative tolerance (× the size of the shapes) of the support-plane test that groups vertices into a feature
+FEATURE_TOL = 1e-7
+
+_NAMES = {1: "vertex", 2: "edge", 3: "face"}
+_ROUND_NAMES = {1: "sphere", 2: "cylinder", 3: "face"}
+
+
+@dataclass(frozen=True)
+class Contact:
+    """The answer to "whether and where".
+
+    - ``separation``: signed distance between the shapes (> 0 apart, 0 touching, < 0 penetration depth);
+    - ``normal`` (3,): unit vector from A towards B;
+    - ``feature_a``, ``feature_b``: "vertex", "edge" or "face" (rounded shapes: "sphere" or "cylinder");
+    - ``kind``: e.g. "vertex-face" (A's feature first);
+    - ``points`` (k, 3): contact point(s) on the mid-plane between the two support planes (k = 1 for a vertex or
+      crossing edges, 2 for an edge on a face or parallel edges, up to the polygon's size for face–face);
+    - ``closest_a``, ``closest_b`` (3,): GJK's closest (or EPA's deepest) points of A and B.
+    """
+
+    separation: float
+    normal: np.ndarray
+    feature_a: str
+    feature_b: str
+    kind: str
+    points: np.ndarray
+    closest_a: np.ndarray
+    closest_b: np.ndarray
+
+    @property
+    def touching(self) -> bool:
+        return self.separation <= 0.0
+
+
+# ---------------------------------------------------------------------------------------------------------------
+# kernels
+# ---------------------------------------------------------------------------------------------------------------
+
+#: the scratch of ``contact_points`` (see ``feature_scratch``)
+FeatureScratch = namedtuple("FeatureScratch", ["S", "FA", "FB", "buf", "basis"])
+
+
+@njit
+def feature_scratch(n_max):
+    """``contact_points``' scratch for shapes of up to ``n_max`` points, allocated here only: ``S`` (2 n_max + 2, 2)
+    (support sets, then the clipped points), ``FA``, ``FB`` (n_max + 1, 2) (the two features), ``buf``
+    (2, 2 n_max + 2, 2) (Sutherland–Hodgman's two halves) and ``basis`` (2, 3) (the contact plane's frame)."""
+    return FeatureScratch(np.empty((2 * n_max + 2, 2)), np.empty((n_max + 1, 2)), np.empty((n_max + 1, 2)),
+                          np.empty((2, 2 * n_max + 2, 2)), np.empty((2, 3)))
+
+
+@njit
+def _pair_size(pa, pb, ra, rb):
+    """The largest extent over the three axes of the two point sets together (at least ra + rb, and 1e-300)."""
+    size = 0.0
+    for c in range(3):
+        lo = np.inf
+        hi = -np.inf
+        for i in range(pa.shape[0]):
+            lo = min(lo, pa[i, c])
+            hi = max(hi, pa[i, c])
+        for i in range(pb.shape[0]):
+            lo = min(lo, pb[i, c])
+            hi = max(hi, pb[i, c])
+        size = max(size, hi - lo)
+    return max(size, ra + rb, 1e-300)
+
+
+@njit
+def _intersect_features(FA, na, FB, nb, tol, S, buf):
+    """The intersection of the two features in the plane, into S; returns its number of points (0 when round-off
+    left no overlap)."""
+    if na == 1:
+        S[0, 0], S[0, 1] = FA[0, 0], FA[0, 1]
+        return 1
+    if nb == 1:
+        S[0, 0], S[0, 1] = FB[0, 0], FB[0, 1]
+        return 1
+    if na == 2 and nb == 2:
+        return closest_segments_2d(FA, FB, tol, S)
+    if na == 2:
+        return clip_segment(FA[0, 0], FA[0, 1], FA[1, 0], FA[1, 1], FB, nb, S)
+    if nb == 2:
+        return clip_segment(FB[0, 0], FB[0, 1], FB[1, 0], FB[1, 1], FA, na, S)
+    half, count = clip_polygon(FA, na, FB, nb, buf)
+    for i in range(count):
+        S[i, 0] = buf[half, i, 0]
+        S[i, 1] = buf[half, i, 1]
+    return count
+
+
+@njit
+def _drop_repeats(S, count, tol):
+    """Drop the points of S[:count] within tol of an earlier one (greedy, first kept); returns the new count."""
+    kept = 0
+    for i in range(count):
+        fresh = True
+        for j in range(kept):
+            dx = S[i, 0] - S[j, 0]
+            dy = S[i, 1] - S[j, 1]
+            if not math.sqrt(dx * dx + dy * dy) > tol:
+                fresh = False
+                break
+        if fresh:
+            S[kept, 0] = S[i, 0]
+            S[kept, 1] = S[i, 1]
+            kept += 1
+    return kept
+
+
+@njit
+def contact_points(pa, pb, ra, rb, n, ca, cb, ftol, scratch, out_points, start):
+    """The "where" of one pair: hull(pa) swept by radius ``ra`` against hull(pb) swept by ``rb`` ((n, 3), (m, 3)
+    float64), given the contact normal ``n`` (3,) (A towards B) and the closest (or deepest) points ``ca``, ``cb``
+    (3,) of the cores. The support sets of A (within tol of max a·n) and of B (within tol of min b·n), projected on
+    the plane ⊥ n, reduced to features, intersected, cleaned (repeated points, and polygon vertices flat between
+    their neighbours, dropped) and lifted to the mid-plane between the two support planes. Writes the points into
+    ``out_points[start:]`` (room for n + m + 1 rows); returns (kind_a, kind_b, count), kind 1 vertex, 2 edge, 3
+    face. ``scratch`` from ``feature_scratch`` (max(n, m) points)."""
+    S, basis = scratch.S, scratch.basis
+    tol = ftol * _pair_size(pa, pb, ra, rb)
+    nx, ny, nz = n[0], n[1], n[2]
+    top_a = -np.inf
+    for i in range(pa.shape[0]):
+        top_a = max(top_a, pa[i, 0] * nx + pa[i, 1] * ny + pa[i, 2] * nz)
+    bot_b = np.inf
+    for i in range(pb.shape[0]):
+        bot_b = min(bot_b, pb[i, 0] * nx + pb[i, 1] * ny + pb[i, 2] * nz)
+    plane_basis(nx, ny, nz, basis)
+    na = feature_polygon(S, support_set(pa, nx, ny, nz, top_a, tol, 1, basis, S), tol, scratch.FA)
+    nb = feature_polygon(S, support_set(pb, nx, ny, nz, bot_b, tol, -1, basis, S), tol, scratch.FB)
+    count = _intersect_features(scratch.FA, na, scratch.FB, nb, tol, S, scratch.buf)
+    if count == 0:  # round-off left no overlap: fall back on the closest points
+        for r in range(2):
+            S[0, r] = 0.5 * ((ca[0] + cb[0]) * basis[r, 0] + (ca[1] + cb[1]) * basis[r, 1]
+                             + (ca[2] + cb[2]) * basis[r, 2])
+        count = 1
+    kept = drop_flat_vertices(S, _drop_repeats(S, count, tol), tol)
+    mid = 0.5 * ((top_a + ra) + (bot_b - rb))
+    for i in range(kept):
+        for c in range(3):
+            out_points[start + i, c] = S[i, 0] * basis[0, c] + S[i, 1] * basis[1, c] + mid * n[c]
+    return min(na, 3), min(nb, 3), kept
+
+
+@njit
+def contact_points_pairs(points, offsets, pairs, radii, ftol, normal, closest_a, closest_b, kind_a, kind_b,
+                         out_points, point_start, point_count):
+    """``contact_points`` over k pairs of packed shapes (``points`` (N, 3), ``offsets`` (S + 1,), ``pairs`` (k, 2),
+    ``radii`` (S,)) in one compiled loop, given each pair's ``normal`` and the closest points of the cores
+    (``closest_a``, ``closest_b`` (k, 3), moved out to the swept surfaces here: + r_A n, − r_B n). Pair p writes
+    kind_a[p], kind_b[p] (int8), point_count[p] points at ``out_points[point_start[p]:]``. Tiny or huge pairs are
+    solved on copies scaled by a power of two (``rescale_unit``)."""
+    n_max = 1
+    for s in range(offsets.shape[0] - 1):
+        n_max = max(n_max, offsets[s + 1] - offsets[s])
+    scratch = feature_scratch(n_max)
+    for p in range(pairs.shape[0]):
+        i = pairs[p, 0]
+        j = pairs[p, 1]
+        pa = points[offsets[i]:offsets[i + 1]]
+        pb = points[offsets[j]:offsets[j + 1]]
+        ra = radii[i]
+        rb = radii[j]
+        unit = rescale_unit(max(largest_coordinate(pa, pb), ra, rb))
+        if unit != 1.0:
+            pa = pa * unit
+            pb = pb * unit
+            ra *= unit
+            rb *= unit
+            for c in range(3):
+                closest_a[p, c] *= unit
+                closest_b[p, c] *= unit
+        ka, kb, cnt = contact_points(pa, pb, ra, rb, normal[p], closest_a[p], closest_b[p], ftol, scratch,
+                                     out_points, point_start[p])
+        kind_a[p] = ka
+        kind_b[p] = kb
+        point_count[p] = cnt
+        for c in range(3):
+            closest_a[p, c] = (closest_a[p, c] + ra * normal[p, c]) / unit
+            closest_b[p, c] = (closest_b[p, c] - rb * normal[p, c]) / unit
+            for q in range(point_start[p], point_start[p] + cnt):
+                out_points[q, c] /= unit
+
+
+# ---------------------------------------------------------------------------------------------------------------
+# public functions
+# ---------------------------------------------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class ContactBatch:
+    """``contact_feature`` over k pairs, as arrays (see ``contact_feature_pairs``).
+
+    - ``separation`` (k,): signed distance (> 0 apart, 0 touching, < 0 penetration depth);
+    - ``normal`` (k, 3): unit vectors from A towards B;
+    - ``feature_a``, ``feature_b`` (k,) int8: 1 vertex, 2 edge, 3 face (for a rounded shape, radius > 0: sphere,
+      cylinder, face; ``names_a``, ``names_b`` and ``kind`` give the strings);
+    - ``points`` (M, 3), ``point_offsets`` (k + 1,): the contact points of pair p are
+      ``points[point_offsets[p]:point_offsets[p + 1]]`` (at least one per pair);
+    - ``closest_a``, ``closest_b`` (k, 3): GJK's closest (or EPA's deepest) points of A and B;
+    - ``radius_a``, ``radius_b`` (k,): the radii of the two shapes of every pair;
+    - ``exact_fallback`` (k,) bool: pairs whose depth came from Qhull on the Minkowski difference (EPA broke
+      down on round-off; see ``engine.narrowphase.epa``).
+    ``len(batch)`` is k and ``batch[p]`` the ``Contact`` of pair p.
+    """
+
+    separation: np.ndarray
+    normal: np.ndarray
+    feature_a: np.ndarray
+    feature_b: np.ndarray
+    points: np.ndarray
+    point_offsets: np.ndarray
+    closest_a: np.ndarray
+    closest_b: np.ndarray
+    radius_a: np.ndarray
+    radius_b: np.ndarray
+    exact_fallback: np.ndarray
+
+    def __len__(self) -> int:
+        return int(self.separation.shape[0])
+
+    @staticmethod
+    def _names(codes, radii) -> list:
+        return [(_ROUND_NAMES if r > 0 else _NAMES)[int(c)] for c, r in zip(codes, radii)]
+
+    @property
+    def names_a(self) -> list:
+        """A's feature of every pair: "vertex", "edge", "face" (rounded: "sphere", "cylinder", "face")."""
+        return self._names(self.feature_a, self.radius_a)
+
+    @property
+    def names_b(self) -> list:
+        return self._names(self.feature_b, self.radius_b)
+
+    @property
+    def kind(self) -> list:
+        """"vertex-face", "edge-edge" ... for every pair (A's feature first)."""
+        return [f"{a}-{b}" for a, b in zip(self.names_a, self.names_b)]
+
+    def __getitem__(self, p) -> Contact:
+        if isinstance(p, bool) or not isinstance(p, int | np.integer):
+            raise TypeError(f"p must be an int, got {type(p).__name__}")
+        k = len(self)
+        if not -k <= p < k:
+            raise IndexError(f"pair {p} outside a batch of {k}")
+        p = int(p) % k
+        fa = (_ROUND_NAMES if self.radius_a[p] > 0 else _NAMES)[int(self.feature_a[p])]
+        fb = (_ROUND_NAMES if self.radius_b[p] > 0 else _NAMES)[int(self.feature_b[p])]
+        return Contact(separation=float(self.separation[p]), normal=self.normal[p].copy(), feature_a=fa,
+                       feature_b=fb, kind=f"{fa}-{fb}",
+                       points=self.points[self.point_offsets[p]:self.point_offsets[p + 1]].copy(),
+                       closest_a=self.closest_a[p].copy(), closest_b=self.closest_b[p].copy())
+
+
+def _contact_batch(pts, off, pr, rad, ftol, max_iter) -> ContactBatch:
+    """contact_feature_pairs on validated arrays: the penetration chain (with its exact fallback), then the
+    features and contact points of every pair."""
+    k = pr.shape[0]
+    sizes = np.diff(off)
+    room = sizes[pr[:, 0]] + sizes[pr[:, 1]] + 1 if k else np.zeros(0, np.int64)
+    start = np.zeros(k + 1, np.int64)
+    np.cumsum(room, out=start[1:])
+    signed, normal, ca, cb, status, fallback = penetration_pairs(pts, off, pr, max_iter)
+    # two coincident points: EPA's normal cone is every direction; any one will do, the same one every time
+    if sizes.size and sizes.min() == 1:
+        coincident = (status == OVERLAP) & (signed == 0.0) & (sizes[pr[:, 0]] == 1) & (sizes[pr[:, 1]] == 1)
+        normal[coincident] = (1.0, 0.0, 0.0)
+    separation = signed - rad[pr[:, 0]] - rad[pr[:, 1]]
+    kind_a = np.zeros(k, np.int8)
+    kind_b = np.zeros(k, np.int8)
+    raw = np.empty((int(start[-1]), 3))
+    count = np.zeros(k, np.int64)
+    if k:
+        contact_points_pairs(pts, off, pr, rad, ftol, normal, ca, cb, kind_a, kind_b, raw, start, count)
+    point_offsets = np.zeros(k + 1, np.int64)
+    np.cumsum(count, out=point_offsets[1:])
+    # the rows of the points actually written: pair p's count rows from start[p]
+    take = np.arange(point_offsets[-1]) + np.repeat(start[:-1] - point_offsets[:-1], count)
+    return ContactBatch(separation=separation, normal=normal, feature_a=kind_a, feature_b=kind_b,
+                        points=raw[take], point_offsets=point_offsets, closest_a=ca, closest_b=cb,
+                        radius_a=rad[pr[:, 0]], radius_b=rad[pr[:, 1]], exact_fallback=fallback)
+
+
+def contact_feature_pairs(points, offsets, pairs, *, radii=None, feature_tol: float = FEATURE_TOL) -> ContactBatch:
+    """``contact_feature`` over k pairs of packed convex shapes in one compiled call.
+
+    ``points`` (N, 3) / ``offsets`` (S + 1,) as in ``gjk_distance_pairs`` (shape s is the convex hull of
+    ``points[offsets[s]:offsets[s + 1]]``), swept by a ball of ``radii[s]`` ((S,) >= 0, default 0); ``pairs``
+    (k, 2) int: (shape A, shape B) per row, repeats allowed. GJK, EPA for overlapping pairs, the support sets,
+    the features and their clipping all run in one compiled loop (chapter: "l'instant et le lieu précis (vertex,
+    côtés, faces) de contact"; Ericson 9.5, 8.3.4, 5.1.9). Returns a ``ContactBatch``; ``batch[p]`` equals
+    ``contact_feature`` on pair p. Where EPA folds on round-off (rare, see ``engine.narrowphase.epa``) the depth
+    and normal of that pair come from Qhull (Python), flagged in ``exact_fallback``.
+    """
+    pts = as_float_array(points, "points", shape=(None, 3))
+    off = check_offsets(offsets, pts.shape[0])
+    s = off.shape[0] - 1
+    rad = np.zeros(s) if radii is None else as_radii(radii, "radii", s, scalar=False)
+    pr = check_pairs(pairs, s)
+    ftol = as_positive(feature_tol, "feature_tol")
+    return _contact_batch(pts, off, pr, rad, ftol, MAX_ITERATIONS)
+
+
+def contact_feature(points_a, points_b, *, radius_a: float = 0.0, radius_b: float = 0.0,
+                    feature_tol: float = FEATURE_TOL) -> Contact:
+    """Contact normal, features and contact point(s) of two convex shapes.
+
+    Shape A is the convex hull of ``points_a`` (n, 3) swept by a ball of ``radius_a`` >= 0 (0: a polyhedron; a
+    single point with radius r: a sphere; two points: a capsule); likewise B. Works whether the shapes are apart
+    (the features that face each other across the gap), touching, or overlapping (the features along EPA's
+    normal). Returns a ``Contact``: ``contact_feature_pairs`` on this one pair.
+    """
+    pa = as_float_array(points_a, "points_a", shape=(None, 3), min_rows=1)
+    pb = as_float_array(points_b, "points_b", shape=(None, 3), min_rows=1)
+    ra = as_nonnegative(radius_a, "radius_a")
+    rb = as_nonnegative(radius_b, "radius_b")
+    ftol = as_positive(feature_tol, "feature_tol")
+    off = np.array([0, pa.shape[0], pa.shape[0] + pb.shape[0]], np.int64)
+    batch = _contact_batch(np.concatenate([pa, pb]), off, ONE_PAIR, np.array([ra, rb]), ftol, MAX_ITERATIONS)
+    return batch[0]

@@ -1,0 +1,201 @@
+"""Penetration of two convex hulls: the chain GJK → EPA → exact fallback → rescaling, written once.
+
+    scale the pair by a power of two when it is tiny or huge              (engine.narrowphase.rescale)
+    GJK (engine.narrowphase.gjk):
+        apart            -> signed distance d > 0, normal along the closest points
+        touching, no full simplex -> 0, a normal of M's normal cone (engine.narrowphase.touching_normal)
+        overlapping      -> EPA from GJK's simplex (engine.narrowphase.epa): −depth, M's face normal
+    EPA broken by round-off (many coplanar support points, e.g. boxes sharing axes; about 1 pair in 10^4 of such
+    adversarial inputs) -> the exact answer from Qhull on the Minkowski difference (``minkowski_fallback``)
+
+``penetration_kernel`` is the compiled chain for one pair, ``penetration_pairs`` the batch (one compiled loop,
+then the fallback in Python for the pairs EPA gave up on); ``epa_penetration``, ``epa_penetration_pairs`` and
+``engine.narrowphase.contact_manifold`` all call the latter.
+
+Van den Bergen, *Collision Detection in Interactive 3D Environments*, section 4.3.3; Ericson, *Real-Time
+Collision Detection*, section 9.5.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .._config import njit
+from .._validate import as_float_array, as_max_iterations, check_offsets, check_pairs
+from .epa import EPA_TOL, epa_kernel, epa_polytope
+from .gjk import MAX_ITERATIONS, gjk_kernel, gjk_scratch
+from .rescale import largest_coordinate, rescale_unit
+from .status import EPA_NOT_CONVERGED, GJK_NOT_CONVERGED, OVERLAP, SEPARATED, raise_for_status
+from .touching_normal import touching_normal_at_vertex
+
+__all__ = ["penetration_kernel", "penetration_pairs_kernel", "penetration_pairs", "minkowski_fallback", "ONE_PAIR",
+           "epa_penetration", "epa_penetration_pairs"]
+
+
+@njit
+def _chain(pa, pb, max_iter, scratch, poly, g, out):
+    """The chain on one pair already in range (see ``penetration_kernel``)."""
+    status, n_simplex = gjk_kernel(pa, pb, max_iter, scratch, g)
+    if status == GJK_NOT_CONVERGED:
+        return status
+    d = g[6]
+    for c in range(3):
+        out[4 + c] = g[c]
+        out[7 + c] = g[3 + c]
+    if d > 0.0:
+        out[0] = d
+        # the unit direction of closest_b − closest_a, rescaled first (d may be so small, 1e-162, that its square
+        # underflows and d itself is inexact)
+        big = max(abs(g[3] - g[0]), abs(g[4] - g[1]), abs(g[5] - g[2]))
+        length = math.sqrt(((g[3] - g[0]) / big) ** 2 + ((g[4] - g[1]) / big) ** 2 + ((g[5] - g[2]) / big) ** 2)
+        for c in range(3):
+            out[1 + c] = (g[3 + c] - g[c]) / big / length
+        return SEPARATED
+    if status != OVERLAP:  # touching at distance exactly 0 without a full simplex: depth 0, a touching normal
+        out[0] = 0.0
+        out[1], out[2], out[3], _ = touching_normal_at_vertex(pa, pb, EPA_TOL, g[0], g[1], g[2])
+        return SEPARATED
+    if epa_kernel(pa, pb, scratch.W, scratch.IA, scratch.IB, n_simplex, max_iter, poly, out) != OVERLAP:
+        return EPA_NOT_CONVERGED
+    out[0] = -out[0]
+    return OVERLAP
+
+
+@njit
+def penetration_kernel(pa, pb, max_iter, scratch, poly, g, out):
+    """The chain for hull(pa), hull(pb) ((n, 3), (m, 3) float64), with ``scratch`` from ``gjk_scratch`` (at least
+    max(n, m) columns), ``poly`` from ``epa_polytope`` and ``g`` (7,) float64 scratch. Writes ``out`` (10,): the
+    signed distance s (> 0 apart, 0 touching, −depth overlapping), the unit normal (A towards B), the closest
+    (or deepest) point of A and of B. Returns SEPARATED (s >= 0), OVERLAP, GJK_NOT_CONVERGED or
+    EPA_NOT_CONVERGED. Tiny or huge pairs are solved on copies scaled by a power of two (``rescale_unit``)."""
+    unit = rescale_unit(largest_coordinate(pa, pb))
+    if unit == 1.0:
+        return _chain(pa, pb, max_iter, scratch, poly, g, out)
+    status = _chain(pa * unit, pb * unit, max_iter, scratch, poly, g, out)
+    out[0] /= unit
+    for c in range(4, 10):
+        out[c] /= unit
+    return status
+
+
+@njit
+def penetration_pairs_kernel(points, offsets, pairs, max_iter, signed, normal, point_a, point_b, status):
+    """``penetration_kernel`` over k pairs of packed shapes (shape s = rows ``offsets[s]:offsets[s + 1]`` of
+    ``points`` (N, 3); ``pairs`` (k, 2) int64), in one compiled loop: writes signed (k,), normal, point_a,
+    point_b (k, 3) and status (k,) int64."""
+    n_max = 1
+    for s in range(offsets.shape[0] - 1):
+        n_max = max(n_max, offsets[s + 1] - offsets[s])
+    scratch = gjk_scratch(n_max)
+    poly = epa_polytope()
+    g = np.empty(7)
+    out = np.empty(10)
+    for p in range(pairs.shape[0]):
+        i = pairs[p, 0]
+        j = pairs[p, 1]
+        pa = points[offsets[i]:offsets[i + 1]]
+        pb = points[offsets[j]:offsets[j + 1]]
+        # pairs in range go straight to the chain: one call fewer per pair (each call reference-counts the ~25
+        # arrays it is passed, scratch and polytope included)
+        if rescale_unit(largest_coordinate(pa, pb)) == 1.0:
+            status[p] = _chain(pa, pb, max_iter, scratch, poly, g, out)
+        else:
+            status[p] = penetration_kernel(pa, pb, max_iter, scratch, poly, g, out)
+        signed[p] = out[0]
+        for c in range(3):
+            normal[p, c] = out[1 + c]
+            point_a[p, c] = out[4 + c]
+            point_b[p, c] = out[7 + c]
+
+
+def minkowski_fallback(pa: np.ndarray, pb: np.ndarray):
+    """Exact depth and normal from Qhull on the Minkowski difference {a − b} (scipy.spatial.ConvexHull) of
+    ``pa`` (n, 3) and ``pb`` (m, 3).
+
+    Used only where the expanding polytope breaks down on round-off (many coplanar support points, e.g. boxes
+    sharing axes); O(n m) points, so meant for the small shapes of a narrow phase. Returns
+    (depth, normal, point_a, point_b) — the points are the supporting vertices of A and B along the normal — or
+    None when there are too many points.
+    """
+    from scipy.spatial import ConvexHull, QhullError
+
+    if pa.shape[0] * pb.shape[0] > 200_000:
+        return None
+    md = (pa[:, None, :] - pb[None, :, :]).reshape(-1, 3)
+    try:
+        hull = ConvexHull(md)
+    except (QhullError, ValueError):
+        # M is flat: the origin lies on its boundary; depth 0 along the normal of its plane
+        _, _, vt = np.linalg.svd(md - md.mean(axis=0))
+        normal = vt[-1]
+        return 0.0, normal, pa[int(np.argmax(pa @ normal))], pb[int(np.argmin(pb @ normal))]
+    distances = -hull.equations[:, 3]
+    k = int(np.argmin(distances))
+    normal = hull.equations[k, :3].copy()
+    depth = max(float(distances[k]), 0.0)
+    return depth, normal, pa[int(np.argmax(pa @ normal))], pb[int(np.argmin(pb @ normal))]
+
+
+def penetration_pairs(pts: np.ndarray, off: np.ndarray, pr: np.ndarray, max_iter: int, where: str = "pairs"):
+    """The chain over validated packed shapes (``pts`` (N, 3) float64, ``off`` (S + 1,), ``pr`` (k, 2) int64):
+    ``penetration_pairs_kernel``, then the exact fallback where EPA gave up; raises ``GJKNotConverged`` /
+    ``EPANotConverged`` for the first pair left unsolved (named ``where[p]``). Returns ``(signed (k,), normal (k, 3),
+    point_a (k, 3), point_b (k, 3), status (k,), exact_fallback (k,) bool)``."""
+    k = pr.shape[0]
+    signed = np.empty(k)
+    normal = np.empty((k, 3))
+    point_a = np.empty((k, 3))
+    point_b = np.empty((k, 3))
+    status = np.empty(k, np.int64)
+    if k:
+        penetration_pairs_kernel(pts, off, pr, max_iter, signed, normal, point_a, point_b, status)
+    fallback = status == EPA_NOT_CONVERGED
+    # rare: EPA folded on round-off; Qhull's exact answer instead
+    for p in np.flatnonzero(fallback) if fallback.any() else ():
+        i, j = pr[p]
+        exact = minkowski_fallback(pts[off[i]:off[i + 1]], pts[off[j]:off[j + 1]])
+        if exact is not None:
+            signed[p], normal[p], point_a[p], point_b[p] = -exact[0], exact[1], exact[2], exact[3]
+            status[p] = OVERLAP
+    raise_for_status(status, max_iter, where)
+    return signed, normal, point_a, point_b, status, fallback
+
+
+def _packed_pair(points_a, points_b):
+    pa = as_float_array(points_a, "points_a", shape=(None, 3), min_rows=1)
+    pb = as_float_array(points_b, "points_b", shape=(None, 3), min_rows=1)
+    off = np.array([0, pa.shape[0], pa.shape[0] + pb.shape[0]], np.int64)
+    return np.concatenate([pa, pb]), off
+
+
+ONE_PAIR = np.array([[0, 1]], np.int64)
+
+
+def epa_penetration(points_a, points_b, *, max_iterations: int = MAX_ITERATIONS, witnesses: bool = False):
+    """Penetration depth and normal of the overlapping convex hulls of ``points_a`` (n, 3) and ``points_b`` (m, 3).
+
+    Returns ``(depth, normal)``: depth >= 0 is the length of the shortest translation that separates the hulls
+    (0.0 when they only touch, or do not overlap at all), ``normal`` (3,) a unit vector pointing from A towards
+    B, so that moving B by ``depth * normal`` leaves the hulls touching. With ``witnesses=True`` also returns
+    the deepest points of A and of B, (3,) each: ``(depth, normal, point_a, point_b)``. For separated hulls
+    depth is 0 and the normal is the direction of GJK's closest points (see ``gjk_distance``).
+    """
+    pts, off = _packed_pair(points_a, points_b)
+    max_iter = as_max_iterations(max_iterations)
+    signed, normal, point_a, point_b, _, _ = penetration_pairs(pts, off, ONE_PAIR, max_iter, where="")
+    depth = 0.0 if signed[0] >= 0.0 else float(-signed[0])
+    if witnesses:
+        return depth, normal[0], point_a[0], point_b[0]
+    return depth, normal[0]
+
+
+def epa_penetration_pairs(points, offsets, pairs, *, max_iterations: int = MAX_ITERATIONS):
+    """EPA over k pairs of packed shapes (see ``gjk_distance_pairs`` for ``points``/``offsets``) in one compiled
+    call. Returns ``(depth (k,), normal (k, 3))``; separated pairs get depth 0 and GJK's direction."""
+    pts = as_float_array(points, "points", shape=(None, 3))
+    off = check_offsets(offsets, pts.shape[0])
+    pr = check_pairs(pairs, off.shape[0] - 1)
+    max_iter = as_max_iterations(max_iterations)
+    signed, normal, _, _, _, _ = penetration_pairs(pts, off, pr, max_iter)
+    return np.where(signed < 0.0, -signed, 0.0), normal
