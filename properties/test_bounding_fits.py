@@ -15,7 +15,15 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 from scipy.optimize import linprog
 
-from engine.bounding.aabb import aabb_contains, fit_aabb, fit_aabbs, merge_aabb, transform_aabb, transform_aabbs
+from engine.bounding.aabb import (
+    aabb_contains,
+    enclose_aabbs,
+    fit_aabb,
+    fit_aabbs,
+    merge_aabb,
+    transform_aabb,
+    transform_aabbs,
+)
 from engine.bounding.kdop import (
     fit_kdop,
     fit_kdops,
@@ -391,3 +399,53 @@ def test_summaries_are_json_ready_and_agree_with_the_fits(pts):
     assert expected <= set(summary)
     with pytest.raises(ValueError, match="does not apply"):
         describe_bounding_volumes(pts, kinds=["kdop8" if pts.shape[1] == 3 else "obb"])
+
+
+# ------------------------------------------------------------------------------------------------------------
+# a hierarchy node's boxes, and OBB frames
+# ------------------------------------------------------------------------------------------------------------
+@given(seeds, st.integers(1, 12), st.integers(0, 12))
+def test_enclose_aabbs_is_the_box_of_the_members_and_the_box_of_their_centres(seed, n, m):
+    rng = np.random.default_rng(seed)
+    lo = rng.integers(-20, 20, size=(n, 3)).astype(np.float64)
+    hi = lo + rng.integers(0, 6, size=(n, 3))
+    members = rng.integers(0, n, size=m).astype(np.int64)  # any rows, repeats allowed
+    out = [np.full(3, np.nan) for _ in range(4)]
+    enclose_aabbs(lo, hi, members, *out)
+    if m == 0:
+        expected = [np.full(3, np.inf), np.full(3, -np.inf), np.full(3, np.inf), np.full(3, -np.inf)]
+    else:
+        centres = (lo[members] + hi[members]) / 2  # exact: integers and halves
+        expected = [lo[members].min(axis=0), hi[members].max(axis=0), centres.min(axis=0), centres.max(axis=0)]
+    for got, want in zip(out, expected):
+        assert np.array_equal(got, want)
+
+
+@given(seeds)
+def test_obb_from_aabb_is_that_box(seed):
+    rng = np.random.default_rng(seed)
+    lo = rng.integers(-5, 5, size=3).astype(np.float64)
+    hi = lo + rng.integers(0, 4, size=3)
+    box = OBB.from_aabb(lo, hi)
+    assert np.array_equal(box.center, (lo + hi) / 2) and np.array_equal(box.axes, np.eye(3))
+    assert np.array_equal(box.half_extents, (hi - lo) / 2)
+    # corners in the documented sign order (-,-,-), (+,-,-), (-,+,-), ...: bit k of the index picks hi on axis k
+    expected = np.array([[(hi if (i >> k) & 1 else lo)[k] for k in range(3)] for i in range(8)])
+    assert np.array_equal(box.corners(), expected)
+    pts = rng.integers(-7, 7, size=(40, 3)).astype(np.float64) / 2  # halves: on the faces too
+    assert np.array_equal(box.contains(pts), aabb_contains(lo, hi, pts))
+
+
+@given(rigid_motions(3), st.floats(0.1, 10.0), seeds)
+def test_obb_contains_exactly_the_points_within_its_half_extents(motion, size, seed):
+    rotation, center = motion
+    rng = np.random.default_rng(seed)
+    half = rng.uniform(0.5, 2.0, size=3) * size
+    box = OBB(center, rotation.T, half)  # rows of axes = the rotated frame's axes
+    s = rng.choice([-1.1, -0.9, -0.5, 0.0, 0.5, 0.9, 1.1], size=(60, 3))  # box coordinates, in half extents
+    pts = center + (s * half) @ box.axes
+    assert np.array_equal(box.contains(pts), (np.abs(s) <= 1.0).all(axis=1))
+    corners = box.corners()
+    local = (corners - center) @ box.axes.T
+    assert np.allclose(np.abs(local), half, rtol=1e-12)
+    assert len({tuple(np.sign(r)) for r in np.round(local, 9)}) == 8
