@@ -2,7 +2,7 @@
 
 ``eos_point(config) -> row`` is one run: N equal spheres in the periodic box L = 10 at packing fraction η,
 exact event-driven dynamics (``simulate_gas(method="events", boundary="periodic")``), seeded; Z from the virial
-route, Z = PV/(NkT) = 1 + (1/(3NkT t))·Σ m Δv_i·r_ij (DESIGN.md section 6). ``eos_section`` runs the sweep
+route, Z = PV/(NkT) = 1 + (1/(3NkT t))·Σ m Δv_i·r_ij (engine/gas/observables.py). ``eos_section`` runs the sweep
 η = 0.05, 0.10, …, 0.45 × seeds through bench/sweep.py (rows stored as they complete, resumable) and writes
 
 - ``eos.csv``: one row per (η, seed): Z virial with its block standard error, 1 + Γσ√(πm/kT)/6, Γ, collisions,
@@ -11,7 +11,7 @@ route, Z = PV/(NkT) = 1 + (1/(3NkT t))·Σ m Δv_i·r_ij (DESIGN.md section 6). 
   Carnahan–Starling Z_CS = (1 + η + η² − η³)/(1 − η)³ and the deviation from it, in % and in standard errors;
 - ``eos.png``: Z(η) with error bars, the Carnahan–Starling curve overlaid, and the relative deviation below.
 
-DESIGN.md section 6 compares with Carnahan–Starling only with periodic boundaries (a walled box of this size lies
+Carnahan–Starling is compared only with periodic boundaries (a walled box of this size lies
 several % below the bulk equation of state). Carnahan–Starling is itself an approximation: for η = 0.2 … 0.45 it
 lies 0.1–0.3 % below the simulated bulk Z (Kolafa, Labík & Malijevský, PCCP 6, 2335 (2004), whose fit
 Z_KLM = (1 + η + η² − 2(η³ + η⁴)/3)/(1 − η)³ is shown beside it for that reason).
@@ -86,14 +86,13 @@ def eos_summary(runs: pd.DataFrame) -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
-def eos_plot(summary: pd.DataFrame, path: Path, title: str) -> None:
-    import matplotlib
+def eos_plot(summary: pd.DataFrame, path: Path | None = None, title: str = ""):
+    """Z(η) with error bars over Carnahan–Starling, and the relative deviation below; returns the Figure (built
+    without pyplot, the backend is left alone), written to ``path`` when one is given."""
+    from matplotlib.figure import Figure
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, (ax, dev) = plt.subplots(2, 1, figsize=(7.5, 7.0), dpi=110, sharex=True,
-                                  gridspec_kw={"height_ratios": [3, 1.3]})
+    fig = Figure(figsize=(7.5, 7.0), dpi=110)
+    ax, dev = fig.subplots(2, 1, sharex=True, gridspec_kw={"height_ratios": [3, 1.3]})
     eta = np.linspace(0.0, 0.47, 200)
     ax.plot(eta, carnahan_starling(eta), color="black", lw=1.2, label="Carnahan–Starling")
     ax.errorbar(summary["eta"], summary["z"], yerr=summary["z_sem"], fmt="o", ms=5, color="crimson", capsize=3,
@@ -113,8 +112,9 @@ def eos_plot(summary: pd.DataFrame, path: Path, title: str) -> None:
     dev.grid(True, alpha=0.3)
     dev.legend(loc="upper left", fontsize=8)
     fig.tight_layout()
-    fig.savefig(path)
-    plt.close(fig)
+    if path is not None:
+        fig.savefig(path)
+    return fig
 
 
 def eos_markdown(runs: pd.DataFrame, summary: pd.DataFrame, info: dict, quick: bool, where: str,
@@ -126,7 +126,7 @@ def eos_markdown(runs: pd.DataFrame, summary: pd.DataFrame, info: dict, quick: b
              f"N = {int(cfg['n'])} equal spheres in a periodic cube of side L = {L:g}, exact event-driven dynamics "
              f"(`simulate_gas(method=\"events\", boundary=\"periodic\")`), kT = m = 1, {cfg['t_equilibrate']:g} s "
              f"of equilibration then {cfg['t_measure']:g} s measured; Z from the virial route "
-             "PV = NkT + (1/3t)·Σ m Δv_i·r_ij (DESIGN.md §6). Each η is run with "
+             "PV = NkT + (1/3t)·Σ m Δv_i·r_ij. Each η is run with "
              f"{int(summary['seeds'].max())} seeds; `Z` is the mean over the seeds ± the standard error of that "
              "mean (the spread between independent runs, not the within-run block error). `Z_CS` is "
              "Carnahan–Starling (1 + η + η² − η³)/(1 − η)³; `dev` is Z/Z_CS − 1 and `dev/s.e.` the same "
@@ -152,8 +152,9 @@ def eos_markdown(runs: pd.DataFrame, summary: pd.DataFrame, info: dict, quick: b
               f"{100 * (worst['kolafa'] / worst['carnahan_starling'] - 1):+.2f} % from Carnahan–Starling there).",
               ""]
     if failures:
-        lines += ["**Failed runs** (after retries; their rows are missing above, rerun `collide report` to retry "
-                  "them only): " + "; ".join(f"η = {c['eta']}, seed {c['seed']}: {e}" for c, e in failures), ""]
+        lines += ["**Failed runs** (after retries; their rows are missing above, rerun `python -m bench.report` "
+                  "to retry them only): "
+                  + "; ".join(f"η = {c['eta']}, seed {c['seed']}: {e}" for c, e in failures), ""]
     lines += ["![Z against eta](eos.png)", ""]
     return "\n".join(lines)
 

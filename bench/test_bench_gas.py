@@ -1,4 +1,4 @@
-"""W3, the confined gas (DESIGN.md section 7): event-driven collisions per second at N = 32,000 and η = 0.1, 0.3
+"""W3, the confined gas: event-driven collisions per second at N = 32,000 and η = 0.1, 0.3
 (target >= 150,000 per second on one core), and the stepped method's frames per second at N = 2,620 for every
 broad phase (the same scene, so the entries of a group are comparable as ratios).
 

@@ -1,132 +1,160 @@
-"""Benchmark of the World pipeline per frame against trimesh's CollisionManager and coal's broad phase.
+"""The collision frame at game scale: World against MuJoCo and pybullet, same scenes, same run.
 
-Scene: N = 10,000 mixed bodies — 40 % spheres (r in [0.3, 0.7]), 30 % rotated boxes (half extents in
-[0.2, 0.6]), 30 % convex hulls of 12–20 random points (radius ~0.5) — uniform in a cube at a moderate density
-(bounding-sphere packing fraction ~0.1). One frame: every body moves a little (a random step of 0.02) —
-``World.update(ids, centers)`` (one broad-phase refit) + ``World.pairs()`` (broad phase + exact narrow tests).
+Scenes (engine.workloads.frame_scene): "mixed" — half spheres (r = 0.5), half boxes (half extents 0.4) with
+random rotations, uniform in a cube at solid fraction 0.06, every body moving by a small random step and turn
+each frame; "pile" — boxes and spheres resting on a Plane, most contacts persisting; "hulls" — capsules and
+12-vertex convex hulls. N = 1e3, 1e4 and 1e5 (``large``; MuJoCo is left out there: its broad phase reserves
+4 N² bytes, 40 GB). A frame is pose upload + detection + reading the contacts (bench/world_peers.py): World
+``update(ids, centers, rotations=quaternions)`` + ``contacts()`` (broad phases "tree" — the default — "sap" and
+"grid"); MuJoCo ``qpos`` + ``mj_kinematics`` + ``mj_collision`` + ``d.contact``; pybullet
+``resetBasePositionAndOrientation`` per body + ``performCollisionDetection`` + ``getContactPoints``.
 
-Peers, same scene, same run:
-- trimesh ``CollisionManager`` (python-fcl BVH meshes; spheres as icospheres, subdivisions=1, boxes as their 12
-  triangles, hulls as their hull meshes): ``set_transform`` for each body, then
-  ``in_collision_internal(return_names=True)`` (the pairs of meshes in contact);
-- coal ``DynamicAABBTreeCollisionManager`` with coal's exact primitives (Sphere, Box, Convex): ``setTransform``
-  for each object, ``update()``, ``collide`` with the C++ ``CollisionCallBackCollect`` — its broad-phase pairs
-  only (a lower bound of its time: no narrow test).
-
-``extra_info``: bodies, pairs found, and for the World the per-stage counts (candidates, narrow tests).
-Run: ``python -m pytest bench/test_bench_world.py --benchmark-only -q`` (``--quick``: N = 2,000).
+Each benchmark first runs ``WARMUP`` frames untimed (the tree's fat boxes reach their steady state: bodies
+keep leaving them), then times ``ROUNDS`` frames (pytest-benchmark's statistics are over those). ``extra_info``:
+``scene``, ``n``, ``peer``, the per-stage minima in seconds (``stage_upload``, ``stage_detect``, ``stage_read``,
+and for World ``stage_broad``, ``stage_narrow``, ``stage_contacts``, measured with the benchmark's timer),
+the penetrating pairs (depth > 1e-6) and contact points at the last frame, and the agreement at that frame:
+for each peer against World (pairs both find, only one finds, median / max depth difference on the common
+pairs), and for World and each peer against the exact depth (distance from the origin to the boundary of the
+Minkowski difference, Qhull) on a sample of ``EXACT_SAMPLE`` penetrating pairs.
+Run: ``python -m pytest bench/test_bench_world.py --benchmark-only -q`` (``--quick``: N = 1e3 only;
+``-m large`` for N = 1e5).
 """
 from __future__ import annotations
+
+import importlib
+import time
 
 import numpy as np
 import pytest
 
-from engine.workloads import mixed_world_scene, random_steps
-from engine.world import Box, Sphere, World
+from bench.world_peers import (
+    MUJOCO_MAX_BODIES,
+    BulletFrame,
+    EngineFrame,
+    MuJoCoFrame,
+    agreement,
+    exact_depth,
+)
+from engine.workloads import frame_motion, frame_scene
+from engine.world import Plane
+
+SCENES = ("mixed", "pile", "hulls")
+WARMUP = 40
+ROUNDS = 8
+EXACT_SAMPLE = 60
+PEERS = ("World tree", "World sap", "World grid", "MuJoCo", "pybullet")
+
+_scenes: dict = {}
+_reference: dict = {}
 
 
-@pytest.fixture(scope="module")
-def scene(quick):
-    return mixed_world_scene(2_000 if quick else 10_000)
+def _sizes():
+    return [pytest.param(1_000, id="1e3"), pytest.param(10_000, id="1e4"),
+            pytest.param(100_000, id="1e5", marks=pytest.mark.large)]
 
 
-def _world(shapes, broad_phase):
-    w = World(broad_phase)
-    ids = np.array([w.add(s) for s in shapes], dtype=np.int64)
-    return w, ids
+def _scene(name, n):
+    if (name, n) not in _scenes:
+        scene = frame_scene(name, n)
+        _scenes[(name, n)] = (scene, frame_motion(scene, WARMUP + ROUNDS))
+    return _scenes[(name, n)]
 
 
-@pytest.mark.benchmark(group="World frame (update + pairs)")
-@pytest.mark.parametrize("broad_phase", ["tree", "sap", "grid"])
-def test_bench_world_frame(benchmark, scene, broad_phase):
-    shapes, centers, _ = scene
-    w, ids = _world(shapes, broad_phase)
-    w.pairs()  # compile
-    todo = iter(random_steps(centers, 50))
-
-    def frame():
-        w.update(ids, next(todo))
-        return w.pairs()
-
-    got = benchmark.pedantic(frame, rounds=8, iterations=1, warmup_rounds=1)
-    benchmark.extra_info.update(bodies=len(shapes), pairs=int(len(got)), candidates=w.stats.candidate_pairs,
-                                narrow_tests=w.stats.narrow_tests, groups=w.stats.groups)
+def _clock(request):
+    name = request.config.getoption("benchmark_timer", None)
+    if not name:
+        return time.perf_counter
+    module, _, attr = str(name).rpartition(".")
+    return getattr(importlib.import_module(module or "time"), attr)
 
 
-def _trimesh_manager(shapes):
-    import trimesh
-
-    manager = trimesh.collision.CollisionManager()
-    sphere = trimesh.creation.icosphere(subdivisions=1)
-    names = []
-    for i, s in enumerate(shapes):
-        if isinstance(s, Sphere):
-            mesh = sphere.copy()
-            mesh.apply_scale(s.radius)
-        elif isinstance(s, Box):
-            mesh = trimesh.creation.box(extents=2 * s.half_extents)
-        else:
-            mesh = trimesh.convex.convex_hull(s.local)
-        transform = np.eye(4)
-        transform[:3, :3] = s.rotation
-        transform[:3, 3] = s.center
-        manager.add_object(str(i), mesh, transform=transform)
-        names.append(str(i))
-    return manager, names
+def _make(peer, scene):
+    if peer.startswith("World"):
+        return EngineFrame(scene, peer.split()[1])
+    return MuJoCoFrame(scene) if peer == "MuJoCo" else BulletFrame(scene)
 
 
-@pytest.mark.benchmark(group="World frame (update + pairs)")
-def test_bench_trimesh_frame(benchmark, scene):
-    shapes, centers, rotations = scene
-    manager, names = _trimesh_manager(shapes)
-    todo = iter(random_steps(centers, 10))
-    transform = np.tile(np.eye(4), (len(shapes), 1, 1))
-    transform[:, :3, :3] = np.array([s.rotation for s in shapes])
-
-    def frame():
-        transform[:, :3, 3] = next(todo)
-        for name, t in zip(names, transform):
-            manager.set_transform(name, t)
-        return manager.in_collision_internal(return_names=True)[1]
-
-    got = benchmark.pedantic(frame, rounds=2, iterations=1, warmup_rounds=1)
-    benchmark.extra_info.update(bodies=len(shapes), pairs=int(len(got)))
+def _exact_sample(scene, poses_last, pairs, depth):
+    """|depth − exact depth| over a fixed sample of the penetrating pairs, and the sample's exact depths."""
+    rng = np.random.default_rng(5)
+    pick = rng.choice(len(pairs), size=min(EXACT_SAMPLE, len(pairs)), replace=False) if len(pairs) else []
+    centers, quats = poses_last
+    exact = {}
+    for k in pick:
+        i, j = pairs[k]
+        shape_b = Plane(scene.ground) if j == len(scene.shapes) else scene.shapes[j]
+        pose_b = None if j == len(scene.shapes) else (centers[j], quats[j])
+        exact[(int(i), int(j))] = exact_depth(scene.shapes[i], (centers[i], quats[i]), shape_b, pose_b)
+    return exact
 
 
-@pytest.mark.benchmark(group="World frame (update + pairs)")
-def test_bench_coal_frame(benchmark, scene):
-    import coal
+def _against_exact(exact, pairs, depth) -> dict:
+    got = {tuple(p): d for p, d in zip(pairs.tolist(), depth.tolist())}
+    diff = np.array([abs(got[p] - e) for p, e in exact.items() if p in got]) if exact else np.zeros(1)
+    return {"exact_sampled": len(exact), "exact_diff_median": float(np.median(diff)) if diff.size else 0.0,
+            "exact_diff_max": float(diff.max()) if diff.size else 0.0,
+            "exact_missing": sum(p not in got for p in exact)}
 
-    shapes, centers, _ = scene
-    manager = coal.DynamicAABBTreeCollisionManager()
-    objects = []
-    for s in shapes:
-        if isinstance(s, Sphere):
-            geom = coal.Sphere(s.radius)
-        elif isinstance(s, Box):
-            geom = coal.Box(*(2 * s.half_extents))
-        else:
-            vertices = coal.StdVec_Vec3s()
-            for p in s.local:
-                vertices.append(p)
-            geom = coal.Convex.convexHull(vertices, False, "")
-        transform = coal.Transform3s()
-        transform.setRotation(s.rotation)
-        transform.setTranslation(s.center)
-        obj = coal.CollisionObject(geom, transform)
-        objects.append(obj)
-        manager.registerObject(obj)
-    manager.setup()
-    todo = iter(random_steps(centers, 10))
 
-    def frame():
-        for obj, c in zip(objects, next(todo)):
-            obj.setTranslation(c)
-            obj.computeAABB()
-        manager.update()
-        callback = coal.CollisionCallBackCollect(8 * len(objects))
-        manager.collide(callback)
-        return callback.numCollisionPairs()
+def _engine_reference(name, n):
+    """World (tree) at the last pose of the sequence: its penetrating pairs and the sampled exact depths."""
+    if (name, n) not in _reference:
+        scene, poses = _scene(name, n)
+        frame = EngineFrame(scene)
+        for centers, quats in poses:
+            frame.upload(centers, quats)
+            frame.detect()
+        pen = frame.penetrating()
+        _reference[(name, n)] = (pen, _exact_sample(scene, poses[-1], *pen))
+    return _reference[(name, n)]
 
-    got = benchmark.pedantic(frame, rounds=3, iterations=1, warmup_rounds=1)
-    benchmark.extra_info.update(bodies=len(shapes), broad_phase_pairs=int(got))
+
+@pytest.mark.benchmark(group="World frame (upload + detect + read)")
+@pytest.mark.parametrize("n", _sizes())
+@pytest.mark.parametrize("scene_name", SCENES)
+@pytest.mark.parametrize("peer", PEERS)
+def test_bench_frame(benchmark, request, quick, peer, scene_name, n):
+    if quick and n > 1_000:
+        pytest.skip("--quick: N = 1e3 only")
+    if peer == "MuJoCo" and n > MUJOCO_MAX_BODIES:
+        pytest.skip(f"MuJoCo's broad phase needs 4 n^2 bytes of arena ({4 * n * n / 1e9:.0f} GB at n = {n})")
+    scene, poses = _scene(scene_name, n)
+    clock = _clock(request)
+    frame = _make(peer, scene)
+    for centers, quats in poses[:WARMUP]:
+        frame.upload(centers, quats)
+        frame.detect()
+    todo = iter(poses[WARMUP:])
+    stages: dict = {}
+
+    def one_frame():
+        centers, quats = next(todo)
+        t0 = clock()
+        frame.upload(centers, quats)
+        t1 = clock()
+        frame.detect()
+        t2 = clock()
+        frame.read()
+        t3 = clock()
+        times = {"upload": t1 - t0, "detect": t2 - t1, "read": t3 - t2}
+        if peer.startswith("World"):
+            times.update({k: v for k, v in frame.world.stats.seconds.items() if k != "upload"})
+        for key, value in times.items():
+            stages[key] = min(stages.get(key, np.inf), value)
+
+    benchmark.pedantic(one_frame, rounds=ROUNDS, iterations=1, warmup_rounds=0)
+    pairs, depth = frame.penetrating()
+    info = {"scene": scene_name, "n": n, "peer": peer, "warmup_frames": WARMUP, "penetrating_pairs": len(pairs),
+            **{f"stage_{k}": v for k, v in stages.items()}}
+    (ref, exact) = _engine_reference(scene_name, n)
+    info.update(_against_exact(exact, pairs, depth))
+    if peer != "World tree":
+        info.update({f"vs_world_{k}": v for k, v in agreement(ref, (pairs, depth)).items()})
+    if peer.startswith("World"):
+        info["contact_points"] = int(frame.world.stats.contacts)
+        info["persisting_points"] = int(frame.world.stats.persisting)
+        info["candidate_pairs"] = int(frame.world.stats.candidate_pairs)
+    benchmark.extra_info.update(info)
+    if isinstance(frame, BulletFrame):
+        frame.close()

@@ -97,10 +97,75 @@ def gas_point(cfg: dict) -> dict:
     return row
 
 
-def gas_section(out: pathlib.Path, info: dict, quick: bool = False, client=None) -> list[tuple[str, str]]:
-    """Runs the section's simulations as a physics sweep (bench/sweep.py) on ``client`` (serially when None)."""
+def _bias_fit(rows):
+    """The event-driven row of the bias table, its stepped rows [(v_rms·Δt/σ, row)] and the fit Z0 ± err, slope
+    over the steps with v_rms·Δt/σ <= 0.2 (the bias is linear in Δt only for small steps: at 0.4 a sphere meets
+    several others per frame and Z collapses); agree: Z0 within three standard errors of the event-driven Z."""
     from types import SimpleNamespace
 
+    ev = SimpleNamespace(**next(r_ for r_ in rows if r_["table"] == "bias" and r_["method"] == "events"))
+    bias = [(r_["vrms_dt_over_sigma"], SimpleNamespace(**r_)) for r_ in rows
+            if r_["table"] == "bias" and r_["method"] == "stepped"]
+    fit = [b for b in bias if b[0] <= 0.2]
+    z0, z0_err, slope = _fit_to_zero([b[1].dt for b in fit], [b[1].z_virial for b in fit],
+                                     [b[1].z_virial_err for b in fit])
+    agree = abs(z0 - ev.z_virial) <= 3.0 * math.hypot(z0_err, ev.z_virial_err)
+    return ev, bias, (z0, z0_err, slope), agree
+
+
+def _pm(x, e):
+    return "—" if not math.isfinite(x) else f"{x:.4f} ± {e:.4f}"
+
+
+def _eos_lines(rows):
+    """The equation-of-state table and its two comparison sentences."""
+    lines = ["## Equation of state", "",
+             "| method | boundary | N | η | Z virial | Z wall | 1 + Γσ√(πm/kT)/6 | Carnahan–Starling | Γ | "
+             "energy drift | KS p (Maxwell) | ⟨v⁴⟩/⟨v²⟩² | collisions/s |",
+             "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+    eos = [r_ for r_ in rows if r_["table"] == "eos"]
+    for r_ in eos:
+        lines.append(f"| {r_['method']} | {r_['boundary']} | {r_['n']} | {r_['eta']:.2f} | "
+                     f"{_pm(r_['z_virial'], r_['z_virial_err'])} | {_pm(r_['z_wall'], r_['z_wall_err'])} | "
+                     f"{r_['z_collision_rate']:.4f} | {r_['carnahan_starling']:.4f} | "
+                     f"{_pm(r_['collision_rate'], r_['collision_rate_err'])} | {r_['energy_drift']:.1e} | "
+                     f"{r_['ks_pvalue']:.3f} | {r_['v4_over_v2sq']:.4f} | {r_['collisions_per_second']:,.0f} |")
+    walls_ev = [r_ for r_ in eos if r_["boundary"] == "walls" and r_["method"] == "events"]
+    per_ev = [r_ for r_ in eos if r_["boundary"] == "periodic" and r_["method"] == "events"]
+    return lines + ["",
+                    "Z virial against Z wall (walls, events), in combined standard errors: " + ", ".join(
+                        f"η = {r_['eta']:.1f}: {_in_errors(r_):+.1f}" for r_ in walls_ev) + ".",
+                    "Periodic Z against Carnahan–Starling (events): " + ", ".join(
+                        f"η = {r_['eta']:.1f}: {100 * (r_['z_virial'] / r_['carnahan_starling'] - 1):+.2f} %"
+                        for r_ in per_ev) + "; walled box: " + ", ".join(
+                        f"η = {r_['eta']:.1f}: {100 * (r_['z_virial'] / r_['carnahan_starling'] - 1):+.1f} %"
+                        for r_ in walls_ev) + ".", ""]
+
+
+def _bias_lines(rows):
+    """The stepped method's bias table against Δt and its extrapolation to Δt → 0."""
+    ev, bias, (z0, z0_err, slope), agree = _bias_fit(rows)
+    n_b, t_b = rows[-1]["n"], rows[-1]["t_measure"]
+    lines = ["## The stepped method's bias against Δt", "",
+             f"N = {n_b}, η = 0.2, walls, t_measure = {t_b:g}. Linear weighted fit Z(Δt) = Z0 + aΔt over the "
+             f"steps with v_rms·Δt/σ <= 0.2 (beyond, a sphere meets several others per frame and the bias is no "
+             f"longer linear), extrapolated to Δt → 0. Each contact is answered at its own contact instant "
+             f"(backtracked inside the frame), so the bias comes from contacts missed or answered in the wrong "
+             f"order within a frame.", "",
+             "| v_rms·Δt/σ | Δt | Z virial | Z wall | Γ | Z − Z(events) |", "|---:|---:|---:|---:|---:|---:|"]
+    for ratio, res in bias:
+        lines.append(f"| {ratio:g} | {res.dt:.3e} | {_pm(res.z_virial, res.z_virial_err)} | "
+                     f"{_pm(res.z_wall, res.z_wall_err)} | {_pm(res.collision_rate, res.collision_rate_err)} | "
+                     f"{res.z_virial - ev.z_virial:+.4f} |")
+    return lines + [f"| events (exact) | — | {_pm(ev.z_virial, ev.z_virial_err)} | {_pm(ev.z_wall, ev.z_wall_err)} | "
+                    f"{_pm(ev.collision_rate, ev.collision_rate_err)} | 0 |", "",
+                    f"Extrapolation: Z0 = {z0:.4f} ± {z0_err:.4f}, slope {slope:+.3f} per unit Δt; event-driven "
+                    f"Z = {ev.z_virial:.4f} ± {ev.z_virial_err:.4f}: "
+                    f"{'agree' if agree else 'DISAGREE'} within three standard errors.", ""]
+
+
+def gas_section(out: pathlib.Path, info: dict, quick: bool = False, client=None) -> list[tuple[str, str]]:
+    """Runs the section's simulations as a physics sweep (bench/sweep.py) on ``client`` (serially when None)."""
     from bench.sweep import RowStore, Sweep, run_sweep
 
     out = pathlib.Path(out)
@@ -114,29 +179,14 @@ def gas_section(out: pathlib.Path, info: dict, quick: bool = False, client=None)
         return []
     rows = result.rows
     demo_row = next(r_ for r_ in rows if "scaled_speeds" in r_)  # eos table, η = 0.2, walls, events
-    demo = SimpleNamespace(n=demo_row["n"], scaled_speeds=np.asarray(demo_row["scaled_speeds"]))
+    speeds = np.asarray(demo_row["scaled_speeds"])
     for r_ in rows:
         r_.pop("scaled_speeds", None)
-    n_b, t_b = rows[-1]["n"], rows[-1]["t_measure"]
-    ev = SimpleNamespace(**next(r_ for r_ in rows if r_["table"] == "bias" and r_["method"] == "events"))
-    bias = [(r_["vrms_dt_over_sigma"], SimpleNamespace(**r_)) for r_ in rows
-            if r_["table"] == "bias" and r_["method"] == "stepped"]
-    # the bias is linear in Δt only for small steps: at v_rms·Δt/σ = 0.4 a sphere meets several others per
-    # frame and Z collapses; the fit uses the steps with v_rms·Δt/σ <= 0.2
-    fit = [b for b in bias if b[0] <= 0.2]
-    z0, z0_err, slope = _fit_to_zero([b[1].dt for b in fit], [b[1].z_virial for b in fit],
-                                     [b[1].z_virial_err for b in fit])
-    agree = abs(z0 - ev.z_virial) <= 3.0 * math.hypot(z0_err, ev.z_virial_err)
-
     df = pd.DataFrame(rows)
     df.insert(0, "commit", info["commit"])
     df.to_csv(out / "gas.csv", index=False)
-    plot_speed_histogram(demo.scaled_speeds, out / "gas_speeds.png",
-                         f"event-driven, walls, N = {demo.n}, eta = 0.2: {demo.scaled_speeds.size} speeds")
-
-    def pm(x, e):
-        return "—" if not math.isfinite(x) else f"{x:.4f} ± {e:.4f}"
-
+    plot_speed_histogram(speeds, out / "gas_speeds.png",
+                         f"event-driven, walls, N = {demo_row['n']}, eta = 0.2: {speeds.size} speeds")
     lines = ["# The confined gas: validation against kinetic theory", "",
              f"{info['date']} · commit `{info['commit']}` · {info['machine']}" + (" · quick mode" if quick else ""),
              "",
@@ -144,52 +194,15 @@ def gas_section(out: pathlib.Path, info: dict, quick: bool = False, client=None)
              "(walls at ±L/2, v − 2(v·n)n), elastic mass-weighted collisions, the frame loop with "
              "sweep-and-prune. Two methods: **events** (exact event-driven) and **stepped** (the chapter's frame "
              "loop; Δt such that v_rms·Δt/σ = 0.02 in the first table). kT = 1, m = 1. Z = PV'/(NkT) with "
-             "V' = (L − 2r)³ (walls) or L³ (periodic); standard errors over 20 blocks. DESIGN.md section 6: the two "
+             "V' = (L − 2r)³ (walls) or L³ (periodic); standard errors over 20 blocks. Kinetic theory: the two "
              "routes to Z agree in equilibrium, Z − 1 = Γσ·sqrt(πm/kT)/6, the periodic Z follows "
-             "Carnahan–Starling, and a walled box of this size lies several % below it.", "",
-             "## Equation of state", "",
-             "| method | boundary | N | η | Z virial | Z wall | 1 + Γσ√(πm/kT)/6 | Carnahan–Starling | Γ | "
-             "energy drift | KS p (Maxwell) | ⟨v⁴⟩/⟨v²⟩² | collisions/s |",
-             "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
-    for r_ in rows:
-        if r_["table"] != "eos":
-            continue
-        lines.append(f"| {r_['method']} | {r_['boundary']} | {r_['n']} | {r_['eta']:.2f} | "
-                     f"{pm(r_['z_virial'], r_['z_virial_err'])} | {pm(r_['z_wall'], r_['z_wall_err'])} | "
-                     f"{r_['z_collision_rate']:.4f} | {r_['carnahan_starling']:.4f} | "
-                     f"{pm(r_['collision_rate'], r_['collision_rate_err'])} | {r_['energy_drift']:.1e} | "
-                     f"{r_['ks_pvalue']:.3f} | {r_['v4_over_v2sq']:.4f} | {r_['collisions_per_second']:,.0f} |")
-    eos = [r_ for r_ in rows if r_["table"] == "eos"]
-    walls_ev = [r_ for r_ in eos if r_["boundary"] == "walls" and r_["method"] == "events"]
-    per_ev = [r_ for r_ in eos if r_["boundary"] == "periodic" and r_["method"] == "events"]
-    lines += ["",
-              "Z virial against Z wall (walls, events), in combined standard errors: " + ", ".join(
-                  f"η = {r_['eta']:.1f}: {_in_errors(r_):+.1f}" for r_ in walls_ev) + ".",
-              "Periodic Z against Carnahan–Starling (events): " + ", ".join(
-                  f"η = {r_['eta']:.1f}: {100 * (r_['z_virial'] / r_['carnahan_starling'] - 1):+.2f} %"
-                  for r_ in per_ev) + "; walled box: " + ", ".join(
-                  f"η = {r_['eta']:.1f}: {100 * (r_['z_virial'] / r_['carnahan_starling'] - 1):+.1f} %"
-                  for r_ in walls_ev) + ".", "",
-              "## The stepped method's bias against Δt", "",
-              f"N = {n_b}, η = 0.2, walls, t_measure = {t_b:g}. Linear weighted fit Z(Δt) = Z0 + aΔt over the "
-              f"steps with v_rms·Δt/σ <= 0.2 (beyond, a sphere meets several others per frame and the bias is no "
-              f"longer linear), extrapolated to Δt → 0. Each contact is answered at its own contact instant "
-              f"(backtracked inside the frame), so the bias comes from contacts missed or answered in the wrong "
-              f"order within a frame.", "",
-              "| v_rms·Δt/σ | Δt | Z virial | Z wall | Γ | Z − Z(events) |", "|---:|---:|---:|---:|---:|---:|"]
-    for ratio, res in bias:
-        lines.append(f"| {ratio:g} | {res.dt:.3e} | {pm(res.z_virial, res.z_virial_err)} | "
-                     f"{pm(res.z_wall, res.z_wall_err)} | {pm(res.collision_rate, res.collision_rate_err)} | "
-                     f"{res.z_virial - ev.z_virial:+.4f} |")
-    lines += [f"| events (exact) | — | {pm(ev.z_virial, ev.z_virial_err)} | {pm(ev.z_wall, ev.z_wall_err)} | "
-              f"{pm(ev.collision_rate, ev.collision_rate_err)} | 0 |", "",
-              f"Extrapolation: Z0 = {z0:.4f} ± {z0_err:.4f}, slope {slope:+.3f} per unit Δt; event-driven "
-              f"Z = {ev.z_virial:.4f} ± {ev.z_virial_err:.4f}: "
-              f"{'agree' if agree else 'DISAGREE'} within three standard errors.", "",
-              "![speed histogram](gas_speeds.png)", "",
-              f"Section computed in {time.perf_counter() - started:.0f} s.", ""]
+             "Carnahan–Starling, and a walled box of this size lies several % below it.", ""]
+    lines += _eos_lines(rows) + _bias_lines(rows)
+    lines += ["![speed histogram](gas_speeds.png)", "", f"Section computed in {time.perf_counter() - started:.0f} s.",
+              ""]
     (out / "gas.md").write_text("\n".join(lines))
     store.clear()  # complete: the next report computes afresh
+    agree = _bias_fit(rows)[3]
     print(f"  gas: {len(rows)} runs, stepped extrapolation {'agrees' if agree else 'DISAGREES'}", flush=True)
     return [("[gas.md](gas.md), [gas.csv](gas.csv), [gas_speeds.png](gas_speeds.png)",
              "confined gas: Z virial vs wall, Z vs collision rate, periodic Z vs Carnahan–Starling, "

@@ -8,7 +8,13 @@ with the same call:
 - ``w2_spheres(n, eta)`` — n equal spheres uniform in a cube at packing fraction ``eta`` (sphere volume over the
   cube's volume);
 - ``mixed_world_scene(n)`` — n bodies for ``World``: spheres, rotated boxes and convex hulls uniform in a cube;
-- ``random_steps(centers, rounds)`` — the per-frame motion: each body moves by a small random step every frame.
+- ``random_steps(centers, rounds)`` — the per-frame motion: each body moves by a small random step every frame;
+- the frame scenes of the World benchmark (``frame_scene(name, n)``, one ``FrameScene`` each): ``"mixed"`` — half
+  spheres (r = 0.5), half boxes (half extents 0.4) with random rotations, uniform in a cube at solid fraction
+  0.06; ``"pile"`` — boxes and spheres resting on the ground ``Plane(0)`` in a loose lattice of columns, every
+  body pressing 0.002 into the one below; ``"hulls"`` — half capsules (r = 0.25, segment 0.6), half convex hulls of
+  12 vertices (radius ~0.5), uniform at solid fraction 0.06. ``frame_motion(scene, rounds)`` gives each frame's
+  poses.
 
 The big-level scenes, where a grid whose cell count is capped would coarsen until one cell holds a whole cluster
 (the quadratic cliff the broad-phase benchmarks watch for):
@@ -21,11 +27,13 @@ The big-level scenes, where a grid whose cell count is capped would coarsen unti
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 
 __all__ = ["SEED", "w1_boxes", "w2_spheres", "mixed_world_scene", "random_steps", "clustered_spheres",
-           "huge_among_small_boxes", "planar_spheres", "BIG_LEVEL_SCENES", "big_level_boxes"]
+           "huge_among_small_boxes", "planar_spheres", "BIG_LEVEL_SCENES", "big_level_boxes", "FrameScene",
+           "FRAME_SCENES", "frame_scene", "frame_motion", "random_quaternions", "quaternion_matrices"]
 
 #: the seed of every benchmark workload
 SEED = 4
@@ -139,3 +147,137 @@ def big_level_boxes(scene: str, n: int, seed: int = SEED) -> tuple[np.ndarray, n
     else:
         raise ValueError(f"scene must be one of {BIG_LEVEL_SCENES}, got {scene!r}")
     return centres - radius, centres + radius
+
+
+# ---------------------------------------------------------------------------------------------------------------
+# the frame scenes of the World benchmark
+# ---------------------------------------------------------------------------------------------------------------
+
+class FrameScene(NamedTuple):
+    """A scene of the frame benchmark. ``shapes``: the engine shapes, each built in its body frame at the origin
+    (Sphere, Box with no rotation, Capsule along the body's z axis, ConvexPolyhedron centred on the mean of its
+    vertices); body i sits at ``centers[i]`` (3,) turned by ``quaternions[i]`` (4,), a unit quaternion in
+    (w, x, y, z) order. ``ground``: the altitude of a ``Plane`` (y <= ground is solid), or None. ``step`` and
+    ``turn``: the scale of each frame's random translation (length) and rotation (radians)."""
+
+    name: str
+    shapes: list
+    centers: np.ndarray
+    quaternions: np.ndarray
+    ground: float | None
+    step: float
+    turn: float
+
+
+def random_quaternions(n: int, rng) -> np.ndarray:
+    """n uniformly random unit quaternions (w, x, y, z), w >= 0 (Shoemake: normalised 4-D normal samples)."""
+    q = rng.normal(size=(n, 4))
+    q /= np.linalg.norm(q, axis=1, keepdims=True)
+    return q * np.where(q[:, :1] < 0, -1.0, 1.0)
+
+
+def quaternion_matrices(q) -> np.ndarray:
+    """Rotation matrices (n, 3, 3) (columns = the body axes) of unit quaternions (n, 4) in (w, x, y, z) order."""
+    w, x, y, z = np.asarray(q, dtype=float).T
+    return np.stack([
+        np.stack([1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)], axis=-1),
+        np.stack([2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)], axis=-1),
+        np.stack([2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)], axis=-1),
+    ], axis=1)
+
+
+def _cube_side(n: int, mean_volume: float, fraction: float) -> float:
+    return (n * mean_volume / fraction) ** (1 / 3)
+
+
+def _mixed_scene(n, rng):
+    from engine.world import Box, Sphere
+
+    is_box = np.arange(n) % 2 == 1
+    side = _cube_side(n, 0.5 * (4 / 3 * math.pi * 0.5 ** 3 + 0.8 ** 3), 0.06)
+    shapes = [Box(np.zeros(3), [0.4, 0.4, 0.4]) if b else Sphere(np.zeros(3), 0.5) for b in is_box]
+    return shapes, rng.uniform(0.0, side, (n, 3)), random_quaternions(n, rng), None, 0.02, 0.02
+
+
+#: lattice spacing of the pile (bodies of size 0.8 a little apart sideways) and the press of each body into
+#: the one below it (and of the lowest layer into the ground)
+PILE_SPACING = 0.84
+PILE_PRESS = 0.002
+
+
+def _pile_scene(n, rng):
+    from engine.world import Box, Sphere
+
+    layers = 5
+    cols = math.ceil(math.sqrt(n / layers))
+    site = np.arange(n)
+    col, layer = site % (cols * cols), site // (cols * cols)
+    is_box = rng.random(n) < 0.5
+    shapes = [Box(np.zeros(3), [0.4, 0.4, 0.4]) if b else Sphere(np.zeros(3), 0.4) for b in is_box]
+    jitter = rng.uniform(-0.015, 0.015, (n, 2))
+    centers = np.empty((n, 3))
+    centers[:, 0] = PILE_SPACING * (col % cols) + jitter[:, 0]
+    centers[:, 2] = PILE_SPACING * (col // cols) + jitter[:, 1]
+    centers[:, 1] = 0.4 - PILE_PRESS + layer * (0.8 - PILE_PRESS)
+    yaw = rng.uniform(-0.01, 0.01, n)  # boxes turned a little about the vertical
+    quats = np.stack([np.cos(yaw / 2), np.zeros(n), np.sin(yaw / 2), np.zeros(n)], axis=1)
+    return shapes, centers, quats, 0.0, 1e-5, 1e-5
+
+
+def _hull_scene(n, rng):
+    from engine.world import Capsule, ConvexPolyhedron
+
+    is_hull = np.arange(n) % 2 == 1
+    variants = []
+    for _ in range(16):  # 16 hull shapes, shared by the bodies: 12 points on a sphere of radius 0.5
+        pts = rng.normal(size=(12, 3))
+        variants.append(ConvexPolyhedron(0.5 * pts / np.linalg.norm(pts, axis=1, keepdims=True)))
+    hull_volume = float(np.mean([_hull_volume(v.local) for v in variants]))
+    capsule_volume = math.pi * 0.25 ** 2 * 0.6 + 4 / 3 * math.pi * 0.25 ** 3
+    side = _cube_side(n, 0.5 * (hull_volume + capsule_volume), 0.06)
+    pick = rng.integers(0, 16, n)
+    shapes = [variants[pick[i]] if is_hull[i] else Capsule([0.0, 0.0, -0.3], [0.0, 0.0, 0.3], 0.25)
+              for i in range(n)]
+    return shapes, rng.uniform(0.0, side, (n, 3)), random_quaternions(n, rng), None, 0.02, 0.02
+
+
+def _hull_volume(points) -> float:
+    from engine.bounding.hull import convex_hull
+
+    return float(convex_hull(points).volume)
+
+
+FRAME_SCENES = {"mixed": _mixed_scene, "pile": _pile_scene, "hulls": _hull_scene}
+
+
+def frame_scene(name: str, n: int, seed: int = SEED) -> FrameScene:
+    """The frame scene ``name`` (one of ``FRAME_SCENES``: "mixed", "pile", "hulls") with n bodies."""
+    if name not in FRAME_SCENES:
+        raise ValueError(f"name must be one of {sorted(FRAME_SCENES)}, got {name!r}")
+    shapes, centers, quats, ground, step, turn = FRAME_SCENES[name](int(n), np.random.default_rng(seed))
+    return FrameScene(name, shapes, centers, quats, ground, step, turn)
+
+
+def frame_motion(scene: FrameScene, rounds: int, seed: int = 9) -> list[tuple[np.ndarray, np.ndarray]]:
+    """``rounds`` successive poses ``(centers (n, 3), quaternions (n, 4) wxyz)``: each frame every body moves by a
+    normal step of scale ``scene.step`` and turns by a random rotation of angle ~``scene.turn``."""
+    rng = np.random.default_rng(seed)
+    c = scene.centers.copy()
+    q = scene.quaternions.copy()
+    out = []
+    for _ in range(rounds):
+        c = c + rng.normal(0.0, scene.step, c.shape)
+        half = 0.5 * rng.normal(0.0, scene.turn, (c.shape[0], 3))
+        dq = np.concatenate([np.cos(np.linalg.norm(half, axis=1, keepdims=True)), half], axis=1)
+        dq /= np.linalg.norm(dq, axis=1, keepdims=True)
+        q = _quaternion_product(dq, q)
+        q /= np.linalg.norm(q, axis=1, keepdims=True)
+        out.append((c, q))
+    return out
+
+
+def _quaternion_product(a, b):
+    aw, ax, ay, az = a.T
+    bw, bx, by, bz = b.T
+    return np.stack([aw * bw - ax * bx - ay * by - az * bz, aw * bx + ax * bw + ay * bz - az * by,
+                     aw * by - ax * bz + ay * bw + az * bx, aw * bz + ax * by - ay * bx + az * bw], axis=1)

@@ -1,7 +1,7 @@
 """Fuzz every public callable with hostile arguments: the validation contract of README, as a property.
 
 For each entry of ``properties/fuzz_registry.py`` Hypothesis draws VALID keyword arguments, then replaces one of
-them with a hostile value. The contract (README "Validation contract", DESIGN.md section 4):
+them with a hostile value. The contract (README "Validation contract"):
 
 - NaN or ±inf anywhere in an array or scalar           -> ValueError naming the argument (and, for arrays, the
                                                            first offending index: ``points[3, 1]``);

@@ -1,4 +1,4 @@
-"""Every public function of the gas names the bad argument at the start of its error (DESIGN §4: "errors start
+"""Every public function of the gas names the bad argument at the start of its error ("errors start
 with the argument name"): ValueError or TypeError whose message begins with the argument's name (``unknown
 NAME ...`` for a choice), and, where the pattern says more (``masses\\[1\\]``), names the offending element too.
 

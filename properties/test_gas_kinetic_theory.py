@@ -5,7 +5,7 @@
   hits are counted exactly; and the wall pressure of kinetic theory holds, Z_wall = P V'/(N kT) = 1, within
   the discreteness of the hits.
 - The block observables of ``simulate_gas`` are the sums of an ``EventDrivenGas`` run to the same block ends,
-  put through the DESIGN §6 formulas (written out here).
+  put through the kinetic-theory formulas (written out here).
 - Initial states: packing fraction and radius are inverse, placements never overlap and stay in the reachable
   cube, velocities are at exactly kT with equipartition between masses.
 - Every argument of ``simulate_gas`` is validated and named; the event cap raises; progress is monotone to 1.
@@ -433,7 +433,7 @@ def test_command_periodic_and_stepped_reports(tmp_path):
 
 
 def test_default_seed_is_zero():
-    """DESIGN §3: simulate_gas(..., seed=0) is the default; the same call without seed gives the same gas."""
+    """simulate_gas(..., seed=0) is the default; the same call without seed gives the same gas."""
     args = dict(radius=0.4, t_equilibrate=0.0, t_measure=0.5, blocks=2)
     np.testing.assert_array_equal(simulate_gas(5, **args).positions, simulate_gas(5, seed=0, **args).positions)
     assert not np.array_equal(simulate_gas(5, **args).positions, simulate_gas(5, seed=1, **args).positions)

@@ -186,6 +186,36 @@ def test_speed_histogram_is_written_as_a_png(tmp_path):
     assert not (tmp_path / "bad.png").exists()
 
 
+def test_speed_histogram_returns_its_figure_and_leaves_the_backend_alone(tmp_path, monkeypatch):
+    """The plot is a Figure built without pyplot: the caller's backend stays as it was, no pyplot figure is left
+    open, nothing is written without a path, and the returned figure holds the histogram and the density."""
+    import matplotlib
+    import matplotlib.pyplot as plt
+    from matplotlib.figure import Figure
+
+    monkeypatch.chdir(tmp_path)
+    before = matplotlib.get_backend()
+    open_figures = plt.get_fignums()
+    u = np.linalg.norm(np.random.default_rng(2).normal(size=(200, 3)), axis=1)
+    try:
+        matplotlib.use("pdf")
+        fig = plot_speed_histogram(u, title="no file")
+        assert matplotlib.get_backend() == "pdf"
+    finally:
+        matplotlib.use(before)
+    assert isinstance(fig, Figure)
+    assert plt.get_fignums() == open_figures
+    assert list(tmp_path.iterdir()) == []
+    (ax,) = fig.axes
+    assert ax.get_title() == "no file"
+    assert len(ax.patches) == 60 and len(ax.lines) == 1  # the 60 bars and the Maxwell–Boltzmann curve
+    heights = np.array([bar.get_height() for bar in ax.patches])
+    widths = np.array([bar.get_width() for bar in ax.patches])
+    assert float((heights * widths).sum()) == pytest.approx(1.0, rel=1e-12)  # a density
+    assert plot_speed_histogram(u, tmp_path / "a.png") is not None
+    assert (tmp_path / "a.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
 def test_zero_impulse_and_zero_speed_are_allowed():
     assert compressibility_from_walls(0.0, 3, 1.0, 1.0, 1.0) == 0.0
     assert collision_rate(0, 3, 1.0) == 0.0

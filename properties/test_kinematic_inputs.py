@@ -1,4 +1,6 @@
-"""The kinematic culling helpers (slide "Méthode cinématique") refuse bad input naming the argument (DESIGN §4)."""
+"""The kinematic culling helpers (slide "Méthode cinématique") refuse bad input naming the argument.
+
+The contract is README's "Validation contract"."""
 from __future__ import annotations
 
 import numpy as np

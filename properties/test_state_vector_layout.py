@@ -1,7 +1,7 @@
 """The state vector Y = (position, velocity) of the chapter's RK4 slides: layout, inverse, and its input checks.
 
 ``state_vector`` flattens (d,) position and velocity into Y (2d,); ``split_state`` is its inverse. Both refuse
-what is not that layout, with a ValueError that starts with the argument's name (DESIGN §4).
+what is not that layout, with a ValueError that starts with the argument's name (README, "Validation contract").
 """
 from __future__ import annotations
 

@@ -1,15 +1,18 @@
-"""Properties of the collision pipeline (engine.world.World).
+"""Properties of the collision pipeline (engine.world.World): the compiled frame against reference paths.
 
-- pairs() equals brute force — every pair of live bodies through (a) the world's own dispatch table without a
-  broad phase, and (b) an independent oracle, GJK distance between the point sets minus the radii — for every
-  broad phase, after every random add / remove / move / batch update (a stateful test);
+- stateful, for every broad phase (and a tree that rebuilds at every escape, and one that never rebuilds):
+  after every random add / remove / move / batch update (quaternions, matrices, scipy Rotations), grounds
+  included (Plane and HeightCurve), ``pairs()`` equals (a) the reference path — every pair of live ids through
+  the same dispatch tables, no broad phase — and (b) an independent oracle, the GJK distance between the point
+  sets minus the radii (a Plane: the lowest point against the altitude); ``contacts()`` has the same pairs,
+  and the same contacts in every world;
 - contacts: unit normal from the first body to the second (translating the second by depth along it separates
-  the pair, by less does not), depth >= 0 and equal to engine.epa_penetration (+ the radii), points on both
-  shapes within depth/2;
+  the pair, by less does not), depth >= 0 and equal to engine.epa_penetration (+ the radii), points within
+  depth/2 of both shapes, point ids distinct within a pair;
 - time_of_impact: touching at the returned time, apart before it, and no pair that meets on a fine time grid
   is missed;
 - moving a body away and back restores the same pairs and contacts exactly;
-- validation of shapes and of World's arguments.
+- the curve ground against dense sampling; validation of shapes and of World's arguments.
 """
 from __future__ import annotations
 
@@ -18,6 +21,7 @@ import pytest
 from hypothesis import assume, example, given, settings
 from hypothesis import strategies as st
 from hypothesis.stateful import Bundle, RuleBasedStateMachine, consumes, invariant, rule
+from scipy.spatial.transform import Rotation
 
 from engine import (
     BROAD_PHASES,
@@ -32,10 +36,11 @@ from engine import (
     gjk_distance,
 )
 from engine.narrowphase import gjk_distance_batch
-from engine.world.dispatch import overlap_groups
-from engine.world.shapes import BOX
-from engine.world.world import Geometry
-from properties.strategies.world import bodies, planes, poses, positions, velocities
+from engine.narrowphase.contacts import DEFERRED, TOUCHING, contact_rows, kernel_scratch
+from engine.workloads import quaternion_matrices
+from engine.world.dispatch import DEFERRED_ROWS, OVERLAP_TABLE, answer_pairs, table_array
+from engine.world.shapes import BOX, as_rotation
+from properties.strategies.world import bodies, curves, planes, poses, positions, velocities
 
 #: pairs whose GJK gap is this close to 0 are "touching": the exact primitive tests and GJK may round apart
 AMBIGUOUS = 1e-7
@@ -54,8 +59,11 @@ def core_points(shape, center, rotation):
 
 
 def oracle_gap(a, b):
-    """(gap, ambiguous): GJK distance of the cores minus the radii; a Plane: lowest point minus altitude."""
+    """(gap, ambiguous): GJK distance of the cores minus the radii; a Plane: lowest point minus altitude;
+    a HeightCurve: (nan, True) — its pairs are checked by the reference path only."""
     (sa, ca, ra), (sb, cb, rb) = a, b
+    if isinstance(sa, HeightCurve) or isinstance(sb, HeightCurve):
+        return np.nan, True
     if isinstance(sa, Plane) or isinstance(sb, Plane):
         plane, (shape, c, r) = (sa, b) if isinstance(sa, Plane) else (sb, a)
         if isinstance(shape, Plane):
@@ -68,7 +76,7 @@ def oracle_gap(a, b):
 
 
 def oracle_pairs(model):
-    """{(i, j): ambiguous} of the overlapping pairs, and the set of ambiguous pairs."""
+    """The set of overlapping pairs, and the set of ambiguous pairs."""
     ids = sorted(model)
     hits, ambiguous = set(), set()
     for x, i in enumerate(ids):
@@ -81,14 +89,21 @@ def oracle_pairs(model):
     return hits, ambiguous
 
 
-def dispatch_all_pairs(world):
-    """Every pair of live ids (bodies and grounds, not ground-ground) through the world's dispatch table."""
+def reference_pairs(world):
+    """Every pair of live ids (not ground-ground) through the overlap table, without any broad phase."""
     ids = world.ids()
-    grounds = set(world._grounds)
-    allp = np.array([(i, j) for x, i in enumerate(ids) for j in ids[x + 1:]
-                     if not (i in grounds and j in grounds)], dtype=np.int64).reshape(-1, 2)
-    mask, _ = overlap_groups(Geometry(world), allp)
-    return allp[mask]
+    kind = world.bodies().kind
+    allp = np.array([(i, j) for x, i in enumerate(ids) for j in ids[x + 1:] if kind[i] < 4 or kind[j] < 4],
+                    dtype=np.int64).reshape(-1, 2)
+    rows = contact_rows(allp.shape[0])
+    store = world._store.view()
+    table = table_array(OVERLAP_TABLE)
+    answer_pairs(store, allp, table, rows, kernel_scratch(store.points.shape[1]))
+    deferred = np.flatnonzero(rows.status == DEFERRED)
+    codes = table[store.kind[allp[deferred, 0]], store.kind[allp[deferred, 1]]]
+    for code in np.unique(codes).tolist():
+        DEFERRED_ROWS[code](store, allp, deferred[codes == code], rows, world._grounds)
+    return allp[rows.status == TOUCHING]
 
 
 def check_against_oracles(world, model):
@@ -96,26 +111,28 @@ def check_against_oracles(world, model):
     assert got.dtype == np.int64 and got.ndim == 2 and got.shape[1] == 2
     rows = [tuple(p) for p in got.tolist()]
     assert rows == sorted(set(rows)) and all(i < j for i, j in rows)
-    np.testing.assert_array_equal(got, dispatch_all_pairs(world))
+    np.testing.assert_array_equal(got, reference_pairs(world))
     hits, ambiguous = oracle_pairs(model)
-    assert set(rows) - ambiguous == hits
+    assert set(rows) - ambiguous == hits - ambiguous
+    return got
 
 
 # ---------------------------------------------------------------------------------------------------------------
-# stateful: every broad phase against brute force after random edits
+# stateful: every broad phase against the reference path and the oracle after random edits
 # ---------------------------------------------------------------------------------------------------------------
 
 class WorldMachine(RuleBasedStateMachine):
-    """The same edits on one World per broad phase (and a tree world that rebuilds on every batch update)."""
+    """The same edits on one World per broad phase (and tree worlds that always / never rebuild)."""
 
     ids = Bundle("ids")
 
     def __init__(self):
         super().__init__()
         self.worlds = [World(bp) for bp in BROAD_PHASES]
-        rebuild = World("tree")
-        rebuild.rebuild_threshold = 0
-        self.worlds.append(rebuild)
+        for threshold in (0, 10**9):
+            tree = World("tree")
+            tree.rebuild_threshold = threshold
+            self.worlds.append(tree)
         self.model: dict = {}
 
     def _same(self, results):
@@ -128,10 +145,10 @@ class WorldMachine(RuleBasedStateMachine):
         self.model[i] = (shape, shape.center.copy(), shape.rotation.copy())
         return i
 
-    @rule(plane=planes)
-    def add_ground(self, plane):
-        i = self._same([w.add(plane) for w in self.worlds])
-        self.model[i] = (plane, None, None)
+    @rule(ground=planes | curves)
+    def add_ground(self, ground):
+        i = self._same([w.add(ground) for w in self.worlds])
+        self.model[i] = (ground, None, None)
 
     @rule(i=consumes(ids))
     def remove(self, i):
@@ -149,35 +166,35 @@ class WorldMachine(RuleBasedStateMachine):
 
     @rule(data=st.data())
     def update_many(self, data):
-        live = sorted(i for i, m in self.model.items() if not isinstance(m[0], Plane))
+        live = sorted(i for i, m in self.model.items() if m[1] is not None)
         if not live:
             return
         chosen = data.draw(st.lists(st.sampled_from(live), unique=True, min_size=1))
-        nudge = data.draw(st.sampled_from([0.05, 0.5, 3.0]))
+        nudge = data.draw(st.sampled_from([0.01, 0.05, 0.5, 3.0]))
         rng = np.random.default_rng(data.draw(st.integers(0, 2**16)))
         centers = np.array([self.model[i][1] for i in chosen]) + rng.normal(0, nudge, (len(chosen), 3))
         q = rng.normal(size=(len(chosen), 4))
         q /= np.linalg.norm(q, axis=1, keepdims=True)
+        form = data.draw(st.sampled_from(["quaternions", "matrices", "scipy"]))
+        rot = quaternion_matrices(q)
+        given_rotations = {"quaternions": q, "matrices": rot,
+                           "scipy": Rotation.from_quat(q, scalar_first=True)}[form]
         for w in self.worlds:
-            w.update(chosen, centers, rotations=q)
-        rot = [_quat_matrix(qq) for qq in q]
+            w.update(chosen, centers, rotations=given_rotations)
         for row, i in enumerate(chosen):
             self.model[i] = (self.model[i][0], centers[row], rot[row])
 
     @invariant()
-    def pairs_equal_brute_force(self):
+    def frame_equals_reference(self):
         first = None
         for w in self.worlds:
-            check_against_oracles(w, self.model)
-            got = w.pairs()
+            got = check_against_oracles(w, self.model)
+            contacts = w.contacts()
+            np.testing.assert_array_equal(contacts.pairs, got)
             if first is None:
-                first = got
-            np.testing.assert_array_equal(got, first)
-
-
-def _quat_matrix(q):
-    from engine.world.shapes import as_rotation_matrix
-    return as_rotation_matrix(q)
+                first = contacts
+            for name in ("pairs", "depth", "normal", "points", "point_offsets", "point_ids"):
+                np.testing.assert_array_equal(getattr(contacts, name), getattr(first, name))
 
 
 TestWorldStateful = WorldMachine.TestCase
@@ -200,6 +217,23 @@ def test_pairs_of_dense_scenes_match_the_oracles(shapes_poses, ground, broad_pha
     if ground is not None:
         model[w.add(ground)] = (ground, None, None)
     check_against_oracles(w, model)
+
+
+def test_rotation_forms_give_the_same_world():
+    """Quaternions (w, x, y, z), matrices and scipy Rotations of the same rotations give the same poses."""
+    rng = np.random.default_rng(3)
+    q = rng.normal(size=(5, 4))
+    q /= np.linalg.norm(q, axis=1, keepdims=True)
+    forms = [q, quaternion_matrices(q), Rotation.from_quat(q, scalar_first=True)]
+    got = []
+    for form in forms:
+        w = World()
+        ids = [w.add(Box(np.zeros(3), [0.3, 0.5, 0.7])) for _ in range(5)]
+        w.update(ids, rng.normal(size=(5, 3)) * 0 + np.arange(5)[:, None], rotations=form)
+        got.append(np.array([w.pose(i)[1] for i in ids]))
+    np.testing.assert_allclose(got[0], got[1], atol=1e-15)
+    np.testing.assert_allclose(got[0], got[2], atol=1e-15)
+    np.testing.assert_allclose(as_rotation(Rotation.from_quat(q[0], scalar_first=True)), got[0][0], atol=1e-15)
 
 
 # ---------------------------------------------------------------------------------------------------------------
@@ -228,10 +262,12 @@ def test_contacts_normal_depth_points(shapes, ground):
     cs = w.contacts()
     np.testing.assert_array_equal(cs.pairs, w.pairs())
     assert cs.point_offsets[0] == 0 and cs.point_offsets[-1] == cs.points.shape[0]
-    assert np.all(np.diff(cs.point_offsets) >= 1)
+    counts = np.diff(cs.point_offsets)
+    assert np.all((counts >= 1) & (counts <= 4))
     assert np.all(cs.depth >= 0) and np.all(np.isfinite(cs.points))
     assert set(cs.feature_a.tolist()) | set(cs.feature_b.tolist()) <= {1, 2, 3}
     for p, (i, j) in enumerate(cs.pairs.tolist()):
+        assert len(set(cs.ids_of(p).tolist())) == counts[p]  # the points of a pair have distinct ids
         n = cs.normal[p]
         depth = cs.depth[p]
         assert abs(np.linalg.norm(n) - 1.0) <= 1e-9
@@ -252,10 +288,7 @@ def test_contacts_normal_depth_points(shapes, ground):
         tol = 1e-6 * scale
         # depth agrees with EPA (on the cores, plus the radii) or with GJK when the cores are apart
         d_core, _, _ = gjk_distance(pa, pb)
-        if d_core > 0:
-            expected = rsum - d_core
-        else:
-            expected = epa_penetration(pa, pb)[0] + rsum
+        expected = rsum - d_core if d_core > 0 else epa_penetration(pa, pb)[0] + rsum
         assert abs(depth - expected) <= tol
         # the normal points from i to j: moving j by (depth + tol) n separates them, by (depth - tol) does not
         gap_after, _, _ = gjk_distance(pa, pb + (depth + tol) * n)
@@ -332,7 +365,8 @@ def test_move_and_back_restores_pairs_and_contacts(shapes, data, broad_phase):
     w.move(body, center=center, rotation=rotation)
     np.testing.assert_array_equal(w.pairs(), before_pairs)
     after = w.contacts()
-    for name in ("pairs", "separation", "depth", "normal", "feature_a", "feature_b", "points", "point_offsets"):
+    for name in ("pairs", "separation", "depth", "normal", "feature_a", "feature_b", "points", "point_offsets",
+                 "point_ids"):
         np.testing.assert_array_equal(getattr(after, name), getattr(before, name))
     assert after.kind == before.kind
 
@@ -374,7 +408,7 @@ def test_curve_ground_against_dense_sampling(shape, amplitude, wavenumber, level
     (lambda: Box([0, 0, 0], [1, 0, 1]), "half_extents"),
     (lambda: Box([0, 0, 0], [1, 1, 1], np.diag([1.0, 1.0, 1.1])), "rotation"),
     (lambda: Box([0, 0, 0], [1, 1, 1], np.diag([1.0, 1.0, -1.0])), "rotation"),
-    (lambda: Box([0, 0, 0], [1, 1, 1], [2.0, 0, 0, 0]), "rotation"),
+    (lambda: Box([0, 0, 0], [1, 1, 1], [2.0, 0, 0, 0]), r"rotation must be a unit quaternion in \(w, x, y, z\)"),
     (lambda: Box([0, 0, 0], [1, 1, 1], np.eye(2)), "rotation"),
     (lambda: Capsule([0, 0, 0], [1, 0, 0], 0.0), "radius"),
     (lambda: Capsule([0, 0, np.inf], [1, 0, 0], 1.0), "p0"),
@@ -402,13 +436,13 @@ def test_validation_of_world_edits():
     g = w.add(Plane(0.0))
     with pytest.raises(ValueError, match="id"):
         w.move(g, center=[0, 1, 0])  # grounds do not move
-    with pytest.raises(ValueError, match="rotation"):
+    with pytest.raises(ValueError, match=r"rotation must be a unit quaternion in \(w, x, y, z\) order"):
         w.move(a, rotation=[1.0, 1.0, 0.0, 0.0])  # unnormalised quaternion: rejected, not normalised
-    with pytest.raises(ValueError, match="ids"):
+    with pytest.raises(ValueError, match=r"ids\[1\] = 1 is a ground"):
         w.update([a, g], np.zeros((2, 3)))
     with pytest.raises(ValueError, match="centers"):
         w.update([a], np.zeros((2, 3)))
-    with pytest.raises(ValueError, match="rotations"):
+    with pytest.raises(ValueError, match=r"rotations\[0\] must be a unit quaternion in \(w, x, y, z\) order"):
         w.update([a], np.zeros((1, 3)), rotations=[[2.0, 0, 0, 0]])
     w.remove(a)
     with pytest.raises(ValueError, match="id"):
@@ -417,4 +451,4 @@ def test_validation_of_world_edits():
     b = w.add(Box(center, [1, 1, 1]))
     w.update(np.array([b]), center[None] + 1)
     np.testing.assert_array_equal(center, [1.0, 2.0, 3.0])  # the caller's arrays are never modified
-    assert w.kind(b) == "box" and w._kind[b] == BOX
+    assert w.kind(b) == "box" and w.bodies().kind[b] == BOX

@@ -5,7 +5,7 @@ Chapter, "comportement des particules dans un volume confiné", 1.B "Modèle Mat
 - pair:   n  = (p2 − p1)/|p2 − p1|
           v1' = v1 − (2 m2/(m1 + m2)) ((v1 − v2)·n) n
           v2' = v2 + (2 m1/(m1 + m2)) ((v1 − v2)·n) n
-Only an approaching pair, (v1 − v2)·(p1 − p2) < 0, is answered (DESIGN.md section 6): a receding or grazing pair,
+Only an approaching pair, (v1 − v2)·(p1 − p2) < 0, is answered: a receding or grazing pair,
 or one whose centres coincide (no normal), is left unchanged, so overlapping spheres never stick and no NaN appears.
 
 The kernels are shared by the stepped and the event-driven methods; each pair kernel returns the pair's
@@ -20,13 +20,14 @@ import numpy as np
 from engine._config import njit
 from engine._validate import as_float_array, as_positive
 
-__all__ = ["collide_elastic", "reflect_off_wall"]
+__all__ = ["collide_elastic", "reflect_off_wall", "pair_impulse"]
 
 
-@njit
-def _pair_impulse(v, m, i, j, rx, ry, rz, off=0):
-    """Answer the elastic collision of spheres i and j, in place on the velocities v[:, off:off + 3] (v is
-    (n, 3), or a packed state array whose velocity columns start at ``off``); r = p_i − p_j (any image).
+@njit(error_model="numpy")  # no zero division: rr > 0 and m_i + m_j > 0 are checked or given
+def pair_impulse(v, m, i, j, rx, ry, rz, off=0):
+    """Kernel shared by both gas methods: answer the elastic collision of spheres i and j in place on the
+    velocities v[:, off:off + 3] (v: (n, 3) float64, or a packed (n, k) state whose velocity columns start at
+    ``off``); m: (n,) float64 masses; r = p_i − p_j (any periodic image).
 
     Chapter 1.B (and 2.C, the same formula written with <v_A − v_B, p_A − p_B>/|p_A − p_B|²): the normal
     components are exchanged with the weights 2 m_j/(m_i + m_j) and 2 m_i/(m_i + m_j). Returns the virial term
@@ -62,7 +63,7 @@ def _collide_elastic_kernel(v1, v2, m1, m2, p1, p2):
     m = np.empty(2)
     m[0] = m1
     m[1] = m2
-    virial = _pair_impulse(v, m, 0, 1, p1[0] - p2[0], p1[1] - p2[1], p1[2] - p2[2], 0)
+    virial = pair_impulse(v, m, 0, 1, p1[0] - p2[0], p1[1] - p2[1], p1[2] - p2[2], 0)
     return v, virial
 
 

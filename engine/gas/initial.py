@@ -1,6 +1,6 @@
 """Initial state of the confined gas: non-overlapping centres and velocities at the requested temperature.
 
-Geometry (DESIGN.md section 6): walls at ±L/2, so a sphere of radius r keeps its centre in the reachable cube
+Geometry: walls at ±L/2, so a sphere of radius r keeps its centre in the reachable cube
 [−L/2 + r, L/2 − r]³ of side L' = L − 2r; periodic boxes use the whole cube [−L/2, L/2)³. The packing fraction
 is η = Σ (π/6) σ_i³ / V' with σ = 2r and V' = L'³ (periodic: L³).
 
@@ -63,6 +63,35 @@ def radius_for_packing(n: int, eta: float, box: float = 10.0, boundary: str = "w
 
 
 @njit
+def _overlaps_placed(p, ri, c, out, r, head, nxt, ncell, periodic, side):
+    """Whether a sphere of radius ri at p (in cell c) overlaps one of the spheres placed in the 27 cells around
+    c (periodic: minimum images over the period ``side``)."""
+    for dx in range(-1, 2):
+        for dy in range(-1, 2):
+            for dz in range(-1, 2):
+                cx, cy, cz = c[0] + dx, c[1] + dy, c[2] + dz
+                if periodic:
+                    cx %= ncell
+                    cy %= ncell
+                    cz %= ncell
+                elif cx < 0 or cy < 0 or cz < 0 or cx >= ncell or cy >= ncell or cz >= ncell:
+                    continue
+                j = head[(cx * ncell + cy) * ncell + cz]
+                while j >= 0:
+                    d2 = 0.0
+                    for k in range(3):
+                        d = p[k] - out[j, k]
+                        if periodic:
+                            d -= side * np.round(d / side)
+                        d2 += d * d
+                    s = ri + r[j]
+                    if d2 < s * s:
+                        return True
+                    j = nxt[j]
+    return False
+
+
+@njit
 def _random_sequential_kernel(n, r, lo, side, periodic, max_trials, seed):
     """Random sequential addition with a cell list of cell side >= the largest diameter (Ericson 7.1).
 
@@ -95,32 +124,7 @@ def _random_sequential_kernel(n, r, lo, side, periodic, max_trials, seed):
             c = np.empty(3, dtype=np.int64)
             for k in range(3):
                 c[k] = min(ncell - 1, max(0, int((p[k] - origin) / width)))
-            ok = True
-            for dx in range(-1, 2):
-                for dy in range(-1, 2):
-                    for dz in range(-1, 2):
-                        cx, cy, cz = c[0] + dx, c[1] + dy, c[2] + dz
-                        if periodic:
-                            cx %= ncell
-                            cy %= ncell
-                            cz %= ncell
-                        elif cx < 0 or cy < 0 or cz < 0 or cx >= ncell or cy >= ncell or cz >= ncell:
-                            continue
-                        j = head[(cx * ncell + cy) * ncell + cz]
-                        while j >= 0 and ok:
-                            d2 = 0.0
-                            for k in range(3):
-                                d = p[k] - out[j, k]
-                                if periodic:
-                                    d -= side * np.round(d / side)
-                                d2 += d * d
-                            s = r[i] + r[j]
-                            if d2 < s * s:
-                                ok = False
-                            j = nxt[j]
-                if not ok:
-                    break
-            if ok:
+            if not _overlaps_placed(p, r[i], c, out, r, head, nxt, ncell, periodic, side):
                 out[i] = p
                 cell = (c[0] * ncell + c[1]) * ncell + c[2]
                 nxt[i] = head[cell]
@@ -261,7 +265,7 @@ def check_gas_state(positions, velocities, radii, masses, box, periodic, *, allo
     (positions (n, 3), velocities (n, 3), radii (n,), masses (n,)), box and periodic.
 
     radii and masses: positive scalars or (n,) arrays; box > 0; periodic a bool; the spheres must fit (2 r < box
-    with walls, 6 r <= box periodic), lie inside the reachable box and not overlap (DESIGN.md section 6) —
+    with walls, 6 r <= box periodic), lie inside the reachable box and not overlap —
     unless ``allow_overlap``: the stepped method (the chapter's frame loop) starts from and resolves overlaps."""
     box = as_positive(box, "box")
     if not isinstance(periodic, bool | np.bool_):

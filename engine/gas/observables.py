@@ -1,4 +1,4 @@
-"""Observables of the confined gas (DESIGN.md section 6), from the sums the simulations accumulate.
+"""Observables of the confined gas (kinetic theory of hard spheres), from the sums the simulations accumulate.
 
 Notation: σ = 2r, kT = 2K/(3N); with walls at ±L/2 the centres live in a cube of side L' = L − 2r, V' = L'³,
 A' = L'²; η = Nπσ³/(6V').
@@ -14,6 +14,7 @@ import math
 
 import numpy as np
 
+from engine._config import njit
 from engine._validate import as_count, as_float, as_float_array, as_fraction, as_nonnegative, as_positive
 
 __all__ = [
@@ -28,6 +29,7 @@ __all__ = [
     "speed_moment_ratio",
     "mean_and_standard_error",
     "plot_speed_histogram",
+    "kinetic_energy_kernel",
 ]
 
 
@@ -76,6 +78,25 @@ def carnahan_starling(eta) -> float:
     if eta >= 1.0:
         raise ValueError("eta must be < 1")
     return (1.0 + eta + eta * eta - eta**3) / (1.0 - eta) ** 3
+
+
+@njit
+def kinetic_energy_kernel(velocities, masses):
+    """Kernel shared by both gas methods: K = Σ m (vx² + vy² + vz²)/2 over velocities (n, 3) float64 (any
+    strides) and masses (n,) float64, with Kahan–Neumaier compensation (so the energy drift a run reports is the
+    dynamics', not the summation's)."""
+    total = 0.0
+    comp = 0.0
+    for i in range(velocities.shape[0]):
+        e = 0.5 * masses[i] * (velocities[i, 0] * velocities[i, 0] + velocities[i, 1] * velocities[i, 1]
+                               + velocities[i, 2] * velocities[i, 2])
+        s = total + e
+        if abs(total) >= abs(e):
+            comp += (total - s) + e
+        else:
+            comp += (e - s) + total
+        total = s
+    return total + comp
 
 
 def _masses(masses, n):
@@ -143,16 +164,18 @@ def mean_and_standard_error(values) -> tuple[float, float]:
     return float(x.mean()), float(x.std(ddof=1) / math.sqrt(x.shape[0]))
 
 
-def plot_speed_histogram(speeds, path, title: str = "") -> None:
-    """Histogram of scaled speeds against the Maxwell–Boltzmann density, written as a PNG at ``path``."""
-    import matplotlib
+def plot_speed_histogram(speeds, path=None, title: str = ""):
+    """Histogram of scaled speeds (n,) against the Maxwell–Boltzmann density; returns the matplotlib Figure.
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    The figure is built without pyplot (the caller's matplotlib backend is left alone) and written as a PNG at
+    ``path`` when one is given.
+    """
+    from matplotlib.figure import Figure
     from scipy import stats
 
     u = _speeds(speeds)
-    fig, ax = plt.subplots(figsize=(6, 4))
+    fig = Figure(figsize=(6, 4))
+    ax = fig.subplots()
     ax.hist(u, bins=60, density=True, alpha=0.6, label=f"simulation ({u.shape[0]} speeds)")
     x = np.linspace(0.0, max(4.5, float(u.max())), 400)
     ax.plot(x, stats.maxwell.pdf(x), "k-", lw=2, label="Maxwell–Boltzmann")
@@ -161,5 +184,6 @@ def plot_speed_histogram(speeds, path, title: str = "") -> None:
     ax.set_title(title)
     ax.legend()
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    if path is not None:
+        fig.savefig(path, dpi=110)
+    return fig

@@ -1,6 +1,6 @@
 """``simulate_gas``: the confined ideal gas of the chapter, run by the stepped frame loop or event by event.
 
-Public contract (DESIGN.md section 3): simulate_gas(n, *, radius, mass=1.0, box=10.0, temperature=1.0,
+Public contract: simulate_gas(n, *, radius, mass=1.0, box=10.0, temperature=1.0,
 t_equilibrate=5.0, t_measure=20.0, dt=1e-3, method="events" | "stepped", broad_phase="sap",
 boundary="walls" | "periodic", seed=0) returns an object with z_virial, z_wall (NaN for periodic),
 collision_rate (Γ = 2·collisions/(n·t_measure)), collisions, energy_drift (max |E(t) − E0|/E0), positions and
@@ -12,6 +12,7 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 import numpy as np
 
@@ -79,11 +80,192 @@ class GasResult:
     block_collision_rate: np.ndarray = field(repr=False)
 
 
+class _Request(NamedTuple):
+    """The validated arguments of one ``simulate_gas`` call."""
+
+    n: int
+    method: str
+    boundary: str
+    broad_phase: str
+    initial: str
+    radii: np.ndarray
+    masses: np.ndarray
+    box: float
+    kt: float
+    t_eq: float
+    t_meas: float
+    dt: float
+    seed: int
+    blocks: int
+    max_events: int
+    progress: object
+
+    @property
+    def periodic(self) -> bool:
+        return self.boundary == "periodic"
+
+
+def _validate(n, radius, mass, box, temperature, t_equilibrate, t_measure, dt, method, broad_phase, boundary, seed,
+              initial, blocks, progress, max_events) -> _Request:
+    """Every scalar argument checked and named (ValueError/TypeError), in the order of the signature."""
+    from engine.broadphase import BROAD_PHASES
+
+    n = as_count(n, "n", 1)
+    method = as_choice(method, "method", GAS_METHODS)
+    boundary = as_choice(boundary, "boundary", GAS_BOUNDARIES)
+    broad_phase = as_choice(broad_phase, "broad_phase", BROAD_PHASES)
+    initial = as_choice(initial, "initial", ("auto", "random", "lattice"))
+    if boundary == "periodic" and n < 2:
+        raise ValueError("a periodic gas needs n >= 2 (zero total momentum leaves one sphere at rest)")
+    req = _Request(n, method, boundary, broad_phase, initial, per_sphere(radius, "radius", n),
+                   per_sphere(mass, "mass", n), as_positive(box, "box"), as_positive(temperature, "temperature"),
+                   as_nonnegative(t_equilibrate, "t_equilibrate"), as_positive(t_measure, "t_measure"),
+                   as_positive(dt, "dt"), as_count(seed, "seed", 0), as_count(blocks, "blocks", 2),
+                   as_count(max_events, "max_events", 1), progress)
+    total = req.t_eq + req.t_meas
+    if method == "stepped" and total / req.dt > MAX_STEPS:
+        raise ValueError(f"dt = {req.dt!r} asks for {total / req.dt:.3g} frames over t_equilibrate + t_measure "
+                         f"= {total!r}; the stepped method is capped at MAX_STEPS = {MAX_STEPS}")
+    if progress is not None and not callable(progress):
+        raise TypeError("progress must be a callable or None")
+    rmax = float(req.radii.max())
+    if not req.periodic and 2.0 * rmax >= req.box:
+        raise ValueError(f"radius must be < box/2: radius {rmax!r}, box {req.box!r}")
+    if req.periodic and 6.0 * rmax > req.box:
+        raise ValueError(f"a periodic box must be at least 3 diameters wide: radius {rmax!r}, box {req.box!r}")
+    return req
+
+
+def _start(req: _Request, positions, velocities):
+    """The gas of the requested method at its start: given or drawn positions and velocities (seeded)."""
+    rng = np.random.default_rng(req.seed)
+    if positions is None:
+        pos = place_spheres(req.n, req.radii, req.box, req.boundary, rng, req.initial)
+    else:
+        pos = check_start_positions(positions, req.radii, req.box, req.periodic)
+    if velocities is None:
+        vel = draw_velocities(req.masses, req.kt, req.boundary, rng)
+    else:
+        vel = as_float_array(velocities, "velocities", shape=(req.n, 3))
+        if not np.any(vel):
+            raise ValueError("velocities are all zero: the gas has no temperature")
+    if req.method == "stepped":
+        if req.dt * req.blocks > req.t_meas:
+            raise ValueError(f"dt = {req.dt!r} is too long for t_measure = {req.t_meas!r} split into "
+                             f"{req.blocks} blocks")
+        return SteppedGas(pos, vel, req.radii, req.masses, req.box, req.periodic, req.dt, req.broad_phase)
+    return EventDrivenGas(pos, vel, req.radii, req.masses, req.box, req.periodic)
+
+
 def _run_events(gas: EventDrivenGas, t_stop: float, max_events: int) -> None:
     """Advance the event-driven gas to t_stop under the run's event cap (counted over the whole run)."""
     left = max_events - gas.processed
     if left <= 0 or gas.run(t_stop, max_events=left) >= left and gas.time < t_stop:
         raise GasEventCapReached(f"the event loop reached max_events = {max_events} before t = {t_stop!r}")
+
+
+class _Drift:
+    """max |E(t) − E0|/E0 over the times it is given E(t)."""
+
+    def __init__(self, e0: float):
+        self.e0 = e0
+        self.value = 0.0
+
+    def see(self, e: float) -> None:
+        self.value = max(self.value, abs(e - self.e0) / self.e0)
+
+
+def _equilibrate(gas, req: _Request, drift: _Drift) -> None:
+    """Run t_equilibrate (stepped: in chunks of a 20th, events: in 10 stops), checking the energy at each stop."""
+    total = req.t_eq + req.t_meas
+    if req.method == "stepped":
+        eq_steps = int(round(req.t_eq / req.dt))
+        chunk = max(1, eq_steps // 20)
+        done_steps = 0
+        while done_steps < eq_steps:
+            k = min(chunk, eq_steps - done_steps)
+            gas.run(k)
+            done_steps += k
+            drift.see(gas.kinetic_energy())
+            if req.progress is not None:
+                req.progress(min(1.0, done_steps * req.dt / total))
+        return
+    for k in range(1, 11):
+        _run_events(gas, req.t_eq * k / 10.0, req.max_events)
+        drift.see(gas.kinetic_energy())
+        if req.progress is not None and req.t_eq > 0.0:
+            req.progress(req.t_eq * k / 10.0 / total)
+
+
+class _Blocks(NamedTuple):
+    """What the measurement blocks gave: per-block Z (virial, wall), rates and speeds; totals; block length."""
+
+    zv: np.ndarray
+    zw: np.ndarray
+    rates: np.ndarray
+    speeds: np.ndarray
+    collisions: int
+    events: int
+    t_block: float
+    seconds: float
+
+
+def _measure(gas, req: _Request, drift: _Drift, kt_run: float) -> _Blocks:
+    """The measurement window: ``blocks`` equal blocks, each one's sums put through the observables' formulas."""
+    n = req.n
+    side = reachable_side(req.box, float(req.radii.mean()), req.boundary)
+    if req.method == "stepped":
+        block_steps = max(1, int(round(req.t_meas / req.blocks / req.dt)))
+        t_block = block_steps * req.dt
+    else:
+        t_block = req.t_meas / req.blocks
+    zv, zw, rates, speeds = [], [], [], []
+    collisions = events = 0
+    started = time.perf_counter()
+    for b in range(req.blocks):
+        gas.reset_sums()
+        if req.method == "stepped":
+            gas.run(block_steps)
+        else:
+            _run_events(gas, req.t_eq + (b + 1) * t_block, req.max_events)
+            events += gas.events
+        drift.see(gas.kinetic_energy())
+        collisions += gas.collisions
+        zv.append(1.0 + gas.virial / (3.0 * t_block * n * kt_run))
+        zw.append(gas.wall_impulse * side / (6.0 * t_block * n * kt_run) if not req.periodic else math.nan)
+        rates.append(2.0 * gas.collisions / (n * t_block))
+        speeds.append(np.sqrt((gas.vel_view() ** 2).sum(axis=1) * gas.mass / kt_run))
+        if req.progress is not None:
+            req.progress((req.t_eq + (b + 1) * t_block) / (req.t_eq + req.blocks * t_block))
+    if req.method == "stepped":
+        events = int(round(req.blocks * t_block / req.dt))
+    return _Blocks(np.array(zv), np.array(zw), np.array(rates), np.concatenate(speeds), int(collisions),
+                   int(events), t_block, time.perf_counter() - started)
+
+
+def _result(gas, req: _Request, blocks: _Blocks, drift: _Drift, kt_run: float) -> GasResult:
+    z_virial, z_virial_err = obs.mean_and_standard_error(blocks.zv)
+    if req.periodic:
+        z_wall, z_wall_err = math.nan, math.nan
+    else:
+        z_wall, z_wall_err = obs.mean_and_standard_error(blocks.zw)
+    rate, rate_err = obs.mean_and_standard_error(blocks.rates)
+    r_mean = float(req.radii.mean())
+    m_mean = float(req.masses.mean())
+    stepped = req.method == "stepped"
+    vel_out = gas.velocities
+    return GasResult(
+        z_virial=z_virial, z_wall=z_wall, collision_rate=rate, collisions=blocks.collisions,
+        energy_drift=float(drift.value), positions=gas.positions, velocities=vel_out, z_virial_err=z_virial_err,
+        z_wall_err=z_wall_err, collision_rate_err=rate_err,
+        z_collision_rate=1.0 + rate * 2.0 * r_mean * math.sqrt(math.pi * m_mean / kt_run) / 6.0,
+        temperature=kt_run, packing_fraction=packing_fraction(req.radii, req.box, req.boundary),
+        momentum=(gas.masses[:, None] * vel_out).sum(axis=0), scaled_speeds=blocks.speeds, method=req.method,
+        boundary=req.boundary, broad_phase=req.broad_phase if stepped else "cells", dt=req.dt if stepped else 0.0,
+        t_measure=req.blocks * blocks.t_block, n=req.n, sigma=2.0 * r_mean, seconds=blocks.seconds,
+        collisions_per_second=blocks.collisions / blocks.seconds if blocks.seconds > 0.0 else 0.0,
+        events=blocks.events, block_z_virial=blocks.zv, block_z_wall=blocks.zw, block_collision_rate=blocks.rates,
+    )
 
 
 def simulate_gas(n, *, radius, mass=1.0, box=10.0, temperature=1.0, t_equilibrate=5.0, t_measure=20.0, dt=1e-3,
@@ -102,129 +284,12 @@ def simulate_gas(n, *, radius, mass=1.0, box=10.0, temperature=1.0, t_equilibrat
     than ``MAX_STEPS`` frames (ValueError naming dt); the event loop stops after ``max_events`` events and raises
     ``GasEventCapReached``.
     """
-    from engine.broadphase import BROAD_PHASES
-
-    n = as_count(n, "n", 1)
-    method = as_choice(method, "method", GAS_METHODS)
-    boundary = as_choice(boundary, "boundary", GAS_BOUNDARIES)
-    broad_phase = as_choice(broad_phase, "broad_phase", BROAD_PHASES)
-    initial = as_choice(initial, "initial", ("auto", "random", "lattice"))
-    periodic = boundary == "periodic"
-    if periodic and n < 2:
-        raise ValueError("a periodic gas needs n >= 2 (zero total momentum leaves one sphere at rest)")
-    radii = per_sphere(radius, "radius", n)
-    masses = per_sphere(mass, "mass", n)
-    box = as_positive(box, "box")
-    kt = as_positive(temperature, "temperature")
-    t_eq = as_nonnegative(t_equilibrate, "t_equilibrate")
-    t_meas = as_positive(t_measure, "t_measure")
-    dt = as_positive(dt, "dt")
-    seed = as_count(seed, "seed", 0)
-    blocks = as_count(blocks, "blocks", 2)
-    max_events = as_count(max_events, "max_events", 1)
-    if method == "stepped" and (t_eq + t_meas) / dt > MAX_STEPS:
-        raise ValueError(f"dt = {dt!r} asks for {(t_eq + t_meas) / dt:.3g} frames over t_equilibrate + t_measure "
-                         f"= {t_eq + t_meas!r}; the stepped method is capped at MAX_STEPS = {MAX_STEPS}")
-    if progress is not None and not callable(progress):
-        raise TypeError("progress must be a callable or None")
-    rmax = float(radii.max())
-    if not periodic and 2.0 * rmax >= box:
-        raise ValueError(f"radius must be < box/2: radius {rmax!r}, box {box!r}")
-    if periodic and 6.0 * rmax > box:
-        raise ValueError(f"a periodic box must be at least 3 diameters wide: radius {rmax!r}, box {box!r}")
-
-    rng = np.random.default_rng(seed)
-    if positions is None:
-        pos = place_spheres(n, radii, box, boundary, rng, initial)
-    else:
-        pos = check_start_positions(positions, radii, box, periodic)
-    if velocities is None:
-        vel = draw_velocities(masses, kt, boundary, rng)
-    else:
-        vel = as_float_array(velocities, "velocities", shape=(n, 3))
-        if not np.any(vel):
-            raise ValueError("velocities are all zero: the gas has no temperature")
-    if method == "stepped":
-        if dt * blocks > t_meas:
-            raise ValueError(f"dt = {dt!r} is too long for t_measure = {t_meas!r} split into {blocks} blocks")
-        gas = SteppedGas(pos, vel, radii, masses, box, periodic, dt, broad_phase)
-    else:
-        gas = EventDrivenGas(pos, vel, radii, masses, box, periodic)
-
+    req = _validate(n, radius, mass, box, temperature, t_equilibrate, t_measure, dt, method, broad_phase, boundary,
+                    seed, initial, blocks, progress, max_events)
+    gas = _start(req, positions, velocities)
     e0 = gas.kinetic_energy()
-    kt_run = 2.0 * e0 / (3.0 * n)
-    drift = 0.0
-    r_mean = float(radii.mean())
-    side = reachable_side(box, r_mean, boundary)
-    eta = packing_fraction(radii, box, boundary)
-
-    total = t_eq + t_meas
-    started = time.perf_counter()
-    if method == "stepped":
-        eq_steps = int(round(t_eq / dt))
-        block_steps = max(1, int(round(t_meas / blocks / dt)))
-        t_block = block_steps * dt
-        done_steps = 0
-        chunk = max(1, eq_steps // 20)
-        while done_steps < eq_steps:
-            k = min(chunk, eq_steps - done_steps)
-            gas.run(k)
-            done_steps += k
-            drift = max(drift, abs(gas.kinetic_energy() - e0) / e0)
-            if progress is not None:
-                progress(min(1.0, done_steps * dt / total))
-    else:
-        t_block = t_meas / blocks
-        for k in range(1, 11):
-            _run_events(gas, t_eq * k / 10.0, max_events)
-            drift = max(drift, abs(gas.kinetic_energy() - e0) / e0)
-            if progress is not None and t_eq > 0.0:
-                progress(t_eq * k / 10.0 / total)
-
-    zv, zw, rates, speeds = [], [], [], []
-    collisions = 0
-    events = 0
-    measure_start = time.perf_counter()
-    for b in range(blocks):
-        gas.reset_sums()
-        if method == "stepped":
-            gas.run(block_steps)
-        else:
-            _run_events(gas, t_eq + (b + 1) * t_block, max_events)
-            events += gas.events
-        e = gas.kinetic_energy()
-        drift = max(drift, abs(e - e0) / e0)
-        collisions += gas.collisions
-        zv.append(1.0 + gas.virial / (3.0 * t_block * n * kt_run))
-        zw.append(gas.wall_impulse * side / (6.0 * t_block * n * kt_run) if not periodic else math.nan)
-        rates.append(2.0 * gas.collisions / (n * t_block))
-        speeds.append(np.sqrt((gas.vel_view() ** 2).sum(axis=1) * gas.mass / kt_run))
-        if progress is not None:
-            progress((t_eq + (b + 1) * t_block) / (t_eq + blocks * t_block))
-    measure_seconds = time.perf_counter() - measure_start
-    del started
-
-    zv = np.array(zv)
-    zw = np.array(zw)
-    rates = np.array(rates)
-    z_virial, z_virial_err = obs.mean_and_standard_error(zv)
-    if periodic:
-        z_wall, z_wall_err = math.nan, math.nan
-    else:
-        z_wall, z_wall_err = obs.mean_and_standard_error(zw)
-    rate, rate_err = obs.mean_and_standard_error(rates)
-    m_mean = float(masses.mean())
-    vel_out = gas.velocities
-    return GasResult(
-        z_virial=z_virial, z_wall=z_wall, collision_rate=rate, collisions=int(collisions), energy_drift=float(drift),
-        positions=gas.positions, velocities=vel_out, z_virial_err=z_virial_err, z_wall_err=z_wall_err,
-        collision_rate_err=rate_err,
-        z_collision_rate=1.0 + rate * 2.0 * r_mean * math.sqrt(math.pi * m_mean / kt_run) / 6.0,
-        temperature=kt_run, packing_fraction=eta, momentum=(gas.masses[:, None] * vel_out).sum(axis=0),
-        scaled_speeds=np.concatenate(speeds), method=method, boundary=boundary,
-        broad_phase=broad_phase if method == "stepped" else "cells", dt=dt if method == "stepped" else 0.0,
-        t_measure=blocks * t_block, n=n, sigma=2.0 * r_mean, seconds=measure_seconds,
-        collisions_per_second=collisions / measure_seconds if measure_seconds > 0.0 else 0.0,
-        events=int(events) if method == "events" else int(round(blocks * t_block / dt)),
-        block_z_virial=zv, block_z_wall=zw, block_collision_rate=rates,
-    )
+    kt_run = 2.0 * e0 / (3.0 * req.n)
+    drift = _Drift(e0)
+    _equilibrate(gas, req, drift)
+    measured = _measure(gas, req, drift, kt_run)
+    return _result(gas, req, measured, drift, kt_run)

@@ -13,13 +13,14 @@ Each frame:
    pushing each overlapping pair apart along its line of centres (mass-weighted, momentum kept), a few passes
    over the candidate pairs until none overlaps. Velocities only change in the elastic response, so energy is
    conserved to round-off; a finite Δt still misses or delays some collisions, which biases Z low
-   (DESIGN.md section 6).
+   (see reports/gas.md, "The stepped method's bias against Δt").
 
 Pairs are canonical (sorted), so the result does not depend on the broad phase: same seed, same final state.
 """
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 
@@ -27,88 +28,99 @@ from engine._config import njit
 from engine._validate import as_choice, as_count, as_positive
 from engine.broadphase import IncrementalSAP, find_pairs
 from engine.broadphase.pairs import canonical_pairs
-from engine.gas.elastic import _pair_impulse
-from engine.gas.events import _kinetic_energy_kernel
+from engine.gas.elastic import pair_impulse
 from engine.gas.initial import check_gas_state
+from engine.gas.observables import kinetic_energy_kernel
+from engine.gas.periodic import minimum_image, wrap_coordinate
+from engine.gas.tally import COLLISIONS, VIRIAL, WALL_HITS, WALL_IMPULSE, GasTally, new_counters, new_sums
 
-__all__ = ["SteppedGas"]
+__all__ = ["SteppedGas", "FrameState"]
 
 #: passes of the overlap-removal loop before giving up for this frame (the next frame continues)
 _MAX_PASSES = 64
 
 
-@njit
-def _move_and_walls(pos, vel, rad, mass, half, periodic, dt, acc, counters):
-    """Steps 1 and 2 of the frame: p ← p + v Δt, then the walls (chapter 2.B) or the periodic wrap."""
-    n = pos.shape[0]
-    box = 2.0 * half
-    for i in range(n):
+class FrameState(NamedTuple):
+    """What the frame kernels read and write: pos, vel (n, 3) float64; rad, mass (n,) float64; counters, sums
+    (engine/gas/tally.py); half = L/2 and box = L (float), periodic (bool), dt (float)."""
+
+    pos: np.ndarray
+    vel: np.ndarray
+    rad: np.ndarray
+    mass: np.ndarray
+    counters: np.ndarray
+    sums: np.ndarray
+    half: float
+    box: float
+    periodic: bool
+    dt: float
+
+
+@njit(error_model="numpy")
+def _into_box(x, half, r, periodic):
+    """Coordinate x of a sphere of radius r clamped into the reachable [−L/2 + r, L/2 − r] (periodic: wrapped
+    into [−L/2, L/2))."""
+    if periodic:
+        return wrap_coordinate(x, half)
+    lo = -half + r
+    hi = half - r
+    if x < lo:
+        return lo
+    if x > hi:
+        return hi
+    return x
+
+
+@njit(error_model="numpy")
+def _move_and_walls(s):
+    """Steps 1 and 2 of the frame: p ← p + v Δt, then the walls (chapter 2.B: a sphere past a wall and moving
+    outwards gets v_k reversed and travels the distance past the wall back) or the periodic wrap."""
+    pos, vel, rad, mass, sums, counters = s.pos, s.vel, s.rad, s.mass, s.sums, s.counters
+    dt, half, periodic = s.dt, s.half, s.periodic
+    for i in range(pos.shape[0]):
+        lo = -half + rad[i]
+        hi = half - rad[i]
         for k in range(3):
             p = pos[i, k] + vel[i, k] * dt
-            if periodic:
-                p -= box * math.floor((p + half) / box)
-                if p >= half:  # round-off of the wrap
-                    p -= box
-            else:
-                lo = -half + rad[i]
-                hi = half - rad[i]
-                v = vel[i, k]
-                if p <= lo and v < 0.0:
-                    acc[0] += 2.0 * mass[i] * (-v)
-                    counters[1] += 1
-                    vel[i, k] = -v
-                    p = lo + (lo - p)  # mirror: the distance travelled past the wall is travelled back
-                elif p >= hi and v > 0.0:
-                    acc[0] += 2.0 * mass[i] * v
-                    counters[1] += 1
-                    vel[i, k] = -v
-                    p = hi - (p - hi)
-                if p < lo:
-                    p = lo
-                elif p > hi:
-                    p = hi
-            pos[i, k] = p
+            v = vel[i, k]
+            if not periodic and (p <= lo and v < 0.0 or p >= hi and v > 0.0):
+                sums[WALL_IMPULSE] += 2.0 * mass[i] * abs(v)
+                counters[WALL_HITS] += 1
+                vel[i, k] = -v
+                p = lo + (lo - p) if v < 0.0 else hi - (p - hi)
+            pos[i, k] = _into_box(p, half, rad[i], periodic)
 
 
-@njit
-def _separation(pos, i, j, box, periodic):
+@njit(error_model="numpy")
+def _separation(s, i, j):
+    """p_i − p_j (its nearest periodic image when periodic)."""
+    pos = s.pos
     rx = pos[i, 0] - pos[j, 0]
     ry = pos[i, 1] - pos[j, 1]
     rz = pos[i, 2] - pos[j, 2]
-    if periodic:
-        rx -= box * round(rx / box)
-        ry -= box * round(ry / box)
-        rz -= box * round(rz / box)
+    if s.periodic:
+        return minimum_image(rx, ry, rz, s.box)
     return rx, ry, rz
 
 
-@njit
-def _keep_inside(pos, rad, q, half, periodic):
-    """Clamp sphere q's centre into the reachable cube [−L/2 + r, L/2 − r]³ (periodic: wrap into [−L/2, L/2))."""
-    box = 2.0 * half
+@njit(error_model="numpy")
+def _keep_inside(s, q):
+    """Sphere q's centre into the reachable cube (periodic: wrapped into [−L/2, L/2)³)."""
+    pos, half, r, periodic = s.pos, s.half, s.rad[q], s.periodic
     for k in range(3):
-        if periodic:
-            pos[q, k] -= box * math.floor((pos[q, k] + half) / box)
-            if pos[q, k] >= half:
-                pos[q, k] -= box
-        else:
-            lo = -half + rad[q]
-            hi = half - rad[q]
-            if pos[q, k] < lo:
-                pos[q, k] = lo
-            elif pos[q, k] > hi:
-                pos[q, k] = hi
+        pos[q, k] = _into_box(pos[q, k], half, r, periodic)
 
 
-@njit
-def _respond(pairs, pos, vel, rad, mass, half, periodic, dt, acc, counters):
-    """Step 4 of the frame on the candidate pairs (canonical order): elastic response of approaching contacts
-    at their contact instant, then overlap removal. Returns the number of pairs still overlapping."""
-    box = 2.0 * half
+@njit(error_model="numpy")
+def _answer_contacts(pairs, s):
+    """The elastic response of every approaching contact among the candidate pairs (canonical order), at its
+    contact instant: back to contact, the chapter's formulas (1.B / 2.C), forward again with the new velocities."""
+    pos, vel, rad, mass, dt, sums, counters = s.pos, s.vel, s.rad, s.mass, s.dt, s.sums, s.counters
+    old = np.empty(6)
     for p in range(pairs.shape[0]):
         i = pairs[p, 0]
         j = pairs[p, 1]
-        rx, ry, rz = _separation(pos, i, j, box, periodic)
+        rx, ry, rz = _separation(s, i, j)
         sigma = rad[i] + rad[j]
         c = rx * rx + ry * ry + rz * rz - sigma * sigma
         if c > 0.0:
@@ -126,32 +138,30 @@ def _respond(pairs, pos, vel, rad, mass, half, periodic, dt, acc, counters):
             tau = 0.0
         if tau > dt:
             tau = dt
-        cx = rx - vx * tau
-        cy = ry - vy * tau
-        cz = rz - vz * tau
-        old = np.empty(6)
         for k in range(3):
             old[k] = vel[i, k]
             old[3 + k] = vel[j, k]
-        w = _pair_impulse(vel, mass, i, j, cx, cy, cz, 0)
+        w = pair_impulse(vel, mass, i, j, rx - vx * tau, ry - vy * tau, rz - vz * tau, 0)
         if w > 0.0:
-            acc[1] += w
-            counters[0] += 1
-            # forward again from the contact with the new velocities
-            for k in range(3):
+            sums[VIRIAL] += w
+            counters[COLLISIONS] += 1
+            for k in range(3):  # forward again from the contact with the new velocities
                 pos[i, k] += (vel[i, k] - old[k]) * tau
                 pos[j, k] += (vel[j, k] - old[3 + k]) * tau
-    # the moves back to contact and forward again may cross a wall: keep every centre in the reachable box
-    for q in range(pos.shape[0]):
-        _keep_inside(pos, rad, q, half, periodic)
-    # overlap removal: push overlapping pairs apart along the line of centres, mass-weighted
+
+
+@njit(error_model="numpy")
+def _remove_overlaps(pairs, s):
+    """Push overlapping candidate pairs apart along their line of centres, mass-weighted (momentum kept), pass
+    after pass until none overlaps (at most _MAX_PASSES). Returns the number of pairs still overlapping."""
+    pos, rad, mass = s.pos, s.rad, s.mass
     remaining = 0
     for _ in range(_MAX_PASSES):
         remaining = 0
         for p in range(pairs.shape[0]):
             i = pairs[p, 0]
             j = pairs[p, 1]
-            rx, ry, rz = _separation(pos, i, j, box, periodic)
+            rx, ry, rz = _separation(s, i, j)
             sigma = rad[i] + rad[j]
             d2 = rx * rx + ry * ry + rz * rz
             if d2 >= sigma * sigma:
@@ -171,14 +181,25 @@ def _respond(pairs, pos, vel, rad, mass, half, periodic, dt, acc, counters):
             pos[j, 0] -= wj * gap * ux
             pos[j, 1] -= wj * gap * uy
             pos[j, 2] -= wj * gap * uz
-            _keep_inside(pos, rad, i, half, periodic)
-            _keep_inside(pos, rad, j, half, periodic)
+            _keep_inside(s, i)
+            _keep_inside(s, j)
         if remaining == 0:
             break
     return remaining
 
 
-class SteppedGas:
+@njit(error_model="numpy")
+def _respond(pairs, s):
+    """Step 4 of the frame on the candidate pairs: the elastic response of approaching contacts, every centre
+    back into the reachable box (the moves to contact and back may cross a wall), then overlap removal.
+    Returns the number of pairs still overlapping."""
+    _answer_contacts(pairs, s)
+    for q in range(s.pos.shape[0]):
+        _keep_inside(s, q)
+    return _remove_overlaps(pairs, s)
+
+
+class SteppedGas(GasTally):
     """The chapter's fixed-step gas: positions/velocities (n, 3), radii/masses (n,), box side L, Δt.
 
     ``run(steps)`` advances ``steps`` frames of ``dt``; counters ``collisions``, ``wall_hits`` and the sums
@@ -207,8 +228,8 @@ class SteppedGas:
         self.rad = np.ascontiguousarray(radii, dtype=np.float64)
         self.mass = np.ascontiguousarray(masses, dtype=np.float64)
         self.time = 0.0
-        self.acc = np.zeros(2)
-        self.counters = np.zeros(2, dtype=np.int64)
+        self.sums = new_sums()
+        self.counters = new_counters()
         self.overlapping = 0
         self._sap = None
 
@@ -270,12 +291,13 @@ class SteppedGas:
     # -- the frame loop ---------------------------------------------------------------------------------------
     def run(self, steps: int) -> None:
         """Advance ``steps`` frames: move, walls, pairs (broad phase + exact test), response."""
-        for _ in range(as_count(steps, "steps", 0)):
-            _move_and_walls(self.pos, self.vel, self.rad, self.mass, self.half, self.periodic, self.dt, self.acc,
-                            self.counters)
+        steps = as_count(steps, "steps", 0)
+        s = FrameState(self.pos, self.vel, self.rad, self.mass, self.counters, self.sums, self.half,
+                       2.0 * self.half, self.periodic, self.dt)
+        for _ in range(steps):
+            _move_and_walls(s)
             pairs = self.candidate_pairs()
-            self.overlapping = int(_respond(pairs, self.pos, self.vel, self.rad, self.mass, self.half,
-                                            self.periodic, self.dt, self.acc, self.counters))
+            self.overlapping = int(_respond(pairs, s))
             self.time += self.dt
 
     @property
@@ -295,26 +317,5 @@ class SteppedGas:
         return self.vel
 
     def kinetic_energy(self) -> float:
-        st = np.zeros((self.n, 8))
-        st[:, 3:6] = self.vel
-        return _kinetic_energy_kernel(st, self.mass)
-
-    def reset_sums(self) -> None:
-        self.acc[:] = 0.0
-        self.counters[:] = 0
-
-    @property
-    def collisions(self) -> int:
-        return int(self.counters[0])
-
-    @property
-    def wall_hits(self) -> int:
-        return int(self.counters[1])
-
-    @property
-    def wall_impulse(self) -> float:
-        return float(self.acc[0])
-
-    @property
-    def virial(self) -> float:
-        return float(self.acc[1])
+        """K = Σ m v²/2 (compensated summation)."""
+        return kinetic_energy_kernel(self.vel, self.mass)

@@ -1,14 +1,20 @@
-"""The collision pipeline over bodies of mixed shapes: shapes, the narrow-phase dispatch table, ``World``.
+"""The collision pipeline over bodies of mixed shapes: shapes, the body store, the dispatch tables, ``World``.
 
-``engine.world.shapes`` (Sphere, Box, Capsule, ConvexPolyhedron, Plane, HeightCurve), ``engine.world.dispatch``
-(shape kind × shape kind → batched exact test), ``engine.world.world`` (World: broad phase → narrow phase →
-contacts / time of impact, with per-stage counters), ``engine.world.demo`` (``collide demo``).
+``engine.world.shapes`` (Sphere, Box, Capsule, ConvexPolyhedron, Plane, HeightCurve), ``engine.world.bodies``
+(the structure-of-arrays body store and the compiled pose upload), ``engine.world.broad`` (the broad phase kept
+across frames), ``engine.world.dispatch`` (shape kind × shape kind → kernel, for overlap, contact and time of
+impact; the compiled narrow phase), ``engine.world.convex`` (the GJK/EPA rows), ``engine.world.curve`` (the
+curved-ground rows), ``engine.world.world`` (World: the frame, with per-stage counters and times),
+``engine.world.demo`` (``collide demo``).
 """
 from __future__ import annotations
 
-from .dispatch import NARROW_TESTS
+from engine.narrowphase.contacts import ContactSet, describe_point_id
+
+from .dispatch import CONTACT_TABLE, IMPACT_TABLE, NARROW_TESTS, OVERLAP_TABLE
 from .shapes import Box, Capsule, ConvexPolyhedron, HeightCurve, Plane, Shape, Sphere
-from .world import ContactSet, ImpactSet, World, WorldStats
+from .world import ImpactSet, World, WorldStats
 
 __all__ = ["Sphere", "Box", "Capsule", "ConvexPolyhedron", "Plane", "HeightCurve", "Shape", "World",
-           "ContactSet", "ImpactSet", "WorldStats", "NARROW_TESTS"]
+           "ContactSet", "ImpactSet", "WorldStats", "NARROW_TESTS", "OVERLAP_TABLE", "CONTACT_TABLE",
+           "IMPACT_TABLE", "describe_point_id"]

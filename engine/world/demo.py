@@ -13,18 +13,16 @@ per-stage pair counts in a corner — or one still frame (``--png``).
 """
 from __future__ import annotations
 
-from types import SimpleNamespace
-
 import numpy as np
 
 from engine.dynamics.bisection import bisect
 from engine.dynamics.rk4 import rk4_step
 
-from .dispatch import ground_gap, lower_boundary
+from .curve import ground_gap, lower_boundary
 from .shapes import Box, Capsule, ConvexPolyhedron, HeightCurve, Sphere
 from .world import World
 
-__all__ = ["build_scene", "DemoScene", "run_demo"]
+__all__ = ["build_scene", "DemoScene", "run_demo", "demo_figure"]
 
 GRAVITY = np.array([0.0, -9.81, 0.0])
 
@@ -70,9 +68,8 @@ class DemoScene:
     def _gap(self, body, center):
         """Gap (min of y − f(x) over the body's lower boundary) and the normal at that point."""
         local = self.world.world_points(body) - self.world.pose(body)[0]
-        geo = SimpleNamespace(padded_points=(center + local)[None], radius=np.array([self.world.radius(body)]))
-        curve = self.world._grounds[self.ground]
-        bnd = lower_boundary(geo, np.array([0]), curve.samples)
+        curve = self.world.shape(self.ground)
+        bnd = lower_boundary((center + local)[None], np.array([self.world.radius(body)]), curve.samples)
         gap, xs, _ = ground_gap(curve, bnd)
         x = float(xs[0])
         slope = float(curve.slope(np.array([x]))[0])
@@ -177,27 +174,46 @@ def draw(scene: DemoScene, ax):
     ax.set_yticks([])
 
 
+def _figure():
+    """A Figure with its own Agg canvas: no pyplot, the process's backend is never switched."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(6.4, 5.2), dpi=80)
+    FigureCanvasAgg(fig)
+    return fig, fig.add_subplot()
+
+
+def demo_figure(path: str | None = None, *, frame: int = 70, restitution: float = 0.6, seed: int = 0):
+    """The demo scene after ``frame`` frames, drawn; saved to ``path`` (a PNG) only when a path is given.
+    Returns ``(figure, scene)``."""
+    if isinstance(frame, bool) or not isinstance(frame, int) or frame < 0:
+        raise ValueError(f"frame must be an int >= 0, got {frame!r}")
+    scene = DemoScene(restitution=restitution, seed=seed)
+    for _ in range(frame):
+        scene.step()
+    fig, ax = _figure()
+    draw(scene, ax)
+    if path is not None:
+        fig.savefig(path, dpi=80)
+    return fig, scene
+
+
 def run_demo(*, out: str | None = "demo.gif", png: str | None = None, frames: int = 150, png_frame: int = 70,
              fps: int = 25, restitution: float = 0.6, seed: int = 0) -> int:
     """Simulate ``frames`` frames; write the GIF to ``out`` (None: no GIF) and/or frame ``png_frame`` to ``png``."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
     from matplotlib.animation import FuncAnimation, PillowWriter
 
     if out is None and png is None:
         raise ValueError("out and png are both None: nothing to write (give --png with --no-gif)")
     if frames < 1 or not 0 <= png_frame < frames:
         raise ValueError(f"frames must be >= 1 and png_frame in [0, frames), got {frames} and {png_frame}")
-    scene = DemoScene(restitution=restitution, seed=seed)
-    fig, ax = plt.subplots(figsize=(6.4, 5.2), dpi=80)
     if out is None:
-        for _ in range(png_frame):
-            scene.step()
-        draw(scene, ax)
-        fig.savefig(png, dpi=80)
+        _, scene = demo_figure(png, frame=png_frame, restitution=restitution, seed=seed)
     else:
+        scene = DemoScene(restitution=restitution, seed=seed)
+        fig, ax = _figure()
+
         def update(k):
             if k:
                 scene.step()
@@ -207,7 +223,6 @@ def run_demo(*, out: str | None = "demo.gif", png: str | None = None, frames: in
             return []
 
         FuncAnimation(fig, update, frames=frames, blit=False).save(out, writer=PillowWriter(fps=fps))
-    plt.close(fig)
     for t, body, speed in scene.impacts:
         print(f"impact t = {t:.6f} s  body {body} ({scene.world.kind(body)})  normal speed {speed:.3f} m/s")
     if out is not None:

@@ -1,220 +1,236 @@
-"""The narrow-phase dispatch table: (shape kind, shape kind) -> one batched exact test, in ONE place.
+"""The dispatch tables of the narrow phase — overlap, contact, time of impact — keyed by (shape kind, shape kind),
+grounds included, in ONE place.
 
 As in Box2D (``b2_registers`` in ``contact.c``), parry (``DefaultQueryDispatcher``) and Jolt
-(``CollisionDispatch``): the candidate pairs of the broad phase are grouped by the kinds of their two shapes and
-each group is answered by a single call of a batched test of engine.narrowphase — no per-pair Python loop. Adding
-a shape kind is one row per kind it can meet.
+(``CollisionDispatch``): every candidate pair of the broad phase is answered by the kernel its two shapes' kinds
+select. A table row maps (kind_a, kind_b), kind_a <= kind_b (codes of engine/world/shapes.py), to a kernel code;
+``table_array`` turns a table into a (kinds × kinds) int8 array that the compiled frame indexes per pair.
+Adding a shape kind means adding its rows (and, for a new closed form, its kernel code).
 
-Rows are keyed (kind_a, kind_b) with kind_a <= kind_b (codes of engine/world/shapes.py); a row function receives
-the ``Geometry`` of the world and the body ids ``ia``, ``ib`` (k,) of the group (``ia`` of kind_a) and returns a
-bool (k,) array: do the two shapes overlap (closed: touching counts)?
-
-- sphere–sphere, sphere–box (OBB), sphere–capsule, box–box (SAT, Ericson 4.4.1): the exact primitive tests;
-- every other pair of bodies: GJK distance between the cores (Ericson 9.5) <= r_a + r_b (the radii of the swept
-  cores: sphere and capsule radius, 0 for boxes and hulls);
-- a body against ``Plane``: its lowest point (support in −y) is not above the altitude (slide "sol plat");
-- a sphere against ``HeightCurve``: ``overlap_circle_curve`` in the x–y plane (exact for a z-extruded ground:
-  the sphere's widest section is the disc at its centre's z);
-- another body against ``HeightCurve``: the lowest value of y − f(x) over the body's lower boundary in the x–y
-  plane, sampled at the support points of ``samples`` directions pointing down (every vertex of a polytope whose
-  normal cone is wider than π/samples is hit exactly) and at 4 points on each chord between them (slide
-  "Sol courbe"; a bump of f narrower than the sample spacing can be missed — raise ``samples``).
+Kernels answered inside the compiled loop (``answer_pairs``, ``impact_pairs``), exact to round-off:
+- ``ROUND_CORES``: sphere–sphere, sphere–capsule, capsule–capsule (closest points of segments, Ericson 5.1.9;
+  engine.narrowphase.segment_segment);
+- ``SPHERE_BOX``: the closest point of an OBB (Ericson 5.1.3; engine.narrowphase.sphere_box);
+- ``BOX_BOX`` (contacts: SAT + the clipped manifold, engine.narrowphase.box_box) and ``BOX_BOX_SAT`` (overlap:
+  its separating-axis test alone);
+- ``BODY_PLANE``: every body against a ``Plane`` (its core points against the ground's half-space,
+  engine.narrowphase.plane);
+- ``SPHERE_SPHERE_TOI``, ``PLANE_TOI``: times of impact of two translating spheres (a quadratic) and of a
+  translating body over a plane (its lowest point moves linearly).
+Kernels answered after the loop, one batched call per kernel for all its pairs (``DEFERRED``):
+- ``GJK_DISTANCE`` / ``GJK_EPA``: the pairs with no closed form (hulls, box–capsule): GJK distance, then EPA
+  and the contact features (engine.narrowphase, ``engine/world/convex.py``);
+- ``CURVE_OVERLAP``, ``SPHERE_CURVE_OVERLAP``, ``CURVE_CONTACT``, ``CURVE_TOI``: a body against a ``HeightCurve``
+  (its function f is a Python callable, evaluated on numpy arrays: ``engine/world/curve.py``);
+- ``ADVANCEMENT``: conservative advancement (engine.narrowphase.time_of_impact_pairs).
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
-from engine.narrowphase import (
-    gjk_distance_pairs,
-    overlap_circle_curve,
-    overlap_obb_obb_batch,
-    overlap_sphere_capsule_batch,
-    overlap_sphere_obb_batch,
-    overlap_sphere_sphere_batch,
-)
+from engine._config import njit
+from engine.narrowphase.box_box import contact_box_box, overlap_box_box
+from engine.narrowphase.contacts import APART, DEFERRED, TOUCHING
+from engine.narrowphase.plane import contact_points_plane
+from engine.narrowphase.segment_segment import contact_round_cores
+from engine.narrowphase.sphere_box import contact_sphere_box
 
-from .shapes import BOX, CAPSULE, CURVE, HULL, PLANE, SPHERE
+from .convex import gjk_contact_rows, gjk_overlap_rows
+from .curve import curve_candidates, curve_rows
+from .shapes import BOX, CAPSULE, CURVE, HULL, KIND_NAMES, PLANE, SPHERE
 
-__all__ = ["NARROW_TESTS", "overlap_groups", "lower_boundary", "ground_gap"]
+__all__ = ["OVERLAP_TABLE", "CONTACT_TABLE", "IMPACT_TABLE", "NARROW_TESTS", "KERNEL_NAMES", "table_array",
+           "overlapping_boxes", "answer_pairs", "impact_pairs", "ROUND_CORES", "SPHERE_BOX", "BOX_BOX",
+           "BOX_BOX_SAT", "BODY_PLANE",
+           "GJK_DISTANCE", "GJK_EPA", "CURVE_OVERLAP", "SPHERE_CURVE_OVERLAP", "CURVE_CONTACT",
+           "SPHERE_SPHERE_TOI", "PLANE_TOI", "ADVANCEMENT", "CURVE_TOI", "COMPILED_KERNELS",
+           "GROUND_CANDIDATES", "DEFERRED_ROWS"]
 
+# kernel codes (0: no kernel — ground against ground, never asked)
+ROUND_CORES, SPHERE_BOX, BOX_BOX, BOX_BOX_SAT, BODY_PLANE = 1, 2, 3, 4, 5
+GJK_DISTANCE, GJK_EPA, CURVE_OVERLAP, SPHERE_CURVE_OVERLAP, CURVE_CONTACT = 6, 7, 8, 9, 10
+SPHERE_SPHERE_TOI, PLANE_TOI, ADVANCEMENT, CURVE_TOI = 11, 12, 13, 14
+KERNEL_NAMES = {ROUND_CORES: "closest points of segments", SPHERE_BOX: "closest point of an OBB",
+                BOX_BOX: "box SAT + clipping", BOX_BOX_SAT: "box SAT", BODY_PLANE: "core points against a plane",
+                GJK_DISTANCE: "GJK distance", GJK_EPA: "GJK/EPA + contact features",
+                CURVE_OVERLAP: "lower boundary against the curve", SPHERE_CURVE_OVERLAP: "circle against the curve",
+                CURVE_CONTACT: "deepest point under the curve", SPHERE_SPHERE_TOI: "sphere sweep (quadratic)",
+                PLANE_TOI: "lowest point sweep (linear)", ADVANCEMENT: "conservative advancement",
+                CURVE_TOI: "bisection on the curve gap"}
+#: the codes answered inside the compiled loop; every other code is DEFERRED to its batched row
+COMPILED_KERNELS = frozenset({ROUND_CORES, SPHERE_BOX, BOX_BOX, BOX_BOX_SAT, BODY_PLANE, SPHERE_SPHERE_TOI,
+                              PLANE_TOI})
 
-# ---------------------------------------------------------------------------------------------------------------
-# body-body rows
-# ---------------------------------------------------------------------------------------------------------------
-
-def overlap_sphere_sphere_rows(geo, ia, ib):
-    return overlap_sphere_sphere_batch(geo.center, geo.radius, geo.center, geo.radius, ia, ib)
-
-
-def overlap_sphere_box_rows(geo, ia, ib):
-    # engine's OBB convention: rows are the axes, so pass rotation^T
-    return overlap_sphere_obb_batch(geo.center, geo.radius, geo.center, geo.axes_rows, geo.half, ia, ib)
-
-
-def overlap_sphere_capsule_rows(geo, ia, ib):
-    p0, p1 = geo.segment_ends
-    return overlap_sphere_capsule_batch(geo.center, geo.radius, p0, p1, geo.radius, ia, ib)
-
-
-def overlap_box_box_rows(geo, ia, ib):
-    return overlap_obb_obb_batch(geo.center, geo.axes_rows, geo.half, geo.center, geo.axes_rows, geo.half, ia, ib)
-
-
-def overlap_gjk_rows(geo, ia, ib):
-    dist, _, _ = gjk_distance_pairs(geo.points, geo.offsets, np.stack([ia, ib], axis=1))
-    return dist <= geo.radius[ia] + geo.radius[ib]
+_BODIES = (SPHERE, BOX, CAPSULE, HULL)
 
 
-# ---------------------------------------------------------------------------------------------------------------
-# body-ground rows (ib holds ground ids; grouped per ground, a handful of calls)
-# ---------------------------------------------------------------------------------------------------------------
-
-def _per_ground(geo, ia, ib, test):
-    out = np.zeros(ia.shape[0], np.bool_)
-    for g in np.unique(ib).tolist():
-        rows = np.flatnonzero(ib == g)
-        out[rows] = test(geo.grounds[g], ia[rows])
-    return out
+def _rows(closed_forms: dict, otherwise: int, plane: int, curve: int, sphere_curve: int) -> dict:
+    table = {}
+    for x, a in enumerate(_BODIES):
+        for b in _BODIES[x:]:
+            table[(a, b)] = closed_forms.get((a, b), otherwise)
+        table[(a, PLANE)] = plane
+        table[(a, CURVE)] = sphere_curve if a == SPHERE else curve
+    return table
 
 
-def overlap_body_plane_rows(geo, ia, ib):
-    return _per_ground(geo, ia, ib, lambda plane, bodies: geo.lowest_y(bodies) <= plane.altitude)
+_ROUND = {(SPHERE, SPHERE): ROUND_CORES, (SPHERE, CAPSULE): ROUND_CORES, (CAPSULE, CAPSULE): ROUND_CORES,
+          (SPHERE, BOX): SPHERE_BOX}
+
+#: "do they overlap?" (touching counts): (kind_a, kind_b) -> kernel code
+OVERLAP_TABLE = _rows({**_ROUND, (BOX, BOX): BOX_BOX_SAT}, GJK_DISTANCE, BODY_PLANE, CURVE_OVERLAP,
+                      SPHERE_CURVE_OVERLAP)
+#: "where do they touch?" (depth, normal, features, points)
+CONTACT_TABLE = _rows({**_ROUND, (BOX, BOX): BOX_BOX}, GJK_EPA, BODY_PLANE, CURVE_CONTACT, CURVE_CONTACT)
+#: "when do they touch?" (bodies translating with their velocities)
+IMPACT_TABLE = _rows({(SPHERE, SPHERE): SPHERE_SPHERE_TOI}, ADVANCEMENT, PLANE_TOI, CURVE_TOI, CURVE_TOI)
+#: the overlap table, under its former name
+NARROW_TESTS = OVERLAP_TABLE
 
 
-def overlap_sphere_curve_rows(geo, ia, ib):
-    return _per_ground(geo, ia, ib, lambda curve, bodies: overlap_circle_curve(
-        geo.center[bodies, :2], geo.radius[bodies], curve.f, samples=curve.samples))
+def _plane_candidates(plane, lo, hi) -> np.ndarray:
+    return lo[:, 1] <= plane.altitude
 
 
-def lower_boundary(geo, bodies, samples: int) -> np.ndarray:
-    """Points (k, S, 2) on the lower boundary (x–y plane) of each body: supports in ``samples`` directions
-    pointing down, plus 4 points on each chord between consecutive supports."""
-    theta = np.linspace(np.pi, 2 * np.pi, samples)
-    d = np.stack([np.cos(theta), np.sin(theta)], axis=1)  # (K, 2)
-    wp = geo.padded_points[bodies][:, :, :2]  # (k, M, 2)
-    best = np.argmax(np.einsum("kmc,dc->kdm", wp, d), axis=2)  # (k, K)
-    sup = np.take_along_axis(wp, best[:, :, None], axis=1) + geo.radius[bodies][:, None, None] * d[None]
-    s = np.linspace(0.0, 1.0, 5)[:-1]
-    chords = sup[:, :-1, None, :] + s[None, None, :, None] * (sup[:, 1:, None, :] - sup[:, :-1, None, :])
-    return np.concatenate([chords.reshape(len(bodies), -1, 2), sup[:, -1:, :]], axis=1)
+#: ground kind -> which bodies' AABBs (lo, hi (n, 3)) may touch that ground: bool (n,)
+GROUND_CANDIDATES = {PLANE: _plane_candidates, CURVE: curve_candidates}
 
-
-#: golden-section steps refining the lowest point of a body's lower boundary over a curve (0.618^40 ≈ 4e-9 of
-#: the two sample intervals around it)
-GOLDEN_STEPS = 40
-
-
-def _chord_heights(bx, by):
-    """The heights L(rows, x) on the chords through each row's boundary points: ``bx``, ``by`` (k, S) increasing
-    in x per row; the returned function takes ``rows`` (q,) and ``x`` (q,). One np.interp for every row: row r's
-    abscissae are mapped to u = 2r + (x − x_first) / width (rows then occupy disjoint, increasing stretches of u)."""
-    k = bx.shape[0]
-    x0 = bx[:, 0]
-    width = bx[:, -1] - x0
-    span = np.where(width > 0, width, 1.0)
-    u_nodes = (2.0 * np.arange(k)[:, None] + (bx - x0[:, None]) / span[:, None]).ravel()
-    y_nodes = by.ravel()
-
-    def heights(rows, x):
-        return np.interp(2.0 * rows + (x - x0[rows]) / span[rows], u_nodes, y_nodes)
-    return heights
-
-
-def ground_gap(curve, boundary) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """min of L(x) − f(x) over each body's lower boundary L, and where: ``(gap (k,), x (k,), y (k,))``.
-
-    ``boundary`` (k, S, 2) holds points of each body's lower boundary in increasing x (``lower_boundary``); L is
-    the broken line through them (exact for polytopes, inside a rounded shape by at most its chords' sagitta).
-    L − f is sampled at S abscissae evenly spaced over the body's width plus the boundary points themselves (its
-    kinks), then the lowest sample is refined by golden-section search over its two neighbouring intervals — a
-    sampled gap alone missed a crest of f between two corners of a long bottom face.
-    """
-    k, n_pts, _ = boundary.shape
-    bx = np.maximum.accumulate(boundary[:, :, 0], axis=1)  # increasing (round-off of the supports aside)
-    by = boundary[:, :, 1]
-    x0, x1 = bx[:, 0], bx[:, -1]
-    t = np.linspace(0.0, 1.0, n_pts)
-    xs = np.sort(np.concatenate([x0[:, None] + t[None, :] * (x1 - x0)[:, None], bx], axis=1), axis=1)
-    xs = np.clip(xs, x0[:, None], x1[:, None])
-    chord = _chord_heights(bx, by)
-    rows = np.repeat(np.arange(k), xs.shape[1])
-    g = (chord(rows, xs.ravel()) - curve.height(xs.ravel())).reshape(k, -1)
-    i = np.argmin(g, axis=1)
-    r = np.arange(k)
-    best_g, best_x = g[r, i], xs[r, i]
-    a = xs[r, np.maximum(i - 1, 0)]
-    b = xs[r, np.minimum(i + 1, xs.shape[1] - 1)]
-    phi = (np.sqrt(5.0) - 1.0) / 2.0
-    for _ in range(GOLDEN_STEPS):
-        c = b - phi * (b - a)
-        d = a + phi * (b - a)
-        both = np.concatenate([c, d])
-        gc, gd = np.split(chord(np.concatenate([r, r]), both) - curve.height(both), 2)
-        for xq, gq in ((c, gc), (d, gd)):  # keep the lowest point seen (the search may only improve it)
-            better = gq < best_g
-            best_g = np.where(better, gq, best_g)
-            best_x = np.where(better, xq, best_x)
-        left = gc <= gd
-        b = np.where(left, d, b)
-        a = np.where(left, a, c)
-    return best_g, best_x, chord(r, best_x)
-
-
-def overlap_body_curve_rows(geo, ia, ib):
-    def test(curve, bodies):
-        gap = ground_gap(curve, lower_boundary(geo, bodies, curve.samples))[0]
-        return gap <= 0.0
-    return _per_ground(geo, ia, ib, test)
-
-
-#: (kind_a, kind_b) with kind_a <= kind_b -> batched test; ground-ground pairs are never tested
-NARROW_TESTS = {
-    (SPHERE, SPHERE): overlap_sphere_sphere_rows,
-    (SPHERE, BOX): overlap_sphere_box_rows,
-    (SPHERE, CAPSULE): overlap_sphere_capsule_rows,
-    (SPHERE, HULL): overlap_gjk_rows,
-    (BOX, BOX): overlap_box_box_rows,
-    (BOX, CAPSULE): overlap_gjk_rows,
-    (BOX, HULL): overlap_gjk_rows,
-    (CAPSULE, CAPSULE): overlap_gjk_rows,
-    (CAPSULE, HULL): overlap_gjk_rows,
-    (HULL, HULL): overlap_gjk_rows,
-    (SPHERE, PLANE): overlap_body_plane_rows,
-    (BOX, PLANE): overlap_body_plane_rows,
-    (CAPSULE, PLANE): overlap_body_plane_rows,
-    (HULL, PLANE): overlap_body_plane_rows,
-    (SPHERE, CURVE): overlap_sphere_curve_rows,
-    (BOX, CURVE): overlap_body_curve_rows,
-    (CAPSULE, CURVE): overlap_body_curve_rows,
-    (HULL, CURVE): overlap_body_curve_rows,
+#: the kernels answered after the compiled loop, by one batched call each: code -> rows(bodies, pairs, sel,
+#: rows, grounds) filling rows ``sel`` of ``rows`` (grounds: {id: shape})
+DEFERRED_ROWS = {
+    GJK_DISTANCE: lambda bodies, pairs, sel, rows, grounds: gjk_overlap_rows(bodies, pairs, sel, rows),
+    GJK_EPA: lambda bodies, pairs, sel, rows, grounds: gjk_contact_rows(bodies, pairs, sel, rows),
+    CURVE_OVERLAP: lambda bodies, pairs, sel, rows, grounds: curve_rows(bodies, pairs, sel, rows, grounds, False),
+    SPHERE_CURVE_OVERLAP: lambda bodies, pairs, sel, rows, grounds: curve_rows(bodies, pairs, sel, rows, grounds,
+                                                                               False),
+    CURVE_CONTACT: lambda bodies, pairs, sel, rows, grounds: curve_rows(bodies, pairs, sel, rows, grounds, True),
 }
 
 
-def overlap_groups(geo, pairs: np.ndarray, table=None):
-    """Exact overlap of candidate pairs (k, 2) of ids: group by kind pair, one batched call per group.
+def table_array(table: dict) -> np.ndarray:
+    """A table as a symmetric (kinds × kinds) int8 array (0 where no row: ground–ground)."""
+    out = np.zeros((len(KIND_NAMES), len(KIND_NAMES)), np.int8)
+    for (a, b), code in table.items():
+        out[a, b] = out[b, a] = code
+    return out
 
-    Returns ``(mask (k,), groups)`` with ``groups`` a dict {(kind_a, kind_b): number of pairs tested}.
-    """
-    table = NARROW_TESTS if table is None else table
-    k = pairs.shape[0]
-    mask = np.zeros(k, np.bool_)
-    groups: dict = {}
-    if k == 0:
-        return mask, groups
-    ka = geo.kind[pairs[:, 0]].astype(np.int64)
-    kb = geo.kind[pairs[:, 1]].astype(np.int64)
-    swap = ka > kb
-    first = np.where(swap, pairs[:, 1], pairs[:, 0])
-    second = np.where(swap, pairs[:, 0], pairs[:, 1])
-    code = np.minimum(ka, kb) * 8 + np.maximum(ka, kb)
-    order = np.argsort(code, kind="stable")
-    codes, starts = np.unique(code[order], return_index=True)
-    bounds = np.append(starts, k)
-    for c, s, e in zip(codes.tolist(), bounds[:-1].tolist(), bounds[1:].tolist()):
-        rows = order[s:e]
-        key = (c // 8, c % 8)
-        if key not in table:
-            raise KeyError(f"no narrow test for the shape kinds {key}")
-        mask[rows] = table[key](geo, first[rows], second[rows])
-        groups[key] = e - s
-    return mask, groups
+
+@njit(inline="always")
+def _boxes_overlap(bodies, i, j):
+    for c in range(3):
+        if bodies.lo[i, c] > bodies.hi[j, c] or bodies.lo[j, c] > bodies.hi[i, c]:
+            return False
+    return True
+
+
+@njit(inline="always")
+def _point(points, b, v):
+    return points[b, v, 0], points[b, v, 1], points[b, v, 2]
+
+
+@njit
+def overlapping_boxes(bodies, pairs, counts):
+    """The candidate pairs (k, 2) whose AABBs overlap (closed), in order, as a new (k', 2) array; ``counts``
+    ((kinds, kinds) int64) += the number of them per (kind, kind), lower kind first."""
+    out = np.empty_like(pairs)
+    m = 0
+    for p in range(pairs.shape[0]):
+        i, j = pairs[p, 0], pairs[p, 1]
+        if _boxes_overlap(bodies, i, j):
+            out[m, 0], out[m, 1] = i, j
+            m += 1
+            ki, kj = bodies.kind[i], bodies.kind[j]
+            counts[min(ki, kj), max(ki, kj)] += 1
+    return out[:m]
+
+
+@njit
+def answer_pairs(bodies, pairs, table, rows, scratch):
+    """The compiled narrow phase: for every pair (pairs (k, 2), ids, AABBs overlapping), the kernel
+    ``table[kind_i, kind_j]`` (an overlap or a contact table) into row p of ``rows``
+    (engine.narrowphase.contacts.ContactRows); the kernel's A is the shape of lower kind, ``flip`` when that is
+    the pair's second; ``scratch``: engine.narrowphase.contacts.kernel_scratch(points per body). Codes outside
+    COMPILED_KERNELS get status DEFERRED."""
+    for p in range(pairs.shape[0]):
+        i, j = pairs[p, 0], pairs[p, 1]
+        flip = bodies.kind[i] > bodies.kind[j]
+        a, b = (j, i) if flip else (i, j)
+        code = table[bodies.kind[a], bodies.kind[b]]
+        if code == ROUND_CORES:
+            contact_round_cores(_point(bodies.points, a, 0), _point(bodies.points, a, bodies.count[a] - 1),
+                                bodies.radius[a], _point(bodies.points, b, 0),
+                                _point(bodies.points, b, bodies.count[b] - 1), bodies.radius[b], rows, p, flip)
+        elif code == SPHERE_BOX:
+            contact_sphere_box(bodies.center, bodies.radius, bodies.rotation, bodies.half, a, b, rows, p, flip,
+                               scratch)
+        elif code == BOX_BOX:
+            contact_box_box(bodies.center, bodies.rotation, bodies.half, a, b, rows, p, flip, scratch)
+        elif code == BOX_BOX_SAT:
+            touch = overlap_box_box(bodies.center, bodies.rotation, bodies.half, a, b, scratch)
+            rows.status[p] = TOUCHING if touch else APART
+        elif code == BODY_PLANE:
+            contact_points_plane(bodies.points, bodies.count, bodies.radius, a,
+                                 (bodies.center[b, 0], bodies.center[b, 1], bodies.center[b, 2]),
+                                 (bodies.rotation[b, 0, 1], bodies.rotation[b, 1, 1], bodies.rotation[b, 2, 1]),
+                                 rows, p, flip, scratch)
+        else:
+            rows.status[p] = DEFERRED
+
+
+@njit
+def _sphere_sweep(bodies, a, b, dt):
+    """First t in [0, dt] at which spheres a, b (translating) touch, inf if none: |d0 + w t| = r_a + r_b."""
+    dx, dy, dz = (bodies.center[b, 0] - bodies.center[a, 0], bodies.center[b, 1] - bodies.center[a, 1],
+                  bodies.center[b, 2] - bodies.center[a, 2])
+    wx, wy, wz = (bodies.velocity[b, 0] - bodies.velocity[a, 0], bodies.velocity[b, 1] - bodies.velocity[a, 1],
+                  bodies.velocity[b, 2] - bodies.velocity[a, 2])
+    reach = bodies.radius[a] + bodies.radius[b]
+    c0 = dx * dx + dy * dy + dz * dz - reach * reach
+    if c0 <= 0.0:
+        return 0.0
+    half_b = dx * wx + dy * wy + dz * wz
+    aa = wx * wx + wy * wy + wz * wz
+    disc = half_b * half_b - aa * c0
+    if half_b >= 0.0 or disc < 0.0:
+        return np.inf  # moving apart, or passing by
+    t = c0 / (-half_b + math.sqrt(disc))  # the smaller root, without cancellation
+    return t if t <= dt else np.inf
+
+
+@njit
+def _plane_sweep(bodies, a, g, dt):
+    """First t in [0, dt] at which body a (translating) touches plane g: its lowest point moves linearly."""
+    up = bodies.rotation[g, :, 1]
+    low = np.inf
+    for v in range(bodies.count[a]):
+        low = min(low, (bodies.points[a, v, 0] - bodies.center[g, 0]) * up[0]
+                  + (bodies.points[a, v, 1] - bodies.center[g, 1]) * up[1]
+                  + (bodies.points[a, v, 2] - bodies.center[g, 2]) * up[2])
+    gap = low - bodies.radius[a]
+    if gap <= 0.0:
+        return 0.0
+    rate = bodies.velocity[a, 0] * up[0] + bodies.velocity[a, 1] * up[1] + bodies.velocity[a, 2] * up[2]
+    if rate >= 0.0:
+        return np.inf
+    t = gap / -rate
+    return t if t <= dt else np.inf
+
+
+@njit
+def impact_pairs(bodies, pairs, table, dt, times, deferred):
+    """Times of impact within [0, dt] (inf: none) of the pairs whose ``table`` kernel is a closed form;
+    ``deferred[p]`` is set for the others."""
+    for p in range(pairs.shape[0]):
+        i, j = pairs[p, 0], pairs[p, 1]
+        a, b = (j, i) if bodies.kind[i] > bodies.kind[j] else (i, j)
+        code = table[bodies.kind[a], bodies.kind[b]]
+        deferred[p] = False
+        if code == SPHERE_SPHERE_TOI:
+            times[p] = _sphere_sweep(bodies, a, b, dt)
+        elif code == PLANE_TOI:
+            times[p] = _plane_sweep(bodies, a, b, dt)
+        else:
+            deferred[p] = True
+            times[p] = np.inf

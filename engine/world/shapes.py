@@ -8,9 +8,11 @@ treats every pair alike; the cheaper exact tests (sphere–sphere, sphere–box,
 the same data.
 
 Rotation (``Box``, ``move``): a 3x3 matrix whose COLUMNS are the body's axes in the world (orthonormal with
-determinant +1, to 1e-9), or a unit quaternion (w, x, y, z). An unnormalised quaternion is rejected
-(ValueError naming ``rotation``), not silently normalised: a quaternion of norm 2 is almost always a bug in the
-caller's integrator. Note that ``engine.OBB`` stores the axes as ROWS: ``OBB(c, rotation.T, half)``.
+determinant +1, to 1e-9), a unit quaternion in (w, x, y, z) order (scalar first, as MuJoCo; scipy's
+``Rotation.as_quat()`` is (x, y, z, w) unless ``scalar_first=True``), or a ``scipy.spatial.transform.Rotation``.
+An unnormalised quaternion is rejected (ValueError naming ``rotation`` and the expected order), not silently
+normalised: a quaternion of norm 2 is almost always a bug in the caller's integrator. Note that ``engine.OBB``
+stores the axes as ROWS: ``OBB(c, rotation.T, half)``.
 
 Grounds fill the half-space below a height, the chapter's "sol plat" (``Plane(altitude)``: y <= a) and "Sol
 courbe" (``HeightCurve(f)``: y <= f(x), extruded along z). They never move and do not enter the broad phase.
@@ -20,15 +22,31 @@ from __future__ import annotations
 import numpy as np
 
 from engine._validate import as_float, as_float_array, as_positive
-from engine.bounding.aabb import as_rotation_matrix
+from engine.bounding.aabb import ROTATION_TOL, as_rotation_matrix
 from engine.bounding.hull import convex_hull
 
 __all__ = ["Shape", "Sphere", "Box", "Capsule", "ConvexPolyhedron", "Plane", "HeightCurve",
-           "as_rotation_matrix", "SPHERE", "BOX", "CAPSULE", "HULL", "PLANE", "CURVE", "KIND_NAMES"]
+           "as_rotation_matrix", "as_rotation", "SPHERE", "BOX", "CAPSULE", "HULL", "PLANE", "CURVE", "KIND_NAMES"]
 
 # shape kinds: the row and column labels of the dispatch table (engine/world/dispatch.py)
 SPHERE, BOX, CAPSULE, HULL, PLANE, CURVE = range(6)
 KIND_NAMES = ("sphere", "box", "capsule", "hull", "plane", "curve")
+
+def as_rotation(rotation, name: str = "rotation") -> np.ndarray:
+    """A proper rotation matrix (3, 3) (columns = the body's axes) from None (identity), a 3x3 matrix, a unit
+    quaternion (w, x, y, z) or a scipy Rotation; ValueError naming ``name`` (and, for a quaternion, its order)."""
+    if hasattr(rotation, "as_matrix") and not isinstance(rotation, np.ndarray):  # scipy Rotation
+        rotation = np.asarray(rotation.as_matrix(), dtype=float)
+        if rotation.shape != (3, 3):
+            raise ValueError(f"{name} must be a single rotation, got a Rotation of {rotation.shape[0]}")
+    if rotation is not None and np.shape(rotation) == (4,):
+        q = as_float_array(rotation, name, shape=(4,))
+        norm = float(np.sqrt(q @ q))
+        if abs(norm - 1.0) > ROTATION_TOL:
+            raise ValueError(f"{name} must be a unit quaternion in (w, x, y, z) order, got |q| = {norm!r} "
+                             f"(normalise it first)")
+    return as_rotation_matrix(rotation, name)
+
 
 def _vec3(value, name):
     return as_float_array(value, name, shape=(3,))
@@ -66,7 +84,7 @@ class Sphere(Shape):
 
 class Box(Shape):
     """``Box(center (3,), half_extents (3,) > 0, rotation=None)``: an oriented box (OBB); rotation a 3x3 matrix
-    whose columns are the box axes, or a unit quaternion (w, x, y, z)."""
+    whose columns are the box axes, a unit quaternion (w, x, y, z) or a scipy Rotation."""
 
     kind = BOX
 
@@ -77,7 +95,7 @@ class Box(Shape):
             k = int(np.argmax(half <= 0))
             raise ValueError(f"half_extents must be > 0: half_extents[{k}] = {half[k]!r}")
         self.half_extents = half
-        self.rotation = as_rotation_matrix(rotation)
+        self.rotation = as_rotation(rotation)
         signs = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)], dtype=float)
         self.local = signs * half
 

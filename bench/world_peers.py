@@ -1,0 +1,278 @@
+"""The frame peers of the World benchmark, each driven the way its users drive it, and the agreement checks.
+
+A frame is: upload every body's pose, detect, read the contacts.
+- ``EngineFrame`` — ``World.update(ids, centers, rotations=quaternions)`` + ``World.contacts()``;
+- ``MuJoCoFrame`` — one free body per shape in an MJCF model (spheres, boxes, capsules, meshes whose convex hull
+  MuJoCo computes; the ground a ``plane`` geom turned to face +y); write ``qpos`` (position, quaternion w x y z),
+  ``mj_kinematics`` + ``mj_collision``, read ``d.contact`` (``geom``, ``dist``). Its broad phase reserves about
+  4 n² bytes of the model's arena (``MUJOCO_MAX_BODIES`` bounds the scenes it is given);
+- ``BulletFrame`` — pybullet in DIRECT mode, one multibody of mass 1 per shape (capsules along z, hulls as
+  ``GEOM_MESH`` convex hulls; the ground a static ``GEOM_PLANE`` of normal +y), ``resetBasePositionAndOrientation``
+  per body (quaternion x y z w), ``performCollisionDetection``, ``getContactPoints``.
+Each frame has ``upload(centers, quaternions)``, ``detect()`` and ``read()``; ``frame.penetrating(threshold)``
+returns the pairs (k, 2) of body indices (the ground is index n) whose deepest contact is deeper than
+``threshold`` and that depth (k,): MuJoCo's and Bullet's depths are per contact point (the largest is taken), the
+engine's the pair's minimum translation distance. ``agreement`` compares two such answers.
+
+``exact_depth(shape_a, pose_a, shape_b, pose_b)``: the penetration depth as the distance from the origin to the
+boundary of the Minkowski difference A − B (Qhull on the differences of the cores' points, plus the radii).
+"""
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from engine.workloads import FrameScene, quaternion_matrices
+from engine.world import Box, Capsule, Plane, Sphere, World
+
+
+def _per_pair_max(pairs: np.ndarray, depth: np.ndarray, threshold: float):
+    """Rows of (pairs, depth) grouped by pair (canonical i < j), the largest depth of each, kept above threshold."""
+    if pairs.shape[0] == 0:
+        return np.empty((0, 2), np.int64), np.empty(0)
+    p = np.sort(pairs, axis=1).astype(np.int64)
+    order = np.lexsort((-depth, p[:, 1], p[:, 0]))
+    p, d = p[order], depth[order]
+    first = np.ones(p.shape[0], bool)
+    first[1:] = (p[1:] != p[:-1]).any(axis=1)
+    p, d = p[first], d[first]
+    keep = d > threshold
+    return p[keep], d[keep]
+
+
+class EngineFrame:
+    """The engine's World on a scene; body i has id i, the ground (if any) id n."""
+
+    name = "engine"
+
+    def __init__(self, scene: FrameScene, broad_phase: str = "tree"):
+        self.world = World(broad_phase)
+        self.ids = np.array([self.world.add(s) for s in scene.shapes], np.int64)
+        if scene.ground is not None:
+            self.world.add(Plane(scene.ground))
+        self.upload(scene.centers, scene.quaternions)
+        self.last = None
+
+    def upload(self, centers, quaternions):
+        self.world.update(self.ids, centers, rotations=quaternions)
+
+    def detect(self):
+        self.last = self.world.contacts()
+        return self.last
+
+    def read(self):
+        return self.last
+
+    def penetrating(self, threshold: float = 1e-6):
+        c = self.last if self.last is not None else self.detect()
+        keep = c.depth > threshold
+        return c.pairs[keep], c.depth[keep]
+
+
+def _mjcf(scene: FrameScene) -> str:
+    assets, bodies = [], []
+    meshes: dict = {}
+    for i, s in enumerate(scene.shapes):
+        if isinstance(s, Sphere):
+            geom = f'<geom type="sphere" size="{float(s.radius)!r}"/>'
+        elif isinstance(s, Box):
+            geom = '<geom type="box" size="{!r} {!r} {!r}"/>'.format(*map(float, s.half_extents))
+        elif isinstance(s, Capsule):
+            half = float(np.linalg.norm(s.local[1] - s.local[0]) / 2)
+            geom = f'<geom type="capsule" size="{float(s.radius)!r} {half!r}"/>'
+        else:
+            key = id(s)
+            if key not in meshes:
+                meshes[key] = f"hull{len(meshes)}"
+                verts = " ".join(repr(float(x)) for x in s.local.ravel())
+                assets.append(f'<mesh name="{meshes[key]}" vertex="{verts}"/>')
+            geom = f'<geom type="mesh" mesh="{meshes[key]}"/>'
+        pos = " ".join(repr(float(x)) for x in scene.centers[i])
+        bodies.append(f'<body pos="{pos}"><freejoint/>{geom}</body>')
+    ground = ""
+    if scene.ground is not None:  # MuJoCo's plane faces +z: turned by -90 degrees about x to face +y
+        ground = (f'<geom name="ground" type="plane" size="0 0 1" pos="0 {float(scene.ground)!r} 0" '
+                  f'quat="0.7071067811865476 -0.7071067811865476 0 0"/>')
+    n = len(scene.shapes) + 1
+    memory = 64 + (4 * n * n) // 2**20 + 1  # mj_broadphase takes ~2 n^2 bytes of the arena, twice
+    return (f'<mujoco><size memory="{memory}M"/><asset>{"".join(assets)}</asset>'
+            f'<worldbody>{ground}{"".join(bodies)}</worldbody></mujoco>')
+
+
+#: the largest scene handed to MuJoCo here: its arena grows as 4 n² bytes (40 GB at n = 1e5)
+MUJOCO_MAX_BODIES = 20_000
+
+
+class MuJoCoFrame:
+    """MuJoCo on a scene: free bodies, ``mj_kinematics`` + ``mj_collision`` per frame."""
+
+    name = "MuJoCo"
+
+    def __init__(self, scene: FrameScene):
+        import mujoco
+
+        self.mujoco = mujoco
+        self.model = mujoco.MjModel.from_xml_string(_mjcf(scene))
+        self.data = mujoco.MjData(self.model)
+        n = len(scene.shapes)
+        # geom id -> body index (the ground, body 0's geom, is index n)
+        self.geom_body = np.where(self.model.geom_bodyid > 0, self.model.geom_bodyid - 1, n).astype(np.int64)
+        self.qpos = self.data.qpos.reshape(n, 7)
+        self.upload(scene.centers, scene.quaternions)
+
+    def upload(self, centers, quaternions):
+        self.qpos[:, :3] = centers
+        self.qpos[:, 3:] = quaternions
+
+    def detect(self):
+        self.mujoco.mj_kinematics(self.model, self.data)
+        self.mujoco.mj_collision(self.model, self.data)
+
+    def read(self):
+        con = self.data.contact
+        return self.geom_body[con.geom], -np.asarray(con.dist)
+
+    def penetrating(self, threshold: float = 1e-6):
+        pairs, depth = self.read()
+        return _per_pair_max(pairs, depth, threshold)
+
+
+class BulletFrame:
+    """pybullet (DIRECT) on a scene: one multibody per shape, ``performCollisionDetection`` per frame."""
+
+    name = "pybullet"
+
+    def __init__(self, scene: FrameScene):
+        import pybullet
+
+        self.p = pybullet
+        self.client = pybullet.connect(pybullet.DIRECT)
+        cache: dict = {}
+        self.bodies = []
+        xyzw = np.roll(scene.quaternions, -1, axis=1).tolist()
+        for s, c, q in zip(scene.shapes, scene.centers.tolist(), xyzw):  # created at their poses (not all at 0)
+            key = ("sphere", s.radius) if isinstance(s, Sphere) else id(s)
+            if key not in cache:
+                cache[key] = self._collision_shape(s)
+            self.bodies.append(pybullet.createMultiBody(1.0, cache[key], basePosition=c, baseOrientation=q,
+                                                        physicsClientId=self.client))
+        n = len(self.bodies)
+        self.index = {b: i for i, b in enumerate(self.bodies)}
+        if scene.ground is not None:
+            plane = pybullet.createCollisionShape(pybullet.GEOM_PLANE, planeNormal=[0, 1, 0],
+                                                  physicsClientId=self.client)
+            ground = pybullet.createMultiBody(0.0, plane, basePosition=[0, scene.ground, 0],
+                                              physicsClientId=self.client)
+            self.index[ground] = n
+        self.upload(scene.centers, scene.quaternions)
+
+    def _collision_shape(self, s):
+        p = self.p
+        if isinstance(s, Sphere):
+            return p.createCollisionShape(p.GEOM_SPHERE, radius=s.radius, physicsClientId=self.client)
+        if isinstance(s, Box):
+            return p.createCollisionShape(p.GEOM_BOX, halfExtents=s.half_extents.tolist(),
+                                          physicsClientId=self.client)
+        if isinstance(s, Capsule):
+            length = float(np.linalg.norm(s.local[1] - s.local[0]))
+            return p.createCollisionShape(p.GEOM_CAPSULE, radius=s.radius, height=length,
+                                          physicsClientId=self.client)
+        return p.createCollisionShape(p.GEOM_MESH, vertices=s.local.tolist(), physicsClientId=self.client)
+
+    def upload(self, centers, quaternions):
+        xyzw = np.roll(quaternions, -1, axis=1).tolist()
+        reset = self.p.resetBasePositionAndOrientation
+        for b, c, q in zip(self.bodies, centers.tolist(), xyzw):
+            reset(b, c, q, physicsClientId=self.client)
+
+    def detect(self):
+        self.p.performCollisionDetection(physicsClientId=self.client)
+
+    def read(self):
+        return self.p.getContactPoints(physicsClientId=self.client)
+
+    def penetrating(self, threshold: float = 1e-6):
+        points = self.read()
+        if not points:
+            return np.empty((0, 2), np.int64), np.empty(0)
+        pairs = np.array([(self.index[c[1]], self.index[c[2]]) for c in points], np.int64)
+        depth = -np.array([c[8] for c in points])
+        return _per_pair_max(pairs, depth, threshold)
+
+    def close(self):
+        self.p.disconnect(physicsClientId=self.client)
+
+
+def frame_peers(scene: FrameScene, broad_phase: str = "tree"):
+    """The three frames on one scene: ``[EngineFrame, MuJoCoFrame, BulletFrame]``."""
+    return [EngineFrame(scene, broad_phase), MuJoCoFrame(scene), BulletFrame(scene)]
+
+
+def time_stages(frame, poses, clock=time.perf_counter) -> dict:
+    """Minimum over the poses of each stage of one frame: ``{"upload": s, "detect": s, "read": s, "frame": s}``
+    (MuJoCo's and Bullet's "detect" is their broad and narrow phase, "read" the reading of their contacts; the
+    engine's "detect" is ``contacts()``, which returns them)."""
+    best = {"upload": np.inf, "detect": np.inf, "read": np.inf, "frame": np.inf}
+    for centers, quats in poses:
+        t0 = clock()
+        frame.upload(centers, quats)
+        t1 = clock()
+        frame.detect()
+        t2 = clock()
+        frame.read()
+        t3 = clock()
+        for key, value in (("upload", t1 - t0), ("detect", t2 - t1), ("read", t3 - t2), ("frame", t3 - t0)):
+            best[key] = min(best[key], value)
+    return best
+
+
+# ---------------------------------------------------------------------------------------------------------------
+# the exact depth: distance from the origin to the boundary of the Minkowski difference
+# ---------------------------------------------------------------------------------------------------------------
+
+def core_points(shape, center, rotation) -> np.ndarray:
+    """World points (m, 3) of a shape's core at a pose (its radius sweeps them)."""
+    return center + shape.local @ rotation.T
+
+
+def exact_depth(shape_a, pose_a, shape_b, pose_b) -> float:
+    """Penetration depth (> 0 overlapping, <= 0 apart: minus the distance) of two bodies at their poses
+    ``(center (3,), quaternion (4,) wxyz)``; a ``Plane`` as ``shape_b`` with ``pose_b`` None.
+
+    Cores whose Minkowski difference has a volume: Qhull's facets of {a − b}; the depth is the smallest facet
+    offset (the origin's distance to the boundary) plus the radii. Flat differences (point or segment cores):
+    the distance of the cores by GJK, subtracted from the radii."""
+    from scipy.spatial import ConvexHull
+
+    from engine import gjk_distance
+
+    pa = core_points(shape_a, pose_a[0], quaternion_matrices(pose_a[1][None])[0])
+    radius = shape_a.radius
+    if isinstance(shape_b, Plane):
+        return float(shape_b.altitude - (pa[:, 1].min() - radius))
+    pb = core_points(shape_b, pose_b[0], quaternion_matrices(pose_b[1][None])[0])
+    radius += shape_b.radius
+    dist, _, _ = gjk_distance(pa, pb)
+    if dist > 0.0 or isinstance(shape_a, Sphere | Capsule) and isinstance(shape_b, Sphere | Capsule):
+        return float(radius - dist)
+    diff = (pa[:, None, :] - pb[None, :, :]).reshape(-1, 3)
+    hull = ConvexHull(diff)
+    # facet planes n·x + c <= 0 inside; the origin is inside, at distance -c from each facet
+    return float(np.min(-hull.equations[:, 3]) + radius)
+
+
+__all__ = ["EngineFrame", "MuJoCoFrame", "BulletFrame", "frame_peers", "time_stages", "exact_depth",
+           "core_points", "MUJOCO_MAX_BODIES", "agreement"]
+
+
+def agreement(reference, peer) -> dict:
+    """Pair sets and depths of two ``penetrating()`` answers ``(pairs, depth)``: counts of the pairs both find,
+    only the reference finds, only the peer finds, and the median / max |depth difference| on the common pairs."""
+    ref = {tuple(p): d for p, d in zip(reference[0].tolist(), reference[1].tolist())}
+    other = {tuple(p): d for p, d in zip(peer[0].tolist(), peer[1].tolist())}
+    common = sorted(set(ref) & set(other))
+    diff = np.array([abs(ref[p] - other[p]) for p in common]) if common else np.zeros(1)
+    return {"common": len(common), "reference_only": len(set(ref) - set(other)),
+            "peer_only": len(set(other) - set(ref)), "depth_diff_median": float(np.median(diff)),
+            "depth_diff_max": float(diff.max())}
