@@ -36,6 +36,8 @@ autosummary_generate = False
 numpydoc_show_class_members = False
 numpydoc_class_members_toctree = False
 numpydoc_xref_param_type = False
+# annotations written ``ArrayLike`` are shown so, not as numpy's expanded union of a dozen types
+autodoc_type_aliases = {"ArrayLike": "numpy.typing.ArrayLike", "DTypeLike": "numpy.typing.DTypeLike"}
 
 
 sphinx_gallery_conf = {

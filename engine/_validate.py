@@ -1,4 +1,4 @@
-"""Validation at the public boundary (DESIGN.md section 4).
+"""Validation at the public boundary: the checks behind the validation contract (README, "Validation contract").
 
 Every public function checks its arguments here before any kernel runs, and raises ``ValueError`` or
 ``TypeError`` naming the argument (and, for arrays, the first offending index). Inputs are never modified:
@@ -125,11 +125,12 @@ def as_count(value, name: str, minimum: int = 0, maximum: int | None = MAX_COUNT
     """An integer (Python or numpy int, not a bool, not a float) in [minimum, maximum]."""
     if isinstance(value, bool | np.bool_) or not isinstance(value, numbers.Integral):
         raise TypeError(f"{name} must be an int, got {type(value).__name__}")
+    value = int(value)
     if value < minimum:
         raise ValueError(f"{name} must be >= {minimum}, got {value}")
     if maximum is not None and value > maximum:
         raise ValueError(f"{name} must be <= {maximum}, got {value}")
-    return int(value)
+    return value
 
 
 def as_choice(value, name: str, choices) -> str:

@@ -47,7 +47,8 @@ def reference_impacts(height: float, mass: float, drag: float, restitution: floa
     def hit(t, Y):
         return Y[0] - ground
 
-    hit.terminal, hit.direction = True, -1
+    # solve_ivp reads these two attributes of an event function (stop at the first crossing, downwards only)
+    hit.terminal, hit.direction = True, -1  # type: ignore[attr-defined]
     t0, state, times = 0.0, [height, 0.0], []
     for _ in range(n_impacts):
         sol = solve_ivp(rhs, (t0, t0 + 1e4), state, events=hit, rtol=1e-12, atol=1e-12)
@@ -60,8 +61,18 @@ def reference_impacts(height: float, mass: float, drag: float, restitution: floa
 def free_fall_impacts(height: float, n_impacts: int, gravity: float = G) -> np.ndarray:
     """Exact impact times without drag and with e = 1: the k-th impact (k = 0, 1, ...) at sqrt(2h/g)(2k + 1).
 
+    Parameters
+    ----------
+    height : float
+        The drop height above the ground, >= 0.
+    n_impacts : int
+        How many impacts to give.
+    gravity : float, optional
+        g, > 0.
+
     Returns
     -------
     numpy.ndarray, shape (n_impacts,), float64
+        The impact times (s), increasing.
     """
     return np.sqrt(2.0 * height / gravity) * (2.0 * np.arange(n_impacts) + 1.0)

@@ -30,6 +30,7 @@ import math
 from typing import NamedTuple
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 __all__ = ["SEED", "w1_boxes", "w2_spheres", "mixed_world_scene", "random_steps", "clustered_spheres",
            "huge_among_small_boxes", "planar_spheres", "BIG_LEVEL_SCENES", "big_level_boxes", "FrameScene",
@@ -40,7 +41,20 @@ SEED = 4
 
 
 def w1_boxes(n: int, seed: int = SEED) -> tuple[np.ndarray, np.ndarray]:
-    """Terdiman's box-pruning workload: ``(lo, hi)``, two float64 (n, 3) arrays (integer-valued)."""
+    """Terdiman's box-pruning workload: n boxes with integer centres and half extents.
+
+    Parameters
+    ----------
+    n : int
+        The number of boxes.
+    seed : int, optional
+        The seed of the random generator.
+
+    Returns
+    -------
+    lo, hi : numpy.ndarray, shape (n, 3), float64
+        The boxes' corners, integer-valued: centres uniform in [-2048, 2048)³, half extents uniform in [0, 127].
+    """
     rng = np.random.default_rng(seed)
     centre = rng.integers(-2048, 2048, size=(n, 3)).astype(float)
     half = rng.integers(0, 128, size=(n, 3)).astype(float)
@@ -48,16 +62,52 @@ def w1_boxes(n: int, seed: int = SEED) -> tuple[np.ndarray, np.ndarray]:
 
 
 def w2_spheres(n: int, eta: float, seed: int = SEED, radius: float = 0.5) -> tuple[np.ndarray, float]:
-    """n equal spheres of radius ``radius`` uniform in a cube at packing fraction ``eta``:
-    ``(centres (n, 3) float64, radius)``."""
+    """n equal spheres uniform in a cube at packing fraction ``eta``.
+
+    Parameters
+    ----------
+    n : int
+        The number of spheres.
+    eta : float
+        The packing fraction, > 0: the spheres' volume over the cube's.
+    seed : int, optional
+        The seed of the random generator.
+    radius : float, optional
+        The spheres' radius.
+
+    Returns
+    -------
+    centres : numpy.ndarray, shape (n, 3), float64
+        Uniform in the cube [0, side)³.
+    radius : float
+        The ``radius`` given.
+    """
     side = (n * math.pi * (2 * radius) ** 3 / (6 * eta)) ** (1 / 3)
     return np.random.default_rng(seed).uniform(0.0, side, size=(n, 3)), radius
 
 
-def mixed_world_scene(n: int, seed: int = 8):
-    """``(shapes, centers (n, 3), rotations (n, 3, 3))``: 40 % spheres (r in [0.3, 0.7]), 30 % rotated boxes
-    (half extents in [0.2, 0.6]), 30 % convex hulls of 12–20 random points (radius ~0.5), uniform in a cube at a
-    bounding-sphere packing fraction of about 0.1."""
+def mixed_world_scene(n: int, seed: int = 8) -> tuple[list, np.ndarray, np.ndarray]:
+    """n bodies for ``World``: spheres, rotated boxes and convex hulls uniform in a cube.
+
+    40 % spheres (r in [0.3, 0.7]), 30 % rotated boxes (half extents in [0.2, 0.6]), 30 % convex hulls of 12–20
+    random points (radius ~0.5), at a bounding-sphere packing fraction of about 0.1.
+
+    Parameters
+    ----------
+    n : int
+        The number of bodies.
+    seed : int, optional
+        The seed of the random generator (and of the rotations).
+
+    Returns
+    -------
+    shapes : list of Shape, length n
+        ``Sphere``, ``Box`` and ``ConvexPolyhedron`` objects placed in the world.
+    centers : numpy.ndarray, shape (n, 3), float64
+        The bodies' centres.
+    rotations : numpy.ndarray, shape (n, 3, 3), float64
+        Uniformly random rotation matrices (used by the boxes).
+    """
     from scipy.spatial.transform import Rotation
 
     from engine.world import Box, ConvexPolyhedron, Sphere
@@ -82,8 +132,25 @@ def mixed_world_scene(n: int, seed: int = 8):
     return shapes, centers, rotations
 
 
-def random_steps(centers, rounds: int, step: float = 0.02, seed: int = 9) -> list[np.ndarray]:
-    """``rounds`` successive (n, 3) centre arrays, each the previous one moved by a normal step of scale ``step``."""
+def random_steps(centers: ArrayLike, rounds: int, step: float = 0.02, seed: int = 9) -> list[np.ndarray]:
+    """The per-frame motion: each frame every centre moves by a normal step of scale ``step``.
+
+    Parameters
+    ----------
+    centers : array_like, shape (n, 3)
+        The starting centres; never modified.
+    rounds : int
+        The number of frames.
+    step : float, optional
+        The standard deviation of each coordinate's step.
+    seed : int, optional
+        The seed of the random generator.
+
+    Returns
+    -------
+    list of numpy.ndarray, each shape (n, 3), float64
+        ``rounds`` successive centre arrays, each the previous one moved.
+    """
     rng = np.random.default_rng(seed)
     out, c = [], np.asarray(centers, dtype=float)
     for _ in range(rounds):
@@ -94,8 +161,33 @@ def random_steps(centers, rounds: int, step: float = 0.02, seed: int = 9) -> lis
 
 def clustered_spheres(n: int, eta: float = 0.2, clusters: int = 2, separation: float = 1e6, seed: int = SEED,
                       radius: float = 0.5) -> tuple[np.ndarray, float]:
-    """n equal spheres in ``clusters`` dense clusters: cluster k is a W2 cube of about n / clusters spheres at
-    packing fraction ``eta``, shifted by k·separation along every axis. ``(centres (n, 3) float64, radius)``."""
+    """n equal spheres in ``clusters`` dense clusters far apart.
+
+    Cluster k is a W2 cube of about n / clusters spheres at packing fraction ``eta``, shifted by k·separation
+    along every axis.
+
+    Parameters
+    ----------
+    n : int
+        The number of spheres.
+    eta : float, optional
+        The packing fraction of each cluster, > 0.
+    clusters : int, optional
+        The number of clusters, >= 1.
+    separation : float, optional
+        The shift between consecutive clusters along every axis.
+    seed : int, optional
+        The seed of the random generator.
+    radius : float, optional
+        The spheres' radius.
+
+    Returns
+    -------
+    centres : numpy.ndarray, shape (n, 3), float64
+        Cluster by cluster.
+    radius : float
+        The ``radius`` given.
+    """
     rng = np.random.default_rng(seed)
     sizes = [n // clusters + (1 if k < n % clusters else 0) for k in range(clusters)]
     parts = []
@@ -106,8 +198,25 @@ def clustered_spheres(n: int, eta: float = 0.2, clusters: int = 2, separation: f
 
 
 def huge_among_small_boxes(n: int, huge: int = 8, eta: float = 0.05, seed: int = SEED) -> tuple[np.ndarray, np.ndarray]:
-    """``(lo, hi)`` (n, 3) float64: the bounding boxes of n − huge W2 spheres (radius 0.5, packing fraction
-    ``eta``) and ``huge`` boxes each spanning half the scene along every axis at a random place in it."""
+    """The boxes of n − huge W2 spheres and ``huge`` boxes each spanning half the scene.
+
+    Parameters
+    ----------
+    n : int
+        The number of boxes in all.
+    huge : int, optional
+        How many of them are huge (at most n are made): each spans half the scene along every axis, at a random
+        place in it.
+    eta : float, optional
+        The packing fraction of the small spheres (radius 0.5), > 0.
+    seed : int, optional
+        The seed of the random generator.
+
+    Returns
+    -------
+    lo, hi : numpy.ndarray, shape (n, 3), float64
+        The boxes' corners, the small ones first.
+    """
     small = max(n - huge, 0)
     centres, radius = w2_spheres(small, eta, seed)
     side = (max(small, 1) * math.pi / (6 * eta)) ** (1 / 3)
@@ -120,8 +229,26 @@ def huge_among_small_boxes(n: int, huge: int = 8, eta: float = 0.05, seed: int =
 
 def planar_spheres(n: int, area_fraction: float = 0.3, seed: int = SEED,
                    radius: float = 0.5) -> tuple[np.ndarray, float]:
-    """n equal spheres whose centres are uniform in a square of the plane z = 0, the discs covering
-    ``area_fraction`` of it: ``(centres (n, 3) float64, radius)``."""
+    """n equal spheres whose centres all lie in one square of the plane z = 0.
+
+    Parameters
+    ----------
+    n : int
+        The number of spheres.
+    area_fraction : float, optional
+        The fraction of the square the spheres' discs cover, > 0.
+    seed : int, optional
+        The seed of the random generator.
+    radius : float, optional
+        The spheres' radius.
+
+    Returns
+    -------
+    centres : numpy.ndarray, shape (n, 3), float64
+        Uniform in the square, z = 0.
+    radius : float
+        The ``radius`` given.
+    """
     side = math.sqrt(n * math.pi * radius ** 2 / area_fraction)
     centres = np.zeros((n, 3))
     centres[:, :2] = np.random.default_rng(seed).uniform(0.0, side, size=(n, 2))
@@ -133,9 +260,29 @@ BIG_LEVEL_SCENES = ("uniform", "clusters", "huge", "plane")
 
 
 def big_level_boxes(scene: str, n: int, seed: int = SEED) -> tuple[np.ndarray, np.ndarray]:
-    """``(lo, hi)`` (n, 3) float64 boxes of one scene of ``BIG_LEVEL_SCENES``: "uniform" the boxes of W2
-    spheres at η = 0.05, "clusters" those of ``clustered_spheres`` (two clusters at η = 0.2, 1e6 apart), "huge"
-    ``huge_among_small_boxes`` (8 huge boxes), "plane" those of ``planar_spheres`` (area fraction 0.3)."""
+    """The boxes of one scene of ``BIG_LEVEL_SCENES``.
+
+    Parameters
+    ----------
+    scene : str
+        "uniform": the boxes of W2 spheres at η = 0.05; "clusters": those of ``clustered_spheres`` (two
+        clusters at η = 0.2, 1e6 apart); "huge": ``huge_among_small_boxes`` (8 huge boxes); "plane": those of
+        ``planar_spheres`` (area fraction 0.3).
+    n : int
+        The number of boxes.
+    seed : int, optional
+        The seed of the random generator.
+
+    Returns
+    -------
+    lo, hi : numpy.ndarray, shape (n, 3), float64
+        The boxes' corners.
+
+    Raises
+    ------
+    ValueError
+        If ``scene`` is not one of ``BIG_LEVEL_SCENES``.
+    """
     if scene == "huge":
         return huge_among_small_boxes(n, seed=seed)
     if scene == "uniform":
@@ -154,11 +301,24 @@ def big_level_boxes(scene: str, n: int, seed: int = SEED) -> tuple[np.ndarray, n
 # ---------------------------------------------------------------------------------------------------------------
 
 class FrameScene(NamedTuple):
-    """A scene of the frame benchmark. ``shapes``: the engine shapes, each built in its body frame at the origin
-    (Sphere, Box with no rotation, Capsule along the body's z axis, ConvexPolyhedron centred on the mean of its
-    vertices); body i sits at ``centers[i]`` (3,) turned by ``quaternions[i]`` (4,), a unit quaternion in
-    (w, x, y, z) order. ``ground``: the altitude of a ``Plane`` (y <= ground is solid), or None. ``step`` and
-    ``turn``: the scale of each frame's random translation (length) and rotation (radians)."""
+    """A scene of the frame benchmark.
+
+    Attributes
+    ----------
+    name : str
+        One of ``FRAME_SCENES``.
+    shapes : list of Shape, length n
+        The engine shapes, each built in its body frame at the origin (Sphere, Box with no rotation, Capsule
+        along the body's z axis, ConvexPolyhedron centred on the mean of its vertices).
+    centers : numpy.ndarray, shape (n, 3), float64
+        The bodies' centres: body i sits at ``centers[i]``, turned by ``quaternions[i]``.
+    quaternions : numpy.ndarray, shape (n, 4), float64
+        The bodies' orientations, unit quaternions in (w, x, y, z) order.
+    ground : float or None
+        The altitude of a ``Plane`` (y <= ground is solid), or None for no ground.
+    step, turn : float
+        The scale of each frame's random translation (a length) and rotation (radians).
+    """
 
     name: str
     shapes: list
@@ -169,15 +329,39 @@ class FrameScene(NamedTuple):
     turn: float
 
 
-def random_quaternions(n: int, rng) -> np.ndarray:
-    """n uniformly random unit quaternions (w, x, y, z), w >= 0 (Shoemake: normalised 4-D normal samples)."""
+def random_quaternions(n: int, rng: np.random.Generator) -> np.ndarray:
+    """n uniformly random unit quaternions (Shoemake: normalised 4-D normal samples).
+
+    Parameters
+    ----------
+    n : int
+        The number of quaternions.
+    rng : numpy.random.Generator
+        The random generator (advanced by the call).
+
+    Returns
+    -------
+    numpy.ndarray, shape (n, 4), float64
+        Unit quaternions in (w, x, y, z) order, w >= 0.
+    """
     q = rng.normal(size=(n, 4))
     q /= np.linalg.norm(q, axis=1, keepdims=True)
     return q * np.where(q[:, :1] < 0, -1.0, 1.0)
 
 
-def quaternion_matrices(q) -> np.ndarray:
-    """Rotation matrices (n, 3, 3) (columns = the body axes) of unit quaternions (n, 4) in (w, x, y, z) order."""
+def quaternion_matrices(q: ArrayLike) -> np.ndarray:
+    """The rotation matrices of unit quaternions.
+
+    Parameters
+    ----------
+    q : array_like, shape (n, 4)
+        Unit quaternions in (w, x, y, z) order.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n, 3, 3), float64
+        The rotation matrices; their columns are the body axes.
+    """
     w, x, y, z = np.asarray(q, dtype=float).T
     return np.stack([
         np.stack([1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)], axis=-1),
@@ -251,7 +435,27 @@ FRAME_SCENES = {"mixed": _mixed_scene, "pile": _pile_scene, "hulls": _hull_scene
 
 
 def frame_scene(name: str, n: int, seed: int = SEED) -> FrameScene:
-    """The frame scene ``name`` (one of ``FRAME_SCENES``: "mixed", "pile", "hulls") with n bodies."""
+    """A frame scene of the World benchmark.
+
+    Parameters
+    ----------
+    name : str
+        One of ``FRAME_SCENES``: "mixed", "pile", "hulls" (described in this module's summary).
+    n : int
+        The number of bodies.
+    seed : int, optional
+        The seed of the random generator.
+
+    Returns
+    -------
+    FrameScene
+        The scene with n bodies.
+
+    Raises
+    ------
+    ValueError
+        If ``name`` is not one of ``FRAME_SCENES``.
+    """
     if name not in FRAME_SCENES:
         raise ValueError(f"name must be one of {sorted(FRAME_SCENES)}, got {name!r}")
     shapes, centers, quats, ground, step, turn = FRAME_SCENES[name](int(n), np.random.default_rng(seed))
@@ -259,8 +463,26 @@ def frame_scene(name: str, n: int, seed: int = SEED) -> FrameScene:
 
 
 def frame_motion(scene: FrameScene, rounds: int, seed: int = 9) -> list[tuple[np.ndarray, np.ndarray]]:
-    """``rounds`` successive poses ``(centers (n, 3), quaternions (n, 4) wxyz)``: each frame every body moves by a
-    normal step of scale ``scene.step`` and turns by a random rotation of angle ~``scene.turn``."""
+    """The per-frame motion of a frame scene.
+
+    Each frame every body moves by a normal step of scale ``scene.step`` and turns by a random rotation of angle
+    ~``scene.turn``.
+
+    Parameters
+    ----------
+    scene : FrameScene
+        The scene; its arrays are never modified.
+    rounds : int
+        The number of frames.
+    seed : int, optional
+        The seed of the random generator.
+
+    Returns
+    -------
+    list of tuple (numpy.ndarray, numpy.ndarray)
+        ``rounds`` successive poses ``(centers, quaternions)``: centres (n, 3) float64 and unit quaternions
+        (n, 4) float64 in (w, x, y, z) order.
+    """
     rng = np.random.default_rng(seed)
     c = scene.centers.copy()
     q = scene.quaternions.copy()

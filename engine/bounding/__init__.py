@@ -1,14 +1,25 @@
 """Bounding volumes (chapter: "Volumes englobants"): sphere, AABB, OBB, k-DOP, convex hull, decomposition.
 
 Each volume has a fit from points, an overlap test, merge / contains, and an update under rotation and
-translation; batched forms take stacked arrays and run in one compiled call.
+translation; batched forms take stacked arrays and run in one compiled call. Volumes are closed: two volumes
+that touch overlap, and a point on the boundary is contained.
 
-How to pick (cheapest first): spheres (4 numbers, rotation-free update, loose on elongated objects) — AABBs
-(6 numbers, the broad phase's native volume, must be re-fitted after a rotation) — k-DOPs (k numbers, tighter
-than AABBs at a few more interval tests) — OBBs (15 numbers, tight on elongated objects, SAT test) — the convex
-hull (exact for convex objects, the narrow phase's input) — a convex decomposition for concave objects.
+How to pick (cheapest first):
+
+- spheres: 4 numbers, an update under rotation that moves only the centre, loose on elongated objects;
+- AABBs: 6 numbers, the broad phase's native volume, re-fitted (or conservatively grown) after a rotation;
+- k-DOPs: k numbers, tighter than AABBs at a few more interval tests;
+- OBBs: 15 numbers, tight on elongated objects, tested by the separating axis theorem;
+- the convex hull: exact for convex objects, the narrow phase's input;
+- a convex decomposition for concave objects.
 """
+from __future__ import annotations
+
+from collections.abc import Iterable
+from typing import Any
+
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .._validate import as_float_array
 from .aabb import (
@@ -65,16 +76,38 @@ __all__ = [
     "BOUNDING_KINDS", "describe_bounding_volumes", "describe_hull", "describe_decomposition",
 ]
 
-#: the volumes ``describe_bounding_volumes`` can fit, by name
+#: the volumes ``describe_bounding_volumes`` can fit, by name: "welzl" and "ritter" (spheres), "aabb", "obb",
+#: "kdop8" (2-D), "kdop14", "kdop18", "kdop26" (3-D)
 BOUNDING_KINDS = ("welzl", "ritter", "aabb", "obb", "kdop8", "kdop14", "kdop18", "kdop26")
 
 
-def describe_bounding_volumes(points, kinds=None) -> dict:
-    """Fit every requested volume to ``points`` (n, d), d = 2 or 3, and summarise each as plain lists.
+def describe_bounding_volumes(points: ArrayLike, kinds: Iterable[str] | None = None) -> dict[str, Any]:
+    """Fit every requested volume to a point cloud and summarise each as plain lists (JSON-ready).
 
-    ``kinds``: names from ``BOUNDING_KINDS`` (default: all that apply to the dimension: "obb" and the 3-D
-    k-DOPs need d = 3, "kdop8" needs d = 2). Each entry has the volume's parameters and its ``measure`` (area
-    in 2-D, volume in 3-D), so volumes can be compared for tightness.
+    What ``colldet bound`` prints.
+
+    Parameters
+    ----------
+    points : array_like, shape (n, d)
+        The point cloud, n >= 1, d = 2 or 3, finite.
+    kinds : iterable of str, optional
+        Names from ``BOUNDING_KINDS``. Default: all that apply to the dimension ("obb" and the 3-D k-DOPs need
+        d = 3, "kdop8" needs d = 2).
+
+    Returns
+    -------
+    dict
+        ``"points"`` (n) and ``"dim"`` (d), then one entry per kind: a dict of the volume's parameters as
+        lists ("center" and "radius" for spheres; "lo", "hi" for an AABB; "center", "axes", "half_extents" for
+        an OBB; "directions", "lo", "hi" for a k-DOP) and, for spheres, AABBs and OBBs, its ``"measure"`` (area
+        in 2-D, volume in 3-D), so that volumes can be compared for tightness.
+
+    Raises
+    ------
+    ValueError
+        For invalid points (NaN, ±inf, no row, d not 2 or 3), or a kind that does not apply to d.
+    TypeError
+        For non-numeric points.
     """
     from .aabb import as_points
 
@@ -106,15 +139,46 @@ def describe_bounding_volumes(points, kinds=None) -> dict:
     return out
 
 
-def describe_hull(points) -> dict:
-    """The convex hull of ``points`` (n, d) as plain lists: vertices, faces, volume (area in 2-D), area."""
+def describe_hull(points: ArrayLike) -> dict[str, Any]:
+    """The convex hull of a point cloud as plain lists (JSON-ready): what ``colldet hull`` prints.
+
+    Parameters
+    ----------
+    points : array_like, shape (n, d)
+        The points, d = 2 or 3 (see :func:`convex_hull` for what is refused).
+
+    Returns
+    -------
+    dict
+        ``"dim"``, ``"vertices"`` (indices into ``points``), ``"faces"`` (index lists), ``"volume"`` (the
+        area in 2-D) and ``"area"`` (the perimeter in 2-D), as given by :func:`convex_hull`.
+    """
     hull = convex_hull(points)
     return {"dim": hull.dim, "vertices": hull.vertices.tolist(), "faces": hull.faces.tolist(),
             "volume": hull.volume, "area": hull.area}
 
 
-def describe_decomposition(polygon) -> dict:
-    """A simple polygon (n, 2) split into convex pieces (index lists), with its triangulation and counts."""
+def describe_decomposition(polygon: ArrayLike) -> dict[str, Any]:
+    """A simple polygon split into convex pieces, as plain lists (JSON-ready): what ``colldet decompose`` prints.
+
+    Parameters
+    ----------
+    polygon : array_like, shape (n, 2)
+        A simple polygon in boundary order (either orientation), n >= 3.
+
+    Returns
+    -------
+    dict
+        ``"vertices"`` (n), ``"convex"`` (bool), ``"triangles"`` (the ear-clipping triangulation, index
+        triples) and ``"pieces"`` (the convex pieces of :func:`decompose_polygon`, index lists).
+
+    Raises
+    ------
+    ValueError
+        When the polygon is invalid (fewer than 3 vertices, not finite, not simple, zero area).
+    TypeError
+        For a non-numeric polygon.
+    """
     poly = as_float_array(polygon, "polygon", shape=(None, 2), min_rows=3)
     pieces = decompose_polygon(poly)
     triangles = triangulate_polygon(poly)

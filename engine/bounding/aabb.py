@@ -11,8 +11,11 @@ rotations in 2-D or 3-D).
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .._config import njit
 from .._validate import as_float_array
@@ -39,7 +42,8 @@ ROTATION_TOL = 1e-9
 # ---------------------------------------------------------------------------------------------------------
 # shared argument checks (private to engine.bounding)
 # ---------------------------------------------------------------------------------------------------------
-def as_points(points, name: str = "points", *, min_rows: int = 1, dims=(2, 3)) -> np.ndarray:
+def as_points(points: ArrayLike, name: str = "points", *, min_rows: int = 1,
+              dims: Sequence[int] = (2, 3)) -> np.ndarray:
     """A finite (n, d) float64 copy of a point cloud, d in ``dims``, n >= ``min_rows``."""
     arr = as_float_array(points, name, ndim=2, min_rows=min_rows)
     if arr.shape[1] not in dims:
@@ -47,7 +51,8 @@ def as_points(points, name: str = "points", *, min_rows: int = 1, dims=(2, 3)) -
     return arr
 
 
-def as_box(lo, hi, *, names=("lo", "hi"), dims=(2, 3)) -> tuple[np.ndarray, np.ndarray]:
+def as_box(lo: ArrayLike, hi: ArrayLike, *, names: tuple[str, str] = ("lo", "hi"),
+           dims: Sequence[int] = (2, 3)) -> tuple[np.ndarray, np.ndarray]:
     """Checked (lo, hi) boxes of shape (d,) or batched (n, d); ValueError naming the first row with lo > hi."""
     lo_name, hi_name = names
     lo = as_float_array(lo, lo_name)
@@ -60,7 +65,7 @@ def as_box(lo, hi, *, names=("lo", "hi"), dims=(2, 3)) -> tuple[np.ndarray, np.n
     return lo, hi
 
 
-def check_ordered(lo, hi, names=("lo", "hi")) -> None:
+def check_ordered(lo: np.ndarray, hi: np.ndarray, names: tuple[str, str] = ("lo", "hi")) -> None:
     """ValueError naming the first entry (index, or (row, column)) where lo > hi, for (m,) or (n, m) float64
     arrays of the same shape (box corners, or k-DOP slab bounds); ``names`` are the argument names quoted."""
     lo_name, hi_name = names
@@ -72,7 +77,7 @@ def check_ordered(lo, hi, names=("lo", "hi")) -> None:
                          f"{hi_name}[{where}] = {float(hi[index])!r}")
 
 
-def as_rotation(rotation, translation, d: int) -> tuple[np.ndarray, np.ndarray]:
+def as_rotation(rotation: ArrayLike, translation: ArrayLike, d: int) -> tuple[np.ndarray, np.ndarray]:
     """A checked orthonormal (d, d) ``rotation`` and a (d,) ``translation`` (x -> rotation @ x + translation)."""
     rotation = as_float_array(rotation, "rotation", shape=(d, d))
     translation = as_float_array(translation, "translation", shape=(d,))
@@ -82,7 +87,7 @@ def as_rotation(rotation, translation, d: int) -> tuple[np.ndarray, np.ndarray]:
     return rotation, translation
 
 
-def as_rotation_matrix(rotation, name: str = "rotation", *, tol: float = ROTATION_TOL,
+def as_rotation_matrix(rotation: ArrayLike | None, name: str = "rotation", *, tol: float = ROTATION_TOL,
                        normalise: bool = False) -> np.ndarray:
     """A proper rotation (3, 3) from None (identity), a 3x3 matrix (columns = the body's axes in the world) or a
     quaternion (w, x, y, z). ValueError naming ``name`` unless the matrix is orthonormal with det +1, or the
@@ -226,7 +231,7 @@ def _boxes_valid_kernel(lo, hi):
     return True
 
 
-def _is_plain_batch(*arrays) -> bool:
+def _is_plain_batch(*arrays: Any) -> bool:
     """All arrays are C-contiguous float64 (n, d) of one shape, d in (2, 3): no copy is needed to read them."""
     first = arrays[0]
     return all(isinstance(a, np.ndarray) and a.dtype == np.float64 and a.ndim == 2 and a.flags.c_contiguous
@@ -236,8 +241,26 @@ def _is_plain_batch(*arrays) -> bool:
 # ---------------------------------------------------------------------------------------------------------
 # public functions
 # ---------------------------------------------------------------------------------------------------------
-def fit_aabb(points) -> tuple[np.ndarray, np.ndarray]:
-    """The tightest AABB of ``points`` (n, d), d = 2 or 3: ``(lo, hi)``, each (d,)."""
+def fit_aabb(points: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+    """The tightest AABB of a point cloud: the min and max of the points along each axis (Ericson 4.2.1).
+
+    Parameters
+    ----------
+    points : array_like, shape (n, d)
+        n >= 1 points, d = 2 or 3, finite.
+
+    Returns
+    -------
+    lo, hi : numpy.ndarray, shape (d,), float64
+        The box's corners.
+
+    Raises
+    ------
+    ValueError
+        For NaN, ±inf or magnitudes above 1e150, no point, or d not 2 or 3.
+    TypeError
+        For non-numeric points.
+    """
     pts = as_points(points)
     lo = np.empty(pts.shape[1])
     hi = np.empty(pts.shape[1])
@@ -245,8 +268,26 @@ def fit_aabb(points) -> tuple[np.ndarray, np.ndarray]:
     return lo, hi
 
 
-def fit_aabbs(clouds) -> tuple[np.ndarray, np.ndarray]:
-    """Batched fit: ``clouds`` (m, n, d) -> ``(lo, hi)``, each (m, d), in one compiled call."""
+def fit_aabbs(clouds: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+    """Batched :func:`fit_aabb`: one box per cloud, in one compiled call.
+
+    Parameters
+    ----------
+    clouds : array_like, shape (m, n, d)
+        m clouds of n >= 1 points each, d = 2 or 3, finite.
+
+    Returns
+    -------
+    lo, hi : numpy.ndarray, shape (m, d), float64
+        Row c is the box of cloud c.
+
+    Raises
+    ------
+    ValueError
+        For NaN or ±inf, a rank other than 3, n = 0, or d not 2 or 3.
+    TypeError
+        For non-numeric clouds.
+    """
     arr = as_float_array(clouds, "clouds", ndim=3)
     if arr.shape[1] < 1 or arr.shape[2] not in (2, 3):
         raise ValueError(f"clouds must have shape (m, n, d) with n >= 1 and d in (2, 3), got {arr.shape}")
@@ -256,13 +297,34 @@ def fit_aabbs(clouds) -> tuple[np.ndarray, np.ndarray]:
     return lo, hi
 
 
-def overlap_aabbs(lo_a, hi_a, lo_b, hi_b) -> np.ndarray:
-    """Row-wise overlap of boxes: (n, d) arrays (or (d,)), d = 1, 2 or 3 -> bool (n,): box a_i meets box b_i
-    (closed)."""
+def overlap_aabbs(lo_a: ArrayLike, hi_a: ArrayLike, lo_b: ArrayLike, hi_b: ArrayLike) -> np.ndarray:
+    """Row-wise overlap of closed boxes: whether box a_i meets box b_i, for every row i, in one compiled call.
+
+    Two boxes overlap iff their intervals overlap on every axis (Ericson 4.2.1); touching counts. C-contiguous
+    float64 inputs are read without a copy (and never written).
+
+    Parameters
+    ----------
+    lo_a, hi_a, lo_b, hi_b : array_like, shape (n, d) or (d,)
+        The corners of the boxes a_i and b_i, all of one shape, d = 1, 2 or 3, ``lo <= hi``, finite.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n,), bool
+        Shape (1,) for (d,) inputs.
+
+    Raises
+    ------
+    ValueError
+        For NaN or ±inf, mismatched shapes, d not 1, 2 or 3, or ``lo > hi`` (the message names the first such
+        entry).
+    TypeError
+        For non-numeric arrays.
+    """
     if _is_plain_batch(lo_a, hi_a, lo_b, hi_b) and _boxes_valid_kernel(lo_a, hi_a) \
             and _boxes_valid_kernel(lo_b, hi_b):
         # fast path: the arrays are read, never written, so the checked inputs are used without a copy
-        out = np.empty(lo_a.shape[0], dtype=np.bool_)
+        out = np.empty(np.shape(lo_a)[0], dtype=np.bool_)
         overlap_slabs_kernel(lo_a, hi_a, lo_b, hi_b, out)
         return out
     lo_a, hi_a = as_box(lo_a, hi_a, names=("lo_a", "hi_a"), dims=(1, 2, 3))
@@ -275,17 +337,51 @@ def overlap_aabbs(lo_a, hi_a, lo_b, hi_b) -> np.ndarray:
     return out
 
 
-def overlap_aabb_aabb(lo_a, hi_a, lo_b, hi_b) -> bool:
-    """Whether the closed boxes [lo_a, hi_a] and [lo_b, hi_b] (each (d,), d = 1, 2 or 3) overlap (touching
-    counts)."""
+def overlap_aabb_aabb(lo_a: ArrayLike, hi_a: ArrayLike, lo_b: ArrayLike, hi_b: ArrayLike) -> bool:
+    """Whether two closed boxes overlap (touching counts): their intervals overlap on every axis.
+
+    Parameters
+    ----------
+    lo_a, hi_a, lo_b, hi_b : array_like, shape (d,)
+        The corners of boxes a and b, d = 1, 2 or 3, ``lo <= hi``, finite.
+
+    Returns
+    -------
+    bool
+
+    Raises
+    ------
+    ValueError
+        For NaN or ±inf, shapes other than one (d,), or ``lo > hi``; use :func:`overlap_aabbs` for batches.
+    TypeError
+        For non-numeric arrays.
+    """
     lo_a, hi_a = as_box(lo_a, hi_a, names=("lo_a", "hi_a"), dims=(1, 2, 3))
     if lo_a.ndim != 1:
         raise ValueError(f"lo_a must have shape (d,), got {lo_a.shape}; use overlap_aabbs for batches")
     return bool(overlap_aabbs(lo_a, hi_a, lo_b, hi_b)[0])
 
 
-def merge_aabb(lo_a, hi_a, lo_b, hi_b) -> tuple[np.ndarray, np.ndarray]:
-    """The smallest AABB holding both boxes (shapes (d,) or (n, d), row-wise)."""
+def merge_aabb(lo_a: ArrayLike, hi_a: ArrayLike, lo_b: ArrayLike, hi_b: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+    """The smallest AABB holding both boxes (row-wise for batches): the min of the lows, the max of the highs.
+
+    Parameters
+    ----------
+    lo_a, hi_a, lo_b, hi_b : array_like, shape (d,) or (n, d)
+        The corners of the boxes a and b, all of one shape, d = 2 or 3, ``lo <= hi``, finite.
+
+    Returns
+    -------
+    lo, hi : numpy.ndarray, float64
+        Of the inputs' shape.
+
+    Raises
+    ------
+    ValueError
+        For NaN or ±inf, mismatched shapes, d not 2 or 3, or ``lo > hi``.
+    TypeError
+        For non-numeric arrays.
+    """
     lo_a, hi_a = as_box(lo_a, hi_a, names=("lo_a", "hi_a"))
     lo_b, hi_b = as_box(lo_b, hi_b, names=("lo_b", "hi_b"))
     if lo_a.shape != lo_b.shape:
@@ -293,8 +389,27 @@ def merge_aabb(lo_a, hi_a, lo_b, hi_b) -> tuple[np.ndarray, np.ndarray]:
     return np.minimum(lo_a, lo_b), np.maximum(hi_a, hi_b)
 
 
-def aabb_contains(lo, hi, points) -> np.ndarray:
-    """Boolean (n,): which of ``points`` (n, d) lie in the closed box [lo, hi] (each (d,))."""
+def aabb_contains(lo: ArrayLike, hi: ArrayLike, points: ArrayLike) -> np.ndarray:
+    """Which points lie in a closed box (the boundary included).
+
+    Parameters
+    ----------
+    lo, hi : array_like, shape (d,)
+        The box's corners, d = 2 or 3, ``lo <= hi``, finite.
+    points : array_like, shape (n, d)
+        The points (n may be 0), finite.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n,), bool
+
+    Raises
+    ------
+    ValueError
+        For NaN or ±inf, a box that is not (d,) with d = 2 or 3, ``lo > hi``, or points that are not (n, d).
+    TypeError
+        For non-numeric arrays.
+    """
     lo, hi = as_box(lo, hi)
     if lo.ndim != 1:
         raise ValueError(f"lo must have shape (d,), got {lo.shape}")
@@ -304,11 +419,35 @@ def aabb_contains(lo, hi, points) -> np.ndarray:
     return out
 
 
-def transform_aabbs(lo, hi, rotation, translation) -> tuple[np.ndarray, np.ndarray]:
-    """Batched fast re-fit (Ericson 4.2.6): the AABBs of the boxes (n, d) moved by x -> R x + t.
+def transform_aabbs(lo: ArrayLike, hi: ArrayLike, rotation: ArrayLike,
+                    translation: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+    """Batched fast re-fit (Ericson 4.2.6): the AABBs of the boxes moved by x -> R x + t, without the points.
 
-    ``rotation`` (d, d) orthonormal, ``translation`` (d,). The result is the exact AABB of each moved box
-    (it contains the moved object, and is at most sqrt(d) times wider than the object's own re-fit).
+    The result is the exact AABB of each moved box: with centre c and half-widths e, the moved box has centre
+    R c + t and half-widths ``e'_i = Σ_j |R_ij| e_j``. It contains the moved object, and is at most sqrt(d) times
+    wider than the object's own re-fit.
+
+    Parameters
+    ----------
+    lo, hi : array_like, shape (n, d) or (d,)
+        The boxes, d = 2 or 3, ``lo <= hi``, finite.
+    rotation : array_like, shape (d, d)
+        Orthonormal: ``R Rᵀ = I`` to 1e-9.
+    translation : array_like, shape (d,)
+        The translation t.
+
+    Returns
+    -------
+    lo, hi : numpy.ndarray, float64
+        The moved boxes' AABBs, of the inputs' shape.
+
+    Raises
+    ------
+    ValueError
+        For invalid boxes (as :func:`merge_aabb`), a rotation that is not (d, d) and orthonormal, or a
+        translation that is not (d,); all finite.
+    TypeError
+        For non-numeric arrays.
     """
     lo, hi = as_box(lo, hi)
     d = lo.shape[-1]
@@ -320,8 +459,30 @@ def transform_aabbs(lo, hi, rotation, translation) -> tuple[np.ndarray, np.ndarr
     return new_lo.reshape(lo.shape), new_hi.reshape(hi.shape)
 
 
-def transform_aabb(lo, hi, rotation, translation) -> tuple[np.ndarray, np.ndarray]:
-    """The AABB (each (d,)) of the box [lo, hi] after x -> rotation @ x + translation (Ericson 4.2.6)."""
+def transform_aabb(lo: ArrayLike, hi: ArrayLike, rotation: ArrayLike,
+                   translation: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+    """The AABB of one box after x -> rotation @ x + translation (Ericson 4.2.6), as :func:`transform_aabbs`.
+
+    Parameters
+    ----------
+    lo, hi : array_like, shape (d,)
+        The box, d = 2 or 3, ``lo <= hi``, finite.
+    rotation : array_like, shape (d, d)
+        Orthonormal: ``R Rᵀ = I`` to 1e-9.
+    translation : array_like, shape (d,)
+        The translation t.
+
+    Returns
+    -------
+    lo, hi : numpy.ndarray, shape (d,), float64
+
+    Raises
+    ------
+    ValueError
+        As :func:`transform_aabbs`, and for a batch of boxes (use :func:`transform_aabbs`).
+    TypeError
+        For non-numeric arrays.
+    """
     lo, hi = as_box(lo, hi)
     if lo.ndim != 1:
         raise ValueError(f"lo must have shape (d,), got {lo.shape}; use transform_aabbs for batches")

@@ -6,11 +6,14 @@ handled as a union of convex pieces, each of which the narrow phase can test).
   keeps both of its end vertices convex. The result has at most 2r + 1 convex pieces (r = reflex vertices),
   never more than 4 times the minimum.
 - 3-D, approximate: meshes go to the well-kept ``coacd`` library (Wei et al., SIGGRAPH 2022), an optional extra:
-  ``pip install engine[decompose]``.
+  ``pip install "colldet[decompose]"``.
 """
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .._config import njit
 from .._validate import as_float_array
@@ -142,7 +145,7 @@ def _ear_clipping_kernel(poly):
 # ---------------------------------------------------------------------------------------------------------
 # public functions
 # ---------------------------------------------------------------------------------------------------------
-def _as_simple_polygon(polygon) -> tuple[np.ndarray, np.ndarray]:
+def _as_simple_polygon(polygon: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
     """Checked polygon (n, 2) and the vertex order that makes it counter-clockwise."""
     poly = as_points(polygon, "polygon", min_rows=3, dims=(2,))
     bad = _first_crossing(poly)
@@ -157,11 +160,27 @@ def _as_simple_polygon(polygon) -> tuple[np.ndarray, np.ndarray]:
     return poly, order
 
 
-def triangulate_polygon(polygon) -> np.ndarray:
-    """Ear-clipping triangulation of a simple polygon (n, 2) given in boundary order (either orientation).
+def triangulate_polygon(polygon: ArrayLike) -> np.ndarray:
+    """Ear-clipping triangulation of a simple polygon (O'Rourke 1.6, Meisters' two-ears theorem).
 
-    Returns int64 (m, 3) indices into ``polygon``, each triangle counter-clockwise; m = n - 2 unless some
-    vertices are flat (180 degrees), which may be left out. ValueError if the polygon is not simple.
+    Parameters
+    ----------
+    polygon : array_like, shape (n, 2)
+        The vertices in boundary order (either orientation), n >= 3, finite.
+
+    Returns
+    -------
+    numpy.ndarray, shape (m, 3), int64
+        Indices into ``polygon``, each triangle counter-clockwise; m = n − 2 unless some vertices are flat
+        (180 degrees), which may be left out.
+
+    Raises
+    ------
+    ValueError
+        When the polygon has fewer than 3 vertices, is not (n, 2), holds NaN or ±inf, is not simple (the
+        message names the first edge that meets another edge, folds back or has zero length), or has zero area.
+    TypeError
+        For a non-numeric polygon.
     """
     poly, order = _as_simple_polygon(polygon)
     local = poly[order] - poly.mean(axis=0)
@@ -171,7 +190,8 @@ def triangulate_polygon(polygon) -> np.ndarray:
     return order[triangles]
 
 
-def _merge_if_convex(pieces, p, q, u, v, poly) -> list | None:
+def _merge_if_convex(pieces: dict[int, list[int]], p: int, q: int, u: int, v: int,
+                     poly: np.ndarray) -> list[int] | None:
     """Hertel–Mehlhorn step: glue piece p (holding the edge u -> v) and piece q (holding v -> u) along the
     diagonal; return the merged counter-clockwise piece if u and v stay convex, else None."""
     a = pieces[p]
@@ -194,13 +214,38 @@ def _merge_if_convex(pieces, p, q, u, v, poly) -> list | None:
     return merged
 
 
-def decompose_polygon(polygon) -> list[np.ndarray]:
-    """Convex pieces of a simple polygon (n, 2) (boundary order, either orientation): triangulation by ear
-    clipping, then Hertel–Mehlhorn removal of inessential diagonals.
+def decompose_polygon(polygon: ArrayLike) -> list[np.ndarray]:
+    """Convex pieces of a simple polygon: triangulation by ear clipping, then Hertel–Mehlhorn removal of the
+    inessential diagonals (those whose removal keeps both of their end vertices convex).
 
-    Returns a list of int64 index arrays into ``polygon``, each a convex piece in counter-clockwise order;
-    the pieces tile the polygon (disjoint interiors, areas summing to its area). At most 2r + 1 pieces for r
-    reflex vertices (1 piece for a convex polygon).
+    Parameters
+    ----------
+    polygon : array_like, shape (n, 2)
+        The vertices in boundary order (either orientation), n >= 3, finite.
+
+    Returns
+    -------
+    list of numpy.ndarray, int64
+        Index arrays into ``polygon``, each a convex piece in counter-clockwise order; the pieces tile the
+        polygon (disjoint interiors, areas summing to its area). At most 2r + 1 pieces for r reflex vertices,
+        never more than 4 times the minimum (1 piece for a convex polygon).
+
+    Raises
+    ------
+    ValueError
+        When the polygon has fewer than 3 vertices, is not (n, 2), holds NaN or ±inf, is not simple (the
+        message names the first edge that meets another edge, folds back or has zero length), or has zero area.
+    TypeError
+        For a non-numeric polygon.
+
+    Examples
+    --------
+    An L-shaped hexagon (one reflex vertex, index 3) splits into two convex pieces:
+
+    >>> from engine.bounding import decompose_polygon
+    >>> pieces = decompose_polygon([[0, 0], [2, 0], [2, 1], [1, 1], [1, 2], [0, 2]])
+    >>> len(pieces)
+    2
     """
     poly, _ = _as_simple_polygon(polygon)
     triangles = triangulate_polygon(poly)
@@ -225,17 +270,44 @@ def decompose_polygon(polygon) -> list[np.ndarray]:
     return [np.asarray(piece, dtype=np.int64) for piece in pieces.values()]
 
 
-def decompose_mesh(vertices, faces, *, threshold: float = 0.05, seed: int = 0, **options):
-    """Approximate convex decomposition of a 3-D triangle mesh with ``coacd`` (optional extra ``decompose``).
+def decompose_mesh(vertices: ArrayLike, faces: ArrayLike, *, threshold: float = 0.05, seed: int = 0,
+                   **options: Any) -> list[tuple[np.ndarray, np.ndarray]]:
+    """Approximate convex decomposition of a 3-D triangle mesh with ``coacd`` (Wei et al., SIGGRAPH 2022).
 
-    ``vertices`` (n, 3), ``faces`` (m, 3) int; ``threshold`` is coacd's concavity threshold (lower: more,
-    finer pieces); other keyword ``options`` go to ``coacd.run_coacd``. Returns a list of
-    ``(vertices (k, 3), faces (l, 3))`` convex pieces. ImportError if coacd is not installed.
+    ``coacd`` is an optional extra: ``pip install "colldet[decompose]"``.
+
+    Parameters
+    ----------
+    vertices : array_like, shape (n, 3)
+        The mesh's vertices, n >= 4, finite.
+    faces : array_like of int, shape (m, 3)
+        Triangles as vertex indices in [0, n), m >= 4.
+    threshold : float, optional
+        coacd's concavity threshold, in (0, 1]: lower gives more, finer pieces.
+    seed : int, optional
+        coacd's random seed.
+    **options
+        Passed on to ``coacd.run_coacd``.
+
+    Returns
+    -------
+    list of (numpy.ndarray, numpy.ndarray)
+        The convex pieces, each ``(vertices (k, 3) float64, faces (l, 3) int64)``.
+
+    Raises
+    ------
+    ImportError
+        When coacd is not installed.
+    ValueError
+        For invalid vertices (NaN, ±inf, fewer than 4, not (n, 3)), faces that are not an (m, 3) integer array
+        with m >= 4 or that index past the vertices, or a threshold outside (0, 1].
+    TypeError
+        For non-numeric vertices.
     """
     try:
         import coacd
     except ImportError as exc:
-        raise ImportError("decompose_mesh needs the optional 'coacd' package: pip install 'engine[decompose]' "
+        raise ImportError("decompose_mesh needs the optional 'coacd' package: pip install 'colldet[decompose]' "
                           "(or pip install coacd); 2-D polygons need nothing extra: use decompose_polygon") from exc
     verts = as_float_array(vertices, "vertices", shape=(None, 3), min_rows=4)
     tri = np.asarray(faces)

@@ -3,16 +3,21 @@ Ericson, *Real-Time Collision Detection*, section 4.6.
 
 A k-DOP is the intersection of k/2 slabs ``lo[i] <= n_i . x <= hi[i]`` along fixed directions n_i shared by
 every DOP of the same k, so a DOP is just two arrays ``lo``, ``hi`` of shape (k/2,):
+
 - 8-DOP (2-D): the axes x, y and the diagonals (1, 1), (1, -1);
 - 14-DOP (3-D): the axes and the 4 cube diagonals (±1, ±1, 1);
 - 18-DOP (3-D): the axes and the 6 face diagonals (1, ±1, 0), (1, 0, ±1), (0, 1, ±1);
 - 26-DOP (3-D): the axes, the 4 cube diagonals and the 6 face diagonals.
+
 As in Ericson 4.6.1 the directions are left unnormalised (integer components): the slabs are exact, the
 projections cheaper. The first d slabs are the axes, so ``(lo[:d], hi[:d])`` is the object's AABB.
 """
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .._config import njit
 from .._validate import as_float_array
@@ -43,11 +48,11 @@ _DIRECTIONS = {
 for _dirs in _DIRECTIONS.values():
     _dirs.setflags(write=False)
 
-#: the supported k and the dimension of each
+#: the supported k and the dimension of each: {8: 2, 14: 3, 18: 3, 26: 3}
 KDOP_SIZES = {8: 2, 14: 3, 18: 3, 26: 3}
 
 
-def _check_k(k) -> int:
+def _check_k(k: Any) -> int:
     if isinstance(k, bool) or not isinstance(k, int | np.integer):
         raise TypeError(f"k must be an integer, one of {sorted(KDOP_SIZES)}, got {type(k).__name__}")
     if int(k) not in KDOP_SIZES:
@@ -56,11 +61,30 @@ def _check_k(k) -> int:
 
 
 def kdop_directions(k: int) -> np.ndarray:
-    """The k/2 slab directions of a k-DOP, shape (k/2, d), unnormalised integer components (read-only)."""
+    """The k/2 slab directions n_s shared by every k-DOP: slab s is ``lo[s] <= n_s · x <= hi[s]``.
+
+    Parameters
+    ----------
+    k : int
+        8 (2-D), 14, 18 or 26 (3-D).
+
+    Returns
+    -------
+    numpy.ndarray, shape (k/2, d), float64
+        Read-only; unnormalised integer components; the first d rows are the axes.
+
+    Raises
+    ------
+    ValueError
+        For a k that is not 8, 14, 18 or 26.
+    TypeError
+        For a k that is not an int.
+    """
     return _DIRECTIONS[_check_k(k)]
 
 
-def _as_kdop(lo, hi, k, names=("lo", "hi")) -> tuple[np.ndarray, np.ndarray]:
+def _as_kdop(lo: ArrayLike, hi: ArrayLike, k: int,
+             names: tuple[str, str] = ("lo", "hi")) -> tuple[np.ndarray, np.ndarray]:
     lo_name, hi_name = names
     half = k // 2
     lo = as_float_array(lo, lo_name)
@@ -156,8 +180,28 @@ def _transform_kdop_kernel(lo, hi, rotation, translation, directions, new_lo, ne
 # ---------------------------------------------------------------------------------------------------------
 # public functions
 # ---------------------------------------------------------------------------------------------------------
-def fit_kdop(points, k: int) -> tuple[np.ndarray, np.ndarray]:
-    """The tightest k-DOP of ``points`` (n, d) (d = 2 for k = 8, d = 3 for 14, 18, 26): ``(lo, hi)``, (k/2,)."""
+def fit_kdop(points: ArrayLike, k: int) -> tuple[np.ndarray, np.ndarray]:
+    """The tightest k-DOP of a point cloud: the min and max of the points' projections on each direction.
+
+    Parameters
+    ----------
+    points : array_like, shape (n, d)
+        n >= 1 points, finite; d = 2 for k = 8, d = 3 for k = 14, 18, 26.
+    k : int
+        8 (2-D), 14, 18 or 26 (3-D).
+
+    Returns
+    -------
+    lo, hi : numpy.ndarray, shape (k/2,), float64
+        The slab bounds along ``kdop_directions(k)``; ``(lo[:d], hi[:d])`` is the AABB.
+
+    Raises
+    ------
+    ValueError
+        For NaN or ±inf, no point, a d that does not match k, or a k not in ``KDOP_SIZES``.
+    TypeError
+        For non-numeric arrays, or a k that is not an int.
+    """
     k = _check_k(k)
     pts = as_points(points, dims=(KDOP_SIZES[k],))
     directions = _DIRECTIONS[k]
@@ -167,8 +211,27 @@ def fit_kdop(points, k: int) -> tuple[np.ndarray, np.ndarray]:
     return lo, hi
 
 
-def fit_kdops(clouds, k: int) -> tuple[np.ndarray, np.ndarray]:
-    """Batched fit: ``clouds`` (m, n, d) -> ``(lo, hi)``, each (m, k/2), in one compiled call."""
+def fit_kdops(clouds: ArrayLike, k: int) -> tuple[np.ndarray, np.ndarray]:
+    """Batched :func:`fit_kdop`: one k-DOP per cloud, in one compiled call.
+
+    Parameters
+    ----------
+    clouds : array_like, shape (m, n, d)
+        m clouds of n >= 1 points, finite; d = 2 for k = 8, d = 3 for k = 14, 18, 26.
+    k : int
+        8 (2-D), 14, 18 or 26 (3-D).
+
+    Returns
+    -------
+    lo, hi : numpy.ndarray, shape (m, k/2), float64
+
+    Raises
+    ------
+    ValueError
+        For NaN or ±inf, a rank other than 3, n = 0, a d that does not match k, or a k not in ``KDOP_SIZES``.
+    TypeError
+        For non-numeric arrays, or a k that is not an int.
+    """
     k = _check_k(k)
     arr = as_float_array(clouds, "clouds", ndim=3)
     if arr.shape[1] < 1 or arr.shape[2] != KDOP_SIZES[k]:
@@ -180,8 +243,31 @@ def fit_kdops(clouds, k: int) -> tuple[np.ndarray, np.ndarray]:
     return lo, hi
 
 
-def overlap_kdops(lo_a, hi_a, lo_b, hi_b, k: int) -> np.ndarray:
-    """Row-wise overlap of k-DOPs given as (n, k/2) arrays (or (k/2,)) -> bool (n,) (closed slabs)."""
+def overlap_kdops(lo_a: ArrayLike, hi_a: ArrayLike, lo_b: ArrayLike, hi_b: ArrayLike, k: int) -> np.ndarray:
+    """Row-wise overlap of closed k-DOPs: whether DOP a_i meets DOP b_i on every slab, for every row i.
+
+    One separating slab proves two DOPs disjoint (Ericson 4.6.1); overlapping on all k/2 slabs is the
+    conservative answer (the DOPs may still be apart along a direction that is not a slab).
+
+    Parameters
+    ----------
+    lo_a, hi_a, lo_b, hi_b : array_like, shape (n, k/2) or (k/2,)
+        The slab bounds of the DOPs a_i and b_i, all of one shape, ``lo <= hi``, finite.
+    k : int
+        8 (2-D), 14, 18 or 26 (3-D).
+
+    Returns
+    -------
+    numpy.ndarray, shape (n,), bool
+        Shape (1,) for (k/2,) inputs.
+
+    Raises
+    ------
+    ValueError
+        For NaN or ±inf, shapes that do not match k or each other, ``lo > hi``, or a k not in ``KDOP_SIZES``.
+    TypeError
+        For non-numeric arrays, or a k that is not an int.
+    """
     k = _check_k(k)
     lo_a, hi_a = _as_kdop(lo_a, hi_a, k, ("lo_a", "hi_a"))
     lo_b, hi_b = _as_kdop(lo_b, hi_b, k, ("lo_b", "hi_b"))
@@ -196,8 +282,27 @@ def overlap_kdops(lo_a, hi_a, lo_b, hi_b, k: int) -> np.ndarray:
     return out
 
 
-def overlap_kdop_kdop(lo_a, hi_a, lo_b, hi_b, k: int) -> bool:
-    """Whether two k-DOPs (each ``lo``, ``hi`` of shape (k/2,)) overlap on all k/2 slab directions."""
+def overlap_kdop_kdop(lo_a: ArrayLike, hi_a: ArrayLike, lo_b: ArrayLike, hi_b: ArrayLike, k: int) -> bool:
+    """Whether two closed k-DOPs overlap on all k/2 slab directions (as :func:`overlap_kdops`).
+
+    Parameters
+    ----------
+    lo_a, hi_a, lo_b, hi_b : array_like, shape (k/2,)
+        The slab bounds of DOPs a and b, ``lo <= hi``, finite.
+    k : int
+        8 (2-D), 14, 18 or 26 (3-D).
+
+    Returns
+    -------
+    bool
+
+    Raises
+    ------
+    ValueError
+        As :func:`overlap_kdops`, and for a batch (use :func:`overlap_kdops`).
+    TypeError
+        For non-numeric arrays, or a k that is not an int.
+    """
     k = _check_k(k)
     lo_a, hi_a = _as_kdop(lo_a, hi_a, k, ("lo_a", "hi_a"))
     if lo_a.ndim != 1:
@@ -205,8 +310,29 @@ def overlap_kdop_kdop(lo_a, hi_a, lo_b, hi_b, k: int) -> bool:
     return bool(overlap_kdops(lo_a, hi_a, lo_b, hi_b, k)[0])
 
 
-def merge_kdop(lo_a, hi_a, lo_b, hi_b, k: int) -> tuple[np.ndarray, np.ndarray]:
-    """The smallest k-DOP holding both (slab-wise min of ``lo``, max of ``hi``)."""
+def merge_kdop(lo_a: ArrayLike, hi_a: ArrayLike, lo_b: ArrayLike, hi_b: ArrayLike,
+               k: int) -> tuple[np.ndarray, np.ndarray]:
+    """The smallest k-DOP holding both (row-wise for batches): the slab-wise min of ``lo``, max of ``hi``.
+
+    Parameters
+    ----------
+    lo_a, hi_a, lo_b, hi_b : array_like, shape (k/2,) or (n, k/2)
+        The slab bounds of the DOPs a and b, all of one shape, ``lo <= hi``, finite.
+    k : int
+        8 (2-D), 14, 18 or 26 (3-D).
+
+    Returns
+    -------
+    lo, hi : numpy.ndarray, float64
+        Of the inputs' shape.
+
+    Raises
+    ------
+    ValueError
+        As :func:`overlap_kdops`.
+    TypeError
+        For non-numeric arrays, or a k that is not an int.
+    """
     k = _check_k(k)
     lo_a, hi_a = _as_kdop(lo_a, hi_a, k, ("lo_a", "hi_a"))
     lo_b, hi_b = _as_kdop(lo_b, hi_b, k, ("lo_b", "hi_b"))
@@ -215,8 +341,29 @@ def merge_kdop(lo_a, hi_a, lo_b, hi_b, k: int) -> tuple[np.ndarray, np.ndarray]:
     return np.minimum(lo_a, lo_b), np.maximum(hi_a, hi_b)
 
 
-def kdop_contains(lo, hi, points, k: int) -> np.ndarray:
-    """Boolean (n,): which of ``points`` (n, d) lie in the closed k-DOP ``(lo, hi)`` (each (k/2,))."""
+def kdop_contains(lo: ArrayLike, hi: ArrayLike, points: ArrayLike, k: int) -> np.ndarray:
+    """Which points lie in a closed k-DOP: their projection on every direction lies in its slab.
+
+    Parameters
+    ----------
+    lo, hi : array_like, shape (k/2,)
+        The DOP's slab bounds, ``lo <= hi``, finite.
+    points : array_like, shape (n, d)
+        The points (n may be 0), finite; d = 2 for k = 8, d = 3 otherwise.
+    k : int
+        8 (2-D), 14, 18 or 26 (3-D).
+
+    Returns
+    -------
+    numpy.ndarray, shape (n,), bool
+
+    Raises
+    ------
+    ValueError
+        For NaN or ±inf, shapes that do not match k, ``lo > hi``, or a k not in ``KDOP_SIZES``.
+    TypeError
+        For non-numeric arrays, or a k that is not an int.
+    """
     k = _check_k(k)
     lo, hi = _as_kdop(lo, hi, k)
     if lo.ndim != 1:
@@ -227,8 +374,35 @@ def kdop_contains(lo, hi, points, k: int) -> np.ndarray:
     return out
 
 
-def update_kdop(points, k: int, rotation, translation) -> tuple[np.ndarray, np.ndarray]:
-    """The tight k-DOP of ``points`` (n, d) after x -> rotation @ x + translation (exact re-fit)."""
+def update_kdop(points: ArrayLike, k: int, rotation: ArrayLike,
+                translation: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+    """The tight k-DOP of a point cloud after x -> rotation @ x + translation: an exact re-fit.
+
+    The moved points are never built: n_s · (R p + t) = (Rᵀ n_s) · p + n_s · t.
+
+    Parameters
+    ----------
+    points : array_like, shape (n, d)
+        The object's points in its rest pose, n >= 1; d = 2 for k = 8, d = 3 otherwise.
+    k : int
+        8 (2-D), 14, 18 or 26 (3-D).
+    rotation : array_like, shape (d, d)
+        Orthonormal: ``R Rᵀ = I`` to 1e-9.
+    translation : array_like, shape (d,)
+        The translation t.
+
+    Returns
+    -------
+    lo, hi : numpy.ndarray, shape (k/2,), float64
+        Equal to ``fit_kdop(points @ rotation.T + translation, k)`` up to round-off.
+
+    Raises
+    ------
+    ValueError
+        For NaN or ±inf, wrong shapes, a rotation that is not orthonormal, or a k not in ``KDOP_SIZES``.
+    TypeError
+        For non-numeric arrays, or a k that is not an int.
+    """
     k = _check_k(k)
     d = KDOP_SIZES[k]
     pts = as_points(points, dims=(d,))
@@ -239,10 +413,37 @@ def update_kdop(points, k: int, rotation, translation) -> tuple[np.ndarray, np.n
     return lo, hi
 
 
-def transform_kdop(lo, hi, k: int, rotation, translation) -> tuple[np.ndarray, np.ndarray]:
+def transform_kdop(lo: ArrayLike, hi: ArrayLike, k: int, rotation: ArrayLike,
+                   translation: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
     """A k-DOP holding the moved object, from the DOP alone (no points): conservative, via its AABB slabs.
 
-    Use ``update_kdop`` when the points are at hand (tight); this one is for when only the DOP is stored.
+    The moved object lies in the moved AABB ``(lo[:d], hi[:d])``, so each new slab is bounded by that box's
+    support along Rᵀ n_s (Ericson 4.2.6 applied to each direction). Use :func:`update_kdop` when the points are
+    at hand (tight); this one is for when only the DOP is stored.
+
+    Parameters
+    ----------
+    lo, hi : array_like, shape (k/2,)
+        The DOP's slab bounds, ``lo <= hi``, finite.
+    k : int
+        8 (2-D), 14, 18 or 26 (3-D).
+    rotation : array_like, shape (d, d)
+        Orthonormal: ``R Rᵀ = I`` to 1e-9.
+    translation : array_like, shape (d,)
+        The translation t.
+
+    Returns
+    -------
+    lo, hi : numpy.ndarray, shape (k/2,), float64
+        A DOP holding the moved object; looser than the re-fit.
+
+    Raises
+    ------
+    ValueError
+        For NaN or ±inf, shapes that do not match k, ``lo > hi``, a rotation that is not orthonormal, or a k
+        not in ``KDOP_SIZES``.
+    TypeError
+        For non-numeric arrays, or a k that is not an int.
     """
     k = _check_k(k)
     d = KDOP_SIZES[k]

@@ -1,9 +1,13 @@
 """Oriented bounding box (chapter slide "Oriented bounding box OBB": 15 values — position (3),
 orientation (9), extent (3)). Ericson, *Real-Time Collision Detection*, section 4.4.
+
+The fit is the PCA box (the eigenvectors of the points' covariance); two OBBs are tested by the separating axis
+theorem (``engine.obb_overlap``, in the narrow phase).
 """
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .._config import njit
 from .._validate import as_float_array
@@ -13,16 +17,51 @@ ORTHONORMAL_TOL = 1e-9
 
 
 class OBB:
-    """An oriented box: ``center`` (3,), ``axes`` (3, 3) whose ROWS are the box's unit axes, ``half_extents`` (3,).
+    """An oriented box in 3-D: a centre, three orthonormal axes and the half extents along them.
 
-    A point p lies in the box iff ``|axes[k] @ (p - center)| <= half_extents[k]`` for k = 0, 1, 2.
-    The axes must be orthonormal (to ``ORTHONORMAL_TOL``); a left-handed frame is accepted (it spans the same
-    box). The arrays are copied and made read-only, so an OBB never aliases the caller's arrays.
+    A point p lies in the (closed) box iff ``|axes[k] @ (p - center)| <= half_extents[k]`` for k = 0, 1, 2.
+    The arrays are copied and made read-only, so an OBB never aliases the caller's arrays.
+
+    Parameters
+    ----------
+    center : array_like, shape (3,)
+        The box's centre, finite.
+    axes : array_like, shape (3, 3)
+        The box's unit axes as ROWS, orthonormal to ``ORTHONORMAL_TOL`` (1e-9); a left-handed frame is
+        accepted (it spans the same box).
+    half_extents : array_like, shape (3,)
+        The half widths along the three axes, >= 0.
+
+    Attributes
+    ----------
+    center : numpy.ndarray, shape (3,), float64
+        Read-only.
+    axes : numpy.ndarray, shape (3, 3), float64
+        Read-only; row k is the box's k-th axis.
+    half_extents : numpy.ndarray, shape (3,), float64
+        Read-only.
+
+    Raises
+    ------
+    ValueError
+        For NaN or ±inf, wrong shapes, a negative half extent (named with its index), or axes that are not
+        orthonormal.
+    TypeError
+        For non-numeric arrays.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from engine.bounding import OBB
+    >>> c, s = np.cos(np.pi / 4), np.sin(np.pi / 4)
+    >>> box = OBB([0, 0, 0], [[c, s, 0], [-s, c, 0], [0, 0, 1]], [2.0, 0.5, 0.5])  # turned 45° about z
+    >>> box.contains([[1.0, 1.0, 0.0], [1.0, -1.0, 0.0]]).tolist()
+    [True, False]
     """
 
     __slots__ = ("center", "axes", "half_extents")
 
-    def __init__(self, center, axes, half_extents):
+    def __init__(self, center: ArrayLike, axes: ArrayLike, half_extents: ArrayLike):
         center = as_float_array(center, "center", shape=(3,))
         axes = as_float_array(axes, "axes", shape=(3, 3))
         half_extents = as_float_array(half_extents, "half_extents", shape=(3,))
@@ -39,8 +78,25 @@ class OBB:
         self.half_extents = half_extents
 
     @classmethod
-    def from_aabb(cls, lo, hi) -> OBB:
-        """The OBB equal to the axis-aligned box [lo, hi] (both (3,))."""
+    def from_aabb(cls, lo: ArrayLike, hi: ArrayLike) -> OBB:
+        """The OBB equal to an axis-aligned box: centre (lo + hi)/2, the world axes, half extents (hi − lo)/2.
+
+        Parameters
+        ----------
+        lo, hi : array_like, shape (3,)
+            The box's corners, ``lo <= hi``, finite.
+
+        Returns
+        -------
+        OBB
+
+        Raises
+        ------
+        ValueError
+            For NaN or ±inf, shapes other than (3,), or ``lo > hi`` (named with its index).
+        TypeError
+            For non-numeric arrays.
+        """
         lo = as_float_array(lo, "lo", shape=(3,))
         hi = as_float_array(hi, "hi", shape=(3,))
         if (lo > hi).any():
@@ -49,19 +105,64 @@ class OBB:
         return cls((lo + hi) / 2.0, np.eye(3), (hi - lo) / 2.0)
 
     def corners(self) -> np.ndarray:
-        """The 8 corners, shape (8, 3), in the order of the sign pattern (-,-,-), (+,-,-), (-,+,-), ..."""
+        """The box's 8 corners.
+
+        Returns
+        -------
+        numpy.ndarray, shape (8, 3), float64
+            Corner i is ``center + Σ_k s_k half_extents[k] axes[k]`` with s_k = +1 when bit k of i is set, else
+            −1: the sign patterns (−,−,−), (+,−,−), (−,+,−), (+,+,−), ...
+        """
         signs = np.array([[(i >> 0) & 1, (i >> 1) & 1, (i >> 2) & 1] for i in range(8)], dtype=np.float64)
         signs = 2.0 * signs - 1.0
         return self.center + (signs * self.half_extents) @ self.axes
 
-    def contains(self, points) -> np.ndarray:
-        """Boolean (n,): which of ``points`` (n, 3) lie in the closed box."""
+    def contains(self, points: ArrayLike) -> np.ndarray:
+        """Which points lie in the closed box (the boundary included).
+
+        Parameters
+        ----------
+        points : array_like, shape (n, 3)
+            The points (n may be 0), finite.
+
+        Returns
+        -------
+        numpy.ndarray, shape (n,), bool
+
+        Raises
+        ------
+        ValueError
+            For NaN, ±inf or a shape other than (n, 3).
+        TypeError
+            For non-numeric points.
+        """
         pts = as_float_array(points, "points", shape=(None, 3))
         local = (pts - self.center) @ self.axes.T
         return (np.abs(local) <= self.half_extents).all(axis=1)
 
-    def transformed(self, rotation, translation) -> OBB:
-        """The box moved by x -> rotation @ x + translation (rotation (3, 3) orthonormal, translation (3,))."""
+    def transformed(self, rotation: ArrayLike, translation: ArrayLike) -> OBB:
+        """The box moved by x -> rotation @ x + translation: an exact update (the axes rotate with the box).
+
+        Parameters
+        ----------
+        rotation : array_like, shape (3, 3)
+            Orthonormal (a rotation, or a reflection).
+        translation : array_like, shape (3,)
+            The translation t.
+
+        Returns
+        -------
+        OBB
+            A new box; this one is unchanged.
+
+        Raises
+        ------
+        ValueError
+            For NaN, ±inf or wrong shapes, or a rotation that is not orthonormal (reported as non-orthonormal
+            ``axes`` of the moved box).
+        TypeError
+            For non-numeric arrays.
+        """
         rotation = as_float_array(rotation, "rotation", shape=(3, 3))
         translation = as_float_array(translation, "translation", shape=(3,))
         return OBB(rotation @ self.center + translation, self.axes @ rotation.T, self.half_extents)
@@ -89,13 +190,30 @@ def _extents_kernel(points, axes, lo, hi):
                 hi[k] = t
 
 
-def fit_obb(points) -> OBB:
-    """The PCA bounding box of ``points`` (n, 3): axes are the eigenvectors of the covariance matrix.
+def fit_obb(points: ArrayLike) -> OBB:
+    """The PCA bounding box of a 3-D point cloud: its axes are the eigenvectors of the covariance matrix.
 
-    Ericson 4.4.3: the covariance C = (1/n) sum (p - mean)(p - mean)^T is symmetric, its eigenvectors
+    Ericson 4.4.3: the covariance C = (1/n) Σ (p − mean)(p − mean)ᵀ is symmetric, its eigenvectors
     (``numpy.linalg.eigh``) are orthonormal; the box spans the points' projections on them. Not the minimal
     box, but rotation-covariant: the fit of R p + t is the fit of p moved by (R, t) when the covariance has
     distinct eigenvalues. Every point lies in the box (the extents are re-measured).
+
+    Parameters
+    ----------
+    points : array_like, shape (n, 3)
+        n >= 1 points, finite.
+
+    Returns
+    -------
+    OBB
+        Right-handed axes, largest spread first.
+
+    Raises
+    ------
+    ValueError
+        For NaN, ±inf, no point, or a shape other than (n, 3).
+    TypeError
+        For non-numeric points.
     """
     pts = as_float_array(points, "points", shape=(None, 3), min_rows=1)
     mean = pts.mean(axis=0)
@@ -117,15 +235,53 @@ def fit_obb(points) -> OBB:
 
 
 def merge_obb(a: OBB, b: OBB) -> OBB:
-    """An OBB holding both boxes: the PCA fit of their 16 corners (Ericson 4.4.3 applied to the corners)."""
+    """An OBB holding both boxes: the PCA fit of their 16 corners (Ericson 4.4.3 applied to the corners).
+
+    Parameters
+    ----------
+    a, b : OBB
+        The two boxes.
+
+    Returns
+    -------
+    OBB
+        It holds both boxes; not the smallest such box.
+
+    Raises
+    ------
+    TypeError
+        When ``a`` or ``b`` is not an OBB.
+    """
     for name, box in (("a", a), ("b", b)):
         if not isinstance(box, OBB):
             raise TypeError(f"{name} must be an OBB, got {type(box).__name__}")
     return fit_obb(np.vstack([a.corners(), b.corners()]))
 
 
-def transform_obb(box: OBB, rotation, translation) -> OBB:
-    """The box moved by x -> rotation @ x + translation (the update is exact: the axes rotate with it)."""
+def transform_obb(box: OBB, rotation: ArrayLike, translation: ArrayLike) -> OBB:
+    """The box moved by x -> rotation @ x + translation (the update is exact: the axes rotate with it).
+
+    Parameters
+    ----------
+    box : OBB
+        The box to move; unchanged.
+    rotation : array_like, shape (3, 3)
+        Orthonormal.
+    translation : array_like, shape (3,)
+        The translation t.
+
+    Returns
+    -------
+    OBB
+        ``box.transformed(rotation, translation)``.
+
+    Raises
+    ------
+    TypeError
+        When ``box`` is not an OBB, or for non-numeric arrays.
+    ValueError
+        As :meth:`OBB.transformed`.
+    """
     if not isinstance(box, OBB):
         raise TypeError(f"box must be an OBB, got {type(box).__name__}")
     return box.transformed(rotation, translation)

@@ -3,6 +3,7 @@ sphere holding the object; 4 scalars; collision iff d < r_A + r_B, about 11 prim
 update under rotation). Ericson, *Real-Time Collision Detection*, sections 4.3 (fits) and 6.5.2 (merge).
 
 Two fits:
+
 - ``ritter_sphere`` — Ritter's fast approximate fit (Ericson 4.3.2), O(n), within ~5-20 % of minimal;
 - ``min_bounding_sphere`` — Welzl's exact minimal sphere (Ericson 4.3.5), written as the iterative
   move-to-front form on a seeded random order (expected O(n)), with exact circumsphere formulas for 1 to 4
@@ -14,8 +15,10 @@ from the centre to a point, so every point lies in the returned sphere.
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .._config import njit
 from .._validate import as_float_array, as_nonnegative
@@ -266,9 +269,9 @@ def spheres_touch(ca, ra, cb, rb):
     """Whether the closed spheres (ca (d,), ra) and (cb (d,), rb) overlap: the engine's one sphere–sphere test.
 
     Slide "Bounding sphere — tester: collision ssi d < r_A + r_B" (closed here: touching counts), the square
-    root avoided: |c_a - c_b|² <= (r_a + r_b)² — in 3-D 3 subtractions, 3 products, 3 additions, 1 addition,
+    root avoided: ``|c_a - c_b|² <= (r_a + r_b)²`` — in 3-D 3 subtractions, 3 products, 3 additions, 1 addition,
     1 product and 1 comparison: the slide's ~11 operations. Squares of magnitudes below ~1e-154 underflow and
-    above ~1e154 overflow, so when the largest of |c_a - c_b|'s components and r_a + r_b lies outside
+    above ~1e154 overflow, so when the largest of the components of c_a − c_b and r_a + r_b lies outside
     [1e-150, 1e150] the same test is made on values divided by that largest magnitude.
     """
     s = ra + rb
@@ -297,16 +300,60 @@ def _overlap_spheres_kernel(ca, ra, cb, rb, out):
 # ---------------------------------------------------------------------------------------------------------
 # public functions
 # ---------------------------------------------------------------------------------------------------------
-def ritter_sphere(points) -> tuple[np.ndarray, float]:
-    """Ritter's fast bounding sphere of ``points`` (n, d), d = 2 or 3 -> ``(center (d,), radius)``."""
+def ritter_sphere(points: ArrayLike) -> tuple[np.ndarray, float]:
+    """Ritter's fast bounding sphere (Ericson 4.3.2): O(n), typically 5-20 % larger than the minimal one.
+
+    The most separated pair among the extreme points along the axes gives a first sphere, grown in one pass
+    just enough to hold each point outside it; the radius is then re-measured about the final centre, so every
+    point lies in the sphere.
+
+    Parameters
+    ----------
+    points : array_like, shape (n, d)
+        n >= 1 points, d = 2 (a circle) or 3, finite.
+
+    Returns
+    -------
+    center : numpy.ndarray, shape (d,), float64
+    radius : float
+
+    Raises
+    ------
+    ValueError
+        For NaN, ±inf or magnitudes above 1e150, no point, or d not 2 or 3.
+    TypeError
+        For non-numeric points.
+
+    See Also
+    --------
+    min_bounding_sphere : the exact smallest sphere (Welzl).
+    """
     pts = as_points(points)
     center = np.empty(pts.shape[1])
     r = _ritter_kernel(pts, center)
     return center, float(r)
 
 
-def ritter_spheres(clouds) -> tuple[np.ndarray, np.ndarray]:
-    """Batched Ritter fit: ``clouds`` (m, n, d) -> ``(centers (m, d), radii (m,))`` in one compiled call."""
+def ritter_spheres(clouds: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+    """Batched :func:`ritter_sphere`: one sphere per cloud, in one compiled call.
+
+    Parameters
+    ----------
+    clouds : array_like, shape (m, n, d)
+        m clouds of n >= 1 points, d = 2 or 3, finite.
+
+    Returns
+    -------
+    centers : numpy.ndarray, shape (m, d), float64
+    radii : numpy.ndarray, shape (m,), float64
+
+    Raises
+    ------
+    ValueError
+        For NaN or ±inf, a rank other than 3, n = 0, or d not 2 or 3.
+    TypeError
+        For non-numeric clouds.
+    """
     arr = as_float_array(clouds, "clouds", ndim=3)
     if arr.shape[1] < 1 or arr.shape[2] not in (2, 3):
         raise ValueError(f"clouds must have shape (m, n, d) with n >= 1 and d in (2, 3), got {arr.shape}")
@@ -316,11 +363,38 @@ def ritter_spheres(clouds) -> tuple[np.ndarray, np.ndarray]:
     return centers, radii
 
 
-def min_bounding_sphere(points, *, seed: int = 0) -> tuple[np.ndarray, float]:
-    """The exact smallest sphere (circle in 2-D) holding ``points`` (n, d), d = 2 or 3 (Welzl).
+def min_bounding_sphere(points: ArrayLike, *, seed: int = 0) -> tuple[np.ndarray, float]:
+    """The exact smallest sphere (circle in 2-D) holding a point cloud: Welzl's algorithm (Ericson 4.3.5).
 
-    Returns ``(center (d,), radius)``. The points are visited in a random order drawn from ``seed`` (fixed by
-    default, so results are deterministic). Duplicates, collinear and coplanar points are fine.
+    The iterative move-to-front form, expected O(n) on a random order. Duplicates, collinear and coplanar
+    points are fine (no NaN); the radius is re-measured about the centre found, so every point lies in the
+    sphere.
+
+    Parameters
+    ----------
+    points : array_like, shape (n, d)
+        n >= 1 points, d = 2 or 3, finite.
+    seed : int, optional
+        Seeds the random visiting order; fixed by default, so results are deterministic.
+
+    Returns
+    -------
+    center : numpy.ndarray, shape (d,), float64
+    radius : float
+
+    Raises
+    ------
+    ValueError
+        For NaN, ±inf or magnitudes above 1e150, no point, or d not 2 or 3.
+    TypeError
+        For non-numeric points, or a ``seed`` that is not an int.
+
+    Examples
+    --------
+    >>> from engine.bounding import min_bounding_sphere
+    >>> center, radius = min_bounding_sphere([[0.0, 0.0], [2.0, 0.0], [1.0, 0.5]])
+    >>> center.tolist(), radius
+    ([1.0, 0.0], 1.0)
     """
     pts = as_points(points)
     if not isinstance(seed, int | np.integer) or isinstance(seed, bool):
@@ -339,11 +413,38 @@ def min_bounding_sphere(points, *, seed: int = 0) -> tuple[np.ndarray, float]:
     return c[:d] + origin, float(r)
 
 
-def overlap_spheres(centers_a, radii_a, centers_b, radii_b) -> np.ndarray:
-    """Row-wise sphere overlap: centres (n, d), radii (n,) -> bool (n,): |c_a - c_b| <= r_a + r_b."""
+def overlap_spheres(centers_a: ArrayLike, radii_a: ArrayLike, centers_b: ArrayLike,
+                    radii_b: ArrayLike) -> np.ndarray:
+    """Row-wise overlap of closed spheres: ``|c_a - c_b| <= r_a + r_b`` for every row, in one compiled call.
+
+    The slide's test with the square root avoided (touching counts); C-contiguous float64 inputs are read
+    without a copy (and never written).
+
+    Parameters
+    ----------
+    centers_a : array_like, shape (n, d)
+        The centres of the spheres a_i, finite.
+    radii_a : array_like, shape (n,)
+        Their radii, >= 0.
+    centers_b : array_like, shape (n, d)
+        The centres of the spheres b_i, of the shape of ``centers_a``.
+    radii_b : array_like, shape (n,)
+        Their radii, >= 0.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n,), bool
+
+    Raises
+    ------
+    ValueError
+        For NaN or ±inf, mismatched shapes, or a negative radius (named with its index).
+    TypeError
+        For non-numeric arrays.
+    """
     if _is_plain_spheres(centers_a, radii_a, centers_b, radii_b):
         # fast path: checked in a compiled loop and read without a copy (the kernel never writes its inputs)
-        out = np.empty(centers_a.shape[0], dtype=np.bool_)
+        out = np.empty(np.shape(centers_a)[0], dtype=np.bool_)
         _overlap_spheres_kernel(centers_a, radii_a, centers_b, radii_b, out)
         return out
     ca = as_float_array(centers_a, "centers_a", ndim=2)
@@ -371,15 +472,38 @@ def _spheres_valid_kernel(centers, radii):
     return True
 
 
-def _is_plain_spheres(ca, ra, cb, rb) -> bool:
+def _is_plain_spheres(ca: Any, ra: Any, cb: Any, rb: Any) -> bool:
     plain = all(isinstance(a, np.ndarray) and a.dtype == np.float64 and a.flags.c_contiguous
                 for a in (ca, ra, cb, rb))
     return (plain and ca.ndim == 2 and cb.shape == ca.shape and ra.shape == (ca.shape[0],)
             and rb.shape == ra.shape and _spheres_valid_kernel(ca, ra) and _spheres_valid_kernel(cb, rb))
 
 
-def overlap_sphere_sphere(center_a, radius_a, center_b, radius_b) -> bool:
-    """Whether two closed spheres (centres (d,), radii >= 0) overlap (touching counts)."""
+def overlap_sphere_sphere(center_a: ArrayLike, radius_a: float, center_b: ArrayLike, radius_b: float) -> bool:
+    """Whether two closed spheres overlap (touching counts), as :func:`overlap_spheres`.
+
+    Parameters
+    ----------
+    center_a : array_like, shape (d,)
+        The centre of sphere a, finite.
+    radius_a : float
+        Its radius, >= 0.
+    center_b : array_like, shape (d,)
+        The centre of sphere b, of the shape of ``center_a``.
+    radius_b : float
+        Its radius, >= 0.
+
+    Returns
+    -------
+    bool
+
+    Raises
+    ------
+    ValueError
+        For NaN or ±inf, mismatched shapes, or a negative radius.
+    TypeError
+        For non-numeric values.
+    """
     ca = as_float_array(center_a, "center_a", ndim=1)
     cb = as_float_array(center_b, "center_b", shape=ca.shape)
     ra = as_nonnegative(radius_a, "radius_a")
@@ -389,8 +513,34 @@ def overlap_sphere_sphere(center_a, radius_a, center_b, radius_b) -> bool:
     return bool(out[0])
 
 
-def merge_spheres(center_a, radius_a, center_b, radius_b) -> tuple[np.ndarray, float]:
-    """The smallest sphere holding both spheres (Ericson 6.5.2) -> ``(center (d,), radius)``."""
+def merge_spheres(center_a: ArrayLike, radius_a: float, center_b: ArrayLike,
+                  radius_b: float) -> tuple[np.ndarray, float]:
+    """The smallest sphere holding two spheres (Ericson 6.5.2); one of them when it holds the other.
+
+    Parameters
+    ----------
+    center_a : array_like, shape (d,)
+        The centre of sphere a, finite.
+    radius_a : float
+        Its radius, >= 0.
+    center_b : array_like, shape (d,)
+        The centre of sphere b, of the shape of ``center_a``.
+    radius_b : float
+        Its radius, >= 0.
+
+    Returns
+    -------
+    center : numpy.ndarray, shape (d,), float64
+    radius : float
+        Widened by round-off if needed, so that it holds both spheres.
+
+    Raises
+    ------
+    ValueError
+        For NaN or ±inf, mismatched shapes, or a negative radius.
+    TypeError
+        For non-numeric values.
+    """
     ca = as_float_array(center_a, "center_a", ndim=1)
     cb = as_float_array(center_b, "center_b", shape=ca.shape)
     ra = as_nonnegative(radius_a, "radius_a")
@@ -408,16 +558,64 @@ def merge_spheres(center_a, radius_a, center_b, radius_b) -> tuple[np.ndarray, f
     return c, r
 
 
-def sphere_contains(center, radius, points) -> np.ndarray:
-    """Boolean (n,): which of ``points`` (n, d) lie in the closed sphere (``center`` (d,), ``radius``)."""
+def sphere_contains(center: ArrayLike, radius: float, points: ArrayLike) -> np.ndarray:
+    """Which points lie in a closed sphere (the boundary included): ``|p - c|² <= r²``.
+
+    Parameters
+    ----------
+    center : array_like, shape (d,)
+        The centre, finite.
+    radius : float
+        >= 0.
+    points : array_like, shape (n, d)
+        The points (n may be 0), finite.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n,), bool
+
+    Raises
+    ------
+    ValueError
+        For NaN or ±inf, a negative radius, or points that are not (n, d).
+    TypeError
+        For non-numeric values.
+    """
     c = as_float_array(center, "center", ndim=1)
     r = as_nonnegative(radius, "radius")
     pts = as_points(points, min_rows=0, dims=(c.shape[0],))
     return ((pts - c) ** 2).sum(axis=1) <= r * r
 
 
-def transform_sphere(center, radius, rotation, translation) -> tuple[np.ndarray, float]:
-    """The sphere after x -> rotation @ x + translation: only the centre moves (slide: "trivial to update")."""
+def transform_sphere(center: ArrayLike, radius: float, rotation: ArrayLike,
+                     translation: ArrayLike) -> tuple[np.ndarray, float]:
+    """The sphere after x -> rotation @ x + translation: only the centre moves (slide: "trivial to update").
+
+    Parameters
+    ----------
+    center : array_like, shape (d,)
+        The centre, finite.
+    radius : float
+        >= 0.
+    rotation : array_like, shape (d, d)
+        Orthonormal: ``R Rᵀ = I`` to 1e-9.
+    translation : array_like, shape (d,)
+        The translation t.
+
+    Returns
+    -------
+    center : numpy.ndarray, shape (d,), float64
+        ``rotation @ center + translation``.
+    radius : float
+        Unchanged.
+
+    Raises
+    ------
+    ValueError
+        For NaN or ±inf, wrong shapes, a negative radius, or a rotation that is not orthonormal.
+    TypeError
+        For non-numeric values.
+    """
     c = as_float_array(center, "center", ndim=1)
     r = as_nonnegative(radius, "radius")
     rotation, translation = as_rotation(rotation, translation, c.shape[0])

@@ -1,10 +1,19 @@
 """Broad phase: every method of the chapter's "Phase Large", one contract.
 
-``find_pairs(lo, hi, method)`` returns all pairs of overlapping closed boxes [lo_i, hi_i] (touching counts) as
-canonical pairs — int64 (k, 2), i < j per row, rows sorted, no duplicate — identical for every method in
-``BROAD_PHASES``; "brute" (the chapter's exhaustive search) is the oracle the others are tested against.
+``find_pairs(lo, hi, method)`` returns all pairs of overlapping closed boxes ``[lo_i, hi_i]`` (touching counts)
+as canonical pairs — an int64 array of shape (k, 2) with ``i < j`` in every row, rows in lexicographic order, no
+duplicate — identical for every method in ``BROAD_PHASES``; "brute" (the chapter's exhaustive search) is the
+oracle the others are tested against. ``sphere_pairs`` is the same for spheres (broad phase and exact test),
+``IncrementalSAP`` and ``DynamicAABBTree`` keep their structure between frames, and the kinematic culls drop
+candidate pairs that move apart.
 """
 from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any, Literal, overload
+
+import numpy as np
+from numpy.typing import ArrayLike
 
 from engine._validate import as_choice
 from engine.broadphase.aabb_tree import DynamicAABBTree, tree_pairs
@@ -37,7 +46,7 @@ __all__ = [
     "build_octree",
 ]
 
-_METHODS = {
+_METHODS: dict[str, Callable[..., Any]] = {
     "brute": brute_force_pairs,
     "sap": sap_pairs,
     "grid": grid_pairs,
@@ -45,23 +54,66 @@ _METHODS = {
     "tree": tree_pairs,
 }
 
-#: the names accepted by find_pairs (and sphere_pairs)
+#: the method names accepted by ``find_pairs`` and ``sphere_pairs``: "brute", "sap", "grid", "octree", "tree"
 BROAD_PHASES = tuple(_METHODS)
 
 
-def find_pairs(lo, hi, method: str = "sap", *, return_tests: bool = False, threads: int = 1):
-    """All pairs of overlapping closed boxes [lo_i, hi_i]; the same canonical pairs whatever the method.
+@overload
+def find_pairs(lo: ArrayLike, hi: ArrayLike, method: str = ..., *, return_tests: Literal[False] = ...,
+               threads: int = ...) -> np.ndarray: ...
+@overload
+def find_pairs(lo: ArrayLike, hi: ArrayLike, method: str = ..., *, return_tests: Literal[True],
+               threads: int = ...) -> tuple[np.ndarray, int]: ...
+def find_pairs(lo: ArrayLike, hi: ArrayLike, method: str = "sap", *, return_tests: bool = False,
+               threads: int = 1) -> np.ndarray | tuple[np.ndarray, int]:
+    """All pairs of overlapping closed boxes ``[lo_i, hi_i]``; the same canonical pairs whatever the method.
 
-    lo, hi: (n, d) with d in {1, 2, 3} and lo <= hi. method: one of ``BROAD_PHASES`` — "brute" (exhaustive
-    (n² − n)/2 tests, the oracle), "sap" (sweep-and-prune), "grid" (uniform grid), "octree" (loose octree),
-    "tree" (AABB tree built top-down). Returns int64 (k, 2), i < j per row, rows sorted, no duplicate.
+    Parameters
+    ----------
+    lo, hi : array_like, shape (n, d)
+        The boxes' lower and upper corners, d = 1, 2 or 3, ``lo <= hi``; finite, converted to float64. Boxes are
+        closed: two boxes that touch overlap.
+    method : str, optional
+        One of ``BROAD_PHASES``: "brute" (the exhaustive (n² − n)/2 tests, the oracle), "sap"
+        (sweep-and-prune, the default), "grid" (uniform grid), "octree" (loose octree), "tree" (AABB tree built
+        top-down).
+    return_tests : bool, optional
+        Also return how many box–box overlap tests between objects the method made: (n² − n)/2 for brute
+        force, the deterministic measure of how much each method prunes.
+    threads : int, optional
+        How many threads may share the work, 1 to 256 (each method splits its sweep or its queries into
+        contiguous ranges, one per thread, when there is enough work); the answer is the same, bit for bit.
 
-    With ``return_tests=True`` returns ``(pairs, tests)``: ``tests`` counts the box–box overlap tests between
-    objects that the method made — (n² − n)/2 for brute force — the deterministic measure of how much each
-    method prunes (the CI gate bounds it).
+    Returns
+    -------
+    pairs : numpy.ndarray, shape (k, 2), int64
+        The overlapping pairs (i, j) of row indices: ``i < j`` in every row, rows sorted, no duplicate.
+    tests : int
+        Only with ``return_tests=True``: the number of box–box tests made.
 
-    ``threads`` (1 to 256): how many threads may share the work (each method splits its sweep or its queries
-    into contiguous ranges, one per thread, when there is enough work); the answer is the same, bit for bit.
+    Raises
+    ------
+    ValueError
+        When ``lo`` or ``hi`` holds NaN, ±inf or a magnitude above 1e150, when their shapes differ or d is not
+        1, 2 or 3, when ``lo > hi`` somewhere (the message names the first such entry), when ``method`` is
+        unknown, or when ``threads`` is out of range.
+    TypeError
+        When ``lo`` or ``hi`` is not a real numeric array, ``method`` is not a string or ``threads`` not an int.
+
+    See Also
+    --------
+    sphere_pairs : the same contract for spheres.
+    IncrementalSAP, DynamicAABBTree : broad phases that keep their structure between frames.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from engine.broadphase import find_pairs
+    >>> lo = np.array([[0.0, 0.0], [1.0, 0.0], [5.0, 5.0]])
+    >>> find_pairs(lo, lo + 1.0)  # boxes 0 and 1 touch along x = 1
+    array([[0, 1]])
+    >>> find_pairs(lo, lo + 1.0, "brute", return_tests=True)
+    (array([[0, 1]]), 3)
     """
     as_choice(method, "method", _METHODS)
     return _METHODS[method](lo, hi, return_tests=return_tests, threads=threads)

@@ -17,7 +17,10 @@ There are no tree rotations: a long sequence of moves can unbalance the tree; ``
 """
 from __future__ import annotations
 
+from typing import Literal, overload
+
 import numpy as np
+from numpy.typing import ArrayLike
 
 import engine.broadphase.pairs as pair_buffer
 from engine._config import njit
@@ -294,14 +297,50 @@ def _query_box_kernel(root, node_lo, node_hi, child1, child2, obj_of, obj_lo, ob
 
 
 class DynamicAABBTree:
-    """A dynamic AABB tree over objects with ids, as Box2D/Bullet/FCL use (see the module docstring).
+    """A dynamic AABB tree over objects with ids, as Box2D, Bullet and FCL use (see the module's description).
 
-    ``DynamicAABBTree(dim=3, margin=None)``; ``insert(lo_i, hi_i) -> id``; ``remove(id)``;
-    ``move(id, lo_i, hi_i) -> bool`` (True when the leaf had to be re-inserted); ``update(lo, hi) -> pairs``
-    moves every live object (rows in ascending id order); ``pairs()``; ``query(lo_q, hi_q) -> ids``;
-    ``rebuild()``; ``DynamicAABBTree.from_boxes(lo, hi)`` builds in batch. Boxes are (d,) per object.
-    ``margin``: how much leaf boxes are fattened on each side — an absolute length, or None for 10 % of the
-    box's largest side. Pairs are canonical pairs of ids of exactly overlapping (closed) boxes.
+    ``insert(lo_i, hi_i) -> id``; ``remove(id)``; ``move(id, lo_i, hi_i) -> bool`` (True when the leaf had to
+    be re-inserted); ``update(lo, hi) -> pairs`` moves every live object (rows in ascending id order);
+    ``pairs()``; ``query(lo_q, hi_q) -> ids``; ``rebuild()``; ``DynamicAABBTree.from_boxes(lo, hi)`` builds in
+    batch. Each leaf stores its object's box fattened by ``margin``, so small moves leave the tree unchanged;
+    pairs and queries compare the exact boxes, so they are the overlapping closed boxes whatever the margin.
+
+    Parameters
+    ----------
+    dim : int, optional
+        The dimension d of the boxes: 1, 2 or 3 (default 3).
+    margin : float or None, optional
+        How much a leaf's box is fattened on each side: an absolute length >= 0, or None (the default) for 10 %
+        of the largest side of the object's box when its leaf is inserted.
+
+    Attributes
+    ----------
+    margin : float or None
+        As given.
+
+    Raises
+    ------
+    ValueError
+        When ``dim`` is not 1, 2 or 3, or ``margin`` is negative or not finite.
+    TypeError
+        When ``margin`` is not a real number.
+
+    See Also
+    --------
+    tree_pairs : the same tree built in batch for a one-off query of all pairs.
+
+    Examples
+    --------
+    >>> from engine.broadphase import DynamicAABBTree
+    >>> tree = DynamicAABBTree(dim=2)
+    >>> a = tree.insert([0.0, 0.0], [1.0, 1.0])
+    >>> b = tree.insert([0.5, 0.5], [2.0, 2.0])
+    >>> tree.pairs()
+    array([[0, 1]])
+    >>> tree.move(b, [3.0, 3.0], [4.0, 4.0])  # left its fat box: its leaf is re-inserted
+    True
+    >>> tree.query([2.5, 2.5], [3.5, 3.5])
+    array([1])
     """
 
     def __init__(self, dim: int = 3, margin: float | None = None):
@@ -318,7 +357,7 @@ class DynamicAABBTree:
         self._root = -1
 
     # -- storage --------------------------------------------------------------------------------------
-    def _alloc_nodes(self, capacity):
+    def _alloc_nodes(self, capacity: int) -> None:
         self._node_lo = np.zeros((capacity, 3))
         self._node_hi = np.zeros((capacity, 3))
         self._parent = np.full(capacity, -1, dtype=np.int64)
@@ -333,7 +372,7 @@ class DynamicAABBTree:
             old = self._node_lo.shape[0]
             new = 2 * old
             for name in ("_node_lo", "_node_hi"):
-                grown = np.zeros((new, 3))
+                grown: np.ndarray = np.zeros((new, 3))
                 grown[:old] = getattr(self, name)
                 setattr(self, name, grown)
             for name, fill in (("_parent", -1), ("_child1", -1), ("_child2", -1), ("_height", 0), ("_obj_of", -1)):
@@ -351,7 +390,8 @@ class DynamicAABBTree:
         self._height[node] = 0
         self._free_nodes.append(node)
 
-    def _one_box(self, lo_i, hi_i, names=("lo_i", "hi_i")):
+    def _one_box(self, lo_i: ArrayLike, hi_i: ArrayLike,
+                 names: tuple[str, str] = ("lo_i", "hi_i")) -> tuple[np.ndarray, np.ndarray]:
         """The validated box [lo_i, hi_i] ((d,) each) padded to 3-D ((3,) each, unused axes [0, 0])."""
         lo_d, hi_d = as_one_box(lo_i, hi_i, self._d, names)
         lo3 = np.zeros(3)
@@ -360,10 +400,10 @@ class DynamicAABBTree:
         hi3[: self._d] = hi_d
         return lo3, hi3
 
-    def _check_id(self, obj_id) -> int:
+    def _check_id(self, obj_id: int) -> int:
         return as_live_id(obj_id, lambda i: 0 <= i < self._n_ids and self._obj_node[i] >= 0)
 
-    def _fat(self, lo3, hi3):
+    def _fat(self, lo3: np.ndarray, hi3: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         grow = np.zeros(3)  # along the tree's d axes only: the unused axes stay flat (cost = d-D perimeter)
         grow[: self._d] = 0.1 * float((hi3 - lo3).max()) if self.margin is None else self.margin
         fat_lo = lo3 - grow
@@ -397,9 +437,16 @@ class DynamicAABBTree:
     # -- public operations ----------------------------------------------------------------------------
     @property
     def dim(self) -> int:
+        """The dimension d of the boxes (1, 2 or 3)."""
         return self._d
 
     def __len__(self) -> int:
+        """The number of live objects.
+
+        Returns
+        -------
+        int
+        """
         return int(np.count_nonzero(self._obj_node[: self._n_ids] >= 0))
 
     @property
@@ -408,15 +455,38 @@ class DynamicAABBTree:
         return -1 if self._root == -1 else int(self._height[self._root])
 
     def ids(self) -> np.ndarray:
-        """The live ids, ascending, int64 (m,)."""
+        """The live ids.
+
+        Returns
+        -------
+        numpy.ndarray, shape (m,), int64
+            Ascending: the row order ``update`` expects.
+        """
         return np.flatnonzero(self._obj_node[: self._n_ids] >= 0).astype(np.int64)
 
-    def fat_box(self, obj_id) -> tuple[np.ndarray, np.ndarray]:
-        """The fattened box (fat_lo, fat_hi), (d,) each (copies), that object ``obj_id``'s leaf stores.
+    def fat_box(self, obj_id: int) -> tuple[np.ndarray, np.ndarray]:
+        """The fattened box that an object's leaf stores.
 
         It is the object's box grown on each side by ``margin`` (or, with ``margin=None``, by 10 % of the
         largest side of the box it had when its leaf was last inserted); ``move`` keeps the leaf while the
         object's box stays inside it.
+
+        Parameters
+        ----------
+        obj_id : int
+            The id of a live object.
+
+        Returns
+        -------
+        fat_lo, fat_hi : numpy.ndarray, shape (d,), float64
+            Copies of the leaf's corners.
+
+        Raises
+        ------
+        TypeError
+            When ``obj_id`` is not an int.
+        ValueError
+            When ``obj_id`` is not the id of a live object.
         """
         leaf = self._obj_node[self._check_id(obj_id)]
         return self._node_lo[leaf, : self._d].copy(), self._node_hi[leaf, : self._d].copy()
@@ -427,8 +497,12 @@ class DynamicAABBTree:
         Box2D's ``b2DynamicTree::GetAreaRatio``, with the cost that ``insert`` uses to choose a leaf's sibling (the
         sum of a box's sides: Box2D's perimeter, in 1-3 D). The expected cost of a query grows with it (the
         surface-area heuristic of Goldsmith and Salmon, 1987, which Box2D's insertion cost follows); the leaves'
-        share is fixed by the fat boxes, so two trees over the same leaves differ by their inner nodes. 0.0 for
-        an empty tree or a root box of zero size.
+        share is fixed by the fat boxes, so two trees over the same leaves differ by their inner nodes.
+
+        Returns
+        -------
+        float
+            >= 1 for a tree with a root box of positive size; 0.0 for an empty tree or a root box of zero size.
         """
         if self._root == -1:
             return 0.0
@@ -467,8 +541,26 @@ class DynamicAABBTree:
         return (self._node_lo[nodes, :d].copy(), self._node_hi[nodes, :d].copy(), np.array(depths, dtype=np.int64),
                 self._child1[nodes] == -1)
 
-    def insert(self, lo_i, hi_i) -> int:
-        """Insert the box [lo_i, hi_i] ((d,) each); returns the object's id (freed ids are reused)."""
+    def insert(self, lo_i: ArrayLike, hi_i: ArrayLike) -> int:
+        """Insert a box: its fat leaf descends along the cheapest branch (Box2D's perimeter cost).
+
+        Parameters
+        ----------
+        lo_i, hi_i : array_like, shape (d,)
+            The box's corners, ``lo_i <= hi_i``, finite.
+
+        Returns
+        -------
+        int
+            The object's id: a freed id if there is one, else the next unused one.
+
+        Raises
+        ------
+        ValueError
+            When the corners do not have shape (d,), are not finite, or ``lo_i > hi_i`` on some axis.
+        TypeError
+            For non-numeric corners.
+        """
         lo3, hi3 = self._one_box(lo_i, hi_i)
         if self._free_ids:
             obj_id = self._free_ids.pop()
@@ -485,14 +577,47 @@ class DynamicAABBTree:
         self._insert_node(obj_id)
         return obj_id
 
-    def remove(self, obj_id) -> None:
-        """Delete object ``obj_id``."""
+    def remove(self, obj_id: int) -> None:
+        """Delete an object; its leaf's sibling takes its parent's place, and its id may be reused.
+
+        Parameters
+        ----------
+        obj_id : int
+            The id of a live object.
+
+        Raises
+        ------
+        TypeError
+            When ``obj_id`` is not an int.
+        ValueError
+            When ``obj_id`` is not the id of a live object.
+        """
         obj_id = self._check_id(obj_id)
         self._remove_node(obj_id)
         self._free_ids.append(obj_id)
 
-    def move(self, obj_id, lo_i, hi_i) -> bool:
-        """Give object ``obj_id`` the box [lo_i, hi_i]; re-insert its leaf only if it left its fat box."""
+    def move(self, obj_id: int, lo_i: ArrayLike, hi_i: ArrayLike) -> bool:
+        """Give an object a new box; its leaf is re-inserted only if the box left the leaf's fat box.
+
+        Parameters
+        ----------
+        obj_id : int
+            The id of a live object.
+        lo_i, hi_i : array_like, shape (d,)
+            The new corners, ``lo_i <= hi_i``, finite.
+
+        Returns
+        -------
+        bool
+            True when the leaf was re-inserted (with a new fat box), False when the tree did not change.
+
+        Raises
+        ------
+        TypeError
+            When ``obj_id`` is not an int, or the corners are not numeric.
+        ValueError
+            When ``obj_id`` is not live, or the box is invalid (as ``insert``).
+        """
         obj_id = self._check_id(obj_id)
         lo3, hi3 = self._one_box(lo_i, hi_i)
         self._obj_lo[obj_id] = lo3
@@ -504,8 +629,26 @@ class DynamicAABBTree:
         self._insert_node(obj_id)
         return True
 
-    def update(self, lo, hi) -> np.ndarray:
-        """Move every live object (rows of lo, hi ((m, d)) in ascending id order) and return ``pairs()``."""
+    def update(self, lo: ArrayLike, hi: ArrayLike) -> np.ndarray:
+        """Move every live object (as ``move``), then return the pairs: one frame of a simulation.
+
+        Parameters
+        ----------
+        lo, hi : array_like, shape (m, d)
+            One row per live object, in ascending id order (the order of ``ids()``), ``lo <= hi``.
+
+        Returns
+        -------
+        numpy.ndarray, shape (k, 2), int64
+            ``pairs()`` after the moves.
+
+        Raises
+        ------
+        ValueError
+            For invalid boxes (as :func:`find_pairs`), or a shape other than (m, d). Nothing is moved then.
+        TypeError
+            For non-numeric boxes.
+        """
         lo_d, hi_d = as_boxes(lo, hi)
         ids = self.ids()
         if lo_d.shape != (ids.shape[0], self._d):
@@ -521,20 +664,49 @@ class DynamicAABBTree:
         return self.pairs()
 
     def pairs(self) -> np.ndarray:
-        """Canonical pairs of ids whose (exact, closed) boxes overlap."""
+        """The pairs of objects whose boxes overlap: each object descends the nodes its box overlaps.
+
+        Returns
+        -------
+        numpy.ndarray, shape (k, 2), int64
+            Canonical pairs of ids (``i < j`` in every row, rows sorted, no duplicate) whose exact closed boxes
+            overlap.
+        """
         if self._root == -1:
             return empty_pairs()
         return tree_leaf_pairs(self._root, self._node_lo, self._node_hi, self._child1, self._child2,
                                   self._obj_of, self._obj_lo, self._obj_hi, self._obj_node, self._n_ids)[0]
 
-    def query(self, lo_q, hi_q) -> np.ndarray:
-        """Ids (ascending, int64) of the objects whose exact box overlaps the box [lo_q, hi_q] ((d,) each)."""
+    def query(self, lo_q: ArrayLike, hi_q: ArrayLike) -> np.ndarray:
+        """The objects whose box overlaps a query box (Ericson 6.5: descend the nodes the query box overlaps).
+
+        Parameters
+        ----------
+        lo_q, hi_q : array_like, shape (d,)
+            The query box's corners, ``lo_q <= hi_q``, finite; closed, so touching counts.
+
+        Returns
+        -------
+        numpy.ndarray, shape (k,), int64
+            Ids, ascending, of the objects whose exact box overlaps the query box.
+
+        Raises
+        ------
+        ValueError
+            When the corners do not have shape (d,), are not finite, or ``lo_q > hi_q`` on some axis.
+        TypeError
+            For non-numeric corners.
+        """
         q_lo, q_hi = self._one_box(lo_q, hi_q, ("lo_q", "hi_q"))
         return _query_box_kernel(self._root, self._node_lo, self._node_hi, self._child1, self._child2,
                                  self._obj_of, self._obj_lo, self._obj_hi, q_lo, q_hi)
 
     def rebuild(self) -> None:
-        """Batch top-down rebuild of the whole tree from the live objects' fat boxes (restores balance)."""
+        """Rebuild the whole tree top-down from the live objects' fat boxes (restores balance).
+
+        The ids, the fat boxes and the pairs stay the same; only the inner nodes change (Ericson 6.2.1: split
+        at the midpoint of the centres along their widest axis).
+        """
         ids = self.ids()
         m = ids.shape[0]
         if m == 0:
@@ -546,7 +718,7 @@ class DynamicAABBTree:
             fat_hi[row] = self._node_hi[self._obj_node[obj_id]]
         self._build_from(ids, fat_lo, fat_hi)
 
-    def _build_from(self, ids, fat_lo, fat_hi) -> None:
+    def _build_from(self, ids: np.ndarray, fat_lo: np.ndarray, fat_hi: np.ndarray) -> None:
         m = ids.shape[0]
         self._alloc_nodes(max(16, 2 * m))
         leaf_of = np.empty(m, dtype=np.int64)
@@ -561,8 +733,26 @@ class DynamicAABBTree:
         self._free_nodes = list(range(self._node_lo.shape[0] - 1, int(n_nodes) - 1, -1))
 
     @classmethod
-    def from_boxes(cls, lo, hi, margin: float | None = None) -> DynamicAABBTree:
-        """A tree holding boxes lo, hi ((n, d)) with ids 0..n−1, built in batch (top-down)."""
+    def from_boxes(cls, lo: ArrayLike, hi: ArrayLike, margin: float | None = None) -> DynamicAABBTree:
+        """A tree holding the given boxes, built in batch (top-down) rather than by n insertions.
+
+        Parameters
+        ----------
+        lo, hi : array_like, shape (n, d)
+            The boxes, d = 1, 2 or 3, ``lo <= hi``; they get the ids 0..n−1.
+        margin : float or None, optional
+            As for the constructor.
+
+        Returns
+        -------
+        DynamicAABBTree
+            Of dimension d.
+
+        Raises
+        ------
+        ValueError, TypeError
+            For invalid boxes (as :func:`find_pairs`) or margin (as the constructor).
+        """
         lo_d, _ = as_boxes(lo, hi)
         tree = cls(dim=lo_d.shape[1], margin=margin)
         lo3, hi3 = as_boxes_3d(lo, hi)
@@ -584,7 +774,14 @@ class DynamicAABBTree:
         return tree
 
     def check_structure(self) -> None:
-        """Raise AssertionError unless parent/child links, heights and enclosing boxes are consistent."""
+        """Check the tree's invariants (a debugging aid; the properties call it after every operation).
+
+        Raises
+        ------
+        AssertionError
+            Unless the parent/child links, the heights and the enclosing boxes are consistent, every leaf's
+            fat box holds its object's box, and the leaves hold exactly the live objects.
+        """
         live = self.ids()
         if self._root == -1:
             assert live.size == 0
@@ -616,13 +813,39 @@ class DynamicAABBTree:
 MIN_NODES_PER_THREAD = 2048
 
 
-def tree_pairs(lo, hi, *, return_tests: bool = False, threads: int = 1):
-    """All pairs of overlapping closed boxes with an AABB tree built in batch (top-down, exact leaf boxes).
+@overload
+def tree_pairs(lo: ArrayLike, hi: ArrayLike, *, return_tests: Literal[False] = ...,
+               threads: int = ...) -> np.ndarray: ...
+@overload
+def tree_pairs(lo: ArrayLike, hi: ArrayLike, *, return_tests: Literal[True],
+               threads: int = ...) -> tuple[np.ndarray, int]: ...
+def tree_pairs(lo: ArrayLike, hi: ArrayLike, *, return_tests: bool = False,
+               threads: int = 1) -> np.ndarray | tuple[np.ndarray, int]:
+    """All pairs of overlapping closed boxes with an AABB tree built in batch: ``find_pairs(method="tree")``.
 
-    lo, hi: (n, d), d in {1, 2, 3}, lo <= hi. Returns canonical pairs, int64 (k, 2); with
-    ``return_tests=True``, ``(pairs, tests)`` where tests counts the box–box tests of the traversal (the object's
-    box against each node box visited; a leaf's box is its object's box). threads: how many threads may share the
-    queries (the same answer, bit for bit).
+    The tree is built top-down over the exact boxes (no margin), then every object descends it.
+
+    Parameters
+    ----------
+    lo, hi : array_like, shape (n, d)
+        The boxes' corners, d = 1, 2 or 3, ``lo <= hi``, finite (converted to float64).
+    return_tests : bool, optional
+        Also return the number of box–box tests of the traversal: an object's box against each node box
+        visited (a leaf's box is its object's box).
+    threads : int, optional
+        How many threads may share the queries, 1 to 256 (the same answer, bit for bit).
+
+    Returns
+    -------
+    pairs : numpy.ndarray, shape (k, 2), int64
+        Canonical pairs: ``i < j`` in every row, rows sorted, no duplicate.
+    tests : int
+        Only with ``return_tests=True``.
+
+    Raises
+    ------
+    ValueError, TypeError
+        For invalid boxes or ``threads``, as :func:`find_pairs`.
     """
     threads = as_threads(threads)
     lo3, hi3 = as_boxes_3d(lo, hi)

@@ -6,7 +6,10 @@ like Jolt's ``BroadPhaseBruteForce`` ("can be used as a reference implementation
 """
 from __future__ import annotations
 
+from typing import Literal, overload
+
 import numpy as np
+from numpy.typing import ArrayLike
 
 import engine.broadphase.pairs as pair_buffer
 from engine._config import njit
@@ -44,12 +47,36 @@ def _brute_force_kernel(lo, hi, first, last):
 MIN_TESTS_PER_THREAD = 1 << 20
 
 
-def brute_force_pairs(lo, hi, *, return_tests: bool = False, threads: int = 1):
-    """All pairs of overlapping closed boxes by the exhaustive (n² − n)/2 test.
+@overload
+def brute_force_pairs(lo: ArrayLike, hi: ArrayLike, *, return_tests: Literal[False] = ...,
+                      threads: int = ...) -> np.ndarray: ...
+@overload
+def brute_force_pairs(lo: ArrayLike, hi: ArrayLike, *, return_tests: Literal[True],
+                      threads: int = ...) -> tuple[np.ndarray, int]: ...
+def brute_force_pairs(lo: ArrayLike, hi: ArrayLike, *, return_tests: bool = False,
+                      threads: int = 1) -> np.ndarray | tuple[np.ndarray, int]:
+    """All pairs of overlapping closed boxes by the exhaustive (n² − n)/2 tests: ``find_pairs(method="brute")``.
 
-    lo, hi: (n, d) with d in {1, 2, 3} and lo <= hi. Returns canonical pairs, int64 (k, 2); with
-    ``return_tests=True``, ``(pairs, tests)`` where tests counts the box–box overlap tests made. threads: how
-    many threads may share the rows (the same answer, bit for bit).
+    Parameters
+    ----------
+    lo, hi : array_like, shape (n, d)
+        The boxes' corners, d = 1, 2 or 3, ``lo <= hi``, finite (converted to float64).
+    return_tests : bool, optional
+        Also return the number of box–box tests made, always (n² − n)/2.
+    threads : int, optional
+        How many threads may share the rows, 1 to 256 (the same answer, bit for bit).
+
+    Returns
+    -------
+    pairs : numpy.ndarray, shape (k, 2), int64
+        Canonical pairs: ``i < j`` in every row, rows sorted, no duplicate.
+    tests : int
+        Only with ``return_tests=True``.
+
+    Raises
+    ------
+    ValueError, TypeError
+        For invalid boxes or ``threads``, as :func:`find_pairs`.
     """
     threads = as_threads(threads)
     lo3, hi3 = as_boxes_3d(lo, hi)

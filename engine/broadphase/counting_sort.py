@@ -62,9 +62,10 @@ def radix_split(n_cells):
 def sort_within_buckets(keys, bucket_start, shift, n_cells, start):
     """Second pass: the final slot of each entry, and the first slot of each cell.
 
-    keys: cell numbers of the entries already grouped by bucket (bucket b holds entries bucket_start[b] ..
-    bucket_start[b + 1] - 1); writes start[c] for every cell c < n_cells; returns dest (len(keys),) int64 with
-    dest[t] the sorted position of entry t (stable within a cell).
+    keys ((e,) int64): the cell numbers of the entries, already grouped by bucket (bucket b holds the entries
+    bucket_start[b] .. bucket_start[b + 1] − 1, bucket_start (n_buckets + 1,) int64); writes start[c] (start
+    int64, at least (n_cells,)) for every cell c < n_cells; returns dest (e,) int64 with dest[t] the sorted
+    position of entry t (stable within a cell).
     """
     dest = np.empty(keys.shape[0], dtype=np.int64)
     width = 1 << shift

@@ -6,7 +6,7 @@ computation.
 
 - :func:`cull_separating_sphere_pairs`: a candidate pair of spheres is dropped when it does not overlap and its
   relative velocity points away, (v_j − v_i)·(c_j − c_i) > 0. With constant velocities over the step the squared
-  distance |p + v t|² = |p|² + 2 (p·v) t + |v|² t² then grows for all t >= 0, so the pair cannot collide
+  distance ``|p + v t|² = |p|² + 2 (p·v) t + |v|² t²`` then grows for all t >= 0, so the pair cannot collide
   during the whole step (Ericson, *Real-Time Collision Detection* 5.5.8: moving sphere against sphere).
 - :func:`cull_separating_box_pairs`: a pair of axis-aligned boxes is dropped when on some axis the boxes are
   apart and their relative velocity along that axis widens (or keeps) the gap — the gap then never closes.
@@ -18,6 +18,7 @@ computation.
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from engine._config import njit
 from engine._validate import as_float_array
@@ -66,15 +67,40 @@ def _box_keep_kernel(pairs, lo, hi, v):
     return keep
 
 
-def _velocities(velocities, n, d):
+def _velocities(velocities: ArrayLike, n: int, d: int) -> np.ndarray:
     return as_float_array(velocities, "velocities", shape=(n, d))
 
 
-def cull_separating_sphere_pairs(pairs, centers, radii, velocities) -> np.ndarray:
-    """The candidate pairs that may still collide: those not both apart and moving apart.
+def cull_separating_sphere_pairs(pairs: ArrayLike, centers: ArrayLike, radii: ArrayLike,
+                                 velocities: ArrayLike) -> np.ndarray:
+    """The candidate sphere pairs that may still collide: those not both apart and moving apart.
 
-    pairs: (m, 2) indices; centers, velocities: (n, d); radii: scalar or (n,). Returns canonical pairs
-    (a subset of ``pairs``), int64 (k, 2).
+    A pair (i, j) is dropped when the spheres do not overlap and (v_j − v_i)·(c_j − c_i) > 0: with constant
+    velocities their distance then grows for all t >= 0 (the chapter's kinematic method).
+
+    Parameters
+    ----------
+    pairs : array_like of int, shape (m, 2)
+        Candidate pairs of indices in [0, n), in any order (they are put in canonical form first).
+    centers : array_like, shape (n, d)
+        The spheres' centres, finite.
+    radii : float or array_like, shape (n,)
+        The radii, >= 0; a scalar for equal spheres.
+    velocities : array_like, shape (n, d)
+        The spheres' velocities, finite.
+
+    Returns
+    -------
+    numpy.ndarray, shape (k, 2), int64
+        The canonical pairs that are kept: a subset of ``pairs``.
+
+    Raises
+    ------
+    ValueError
+        For NaN or ±inf, wrong shapes, a negative radius, or an index of ``pairs`` outside [0, n) (each
+        message names the argument and the first offending entry).
+    TypeError
+        For non-numeric arrays, or ``pairs`` that are not integers.
     """
     c = as_float_array(centers, "centers", ndim=2)
     n, d = c.shape
@@ -92,11 +118,33 @@ def cull_separating_sphere_pairs(pairs, centers, radii, velocities) -> np.ndarra
     return p[_sphere_keep_kernel(p, c, r, v)]
 
 
-def cull_separating_box_pairs(pairs, lo, hi, velocities) -> np.ndarray:
-    """The candidate pairs of boxes [lo_i, hi_i] ((n, d)) moving with velocities (n, d) that may still collide.
+def cull_separating_box_pairs(pairs: ArrayLike, lo: ArrayLike, hi: ArrayLike, velocities: ArrayLike) -> np.ndarray:
+    """The candidate pairs of moving axis-aligned boxes that may still collide.
 
     A pair is dropped when, along some axis, the boxes are apart and their relative velocity does not close the
-    gap. Returns canonical pairs (a subset of ``pairs``), int64 (k, 2).
+    gap (it then never closes, with constant velocities).
+
+    Parameters
+    ----------
+    pairs : array_like of int, shape (m, 2)
+        Candidate pairs of indices in [0, n), in any order.
+    lo, hi : array_like, shape (n, d)
+        The boxes, d = 1, 2 or 3, ``lo <= hi``, finite.
+    velocities : array_like, shape (n, d)
+        The boxes' velocities, finite.
+
+    Returns
+    -------
+    numpy.ndarray, shape (k, 2), int64
+        The canonical pairs that are kept: a subset of ``pairs``.
+
+    Raises
+    ------
+    ValueError
+        For invalid boxes (as :func:`find_pairs`), wrong shapes, NaN or ±inf velocities, or an index of
+        ``pairs`` outside [0, n).
+    TypeError
+        For non-numeric arrays, or ``pairs`` that are not integers.
     """
     lo3, hi3 = as_boxes_3d(lo, hi)
     n = lo3.shape[0]
@@ -107,8 +155,30 @@ def cull_separating_box_pairs(pairs, lo, hi, velocities) -> np.ndarray:
     return p[_box_keep_kernel(p, lo3, hi3, v)]
 
 
-def front_faces(normals, velocity) -> np.ndarray:
-    """Mask (m,) of the faces to keep: outward normals (m, d) with n·v >= 0 for the relative velocity v (d,)."""
+def front_faces(normals: ArrayLike, velocity: ArrayLike) -> np.ndarray:
+    """The faces of a moving convex polyhedron to keep: those not turned away from its motion.
+
+    The first contact point of a translating convex polyhedron always lies on a kept face.
+
+    Parameters
+    ----------
+    normals : array_like, shape (m, d)
+        The faces' outward normals (any length), finite.
+    velocity : array_like, shape (d,)
+        The polyhedron's velocity relative to the other object.
+
+    Returns
+    -------
+    numpy.ndarray, shape (m,), bool
+        True for the faces with n·v >= 0 (kept); False for those turned away (culled).
+
+    Raises
+    ------
+    ValueError
+        When ``normals`` is not 2-D, ``velocity`` does not have shape (d,), or either is not finite.
+    TypeError
+        For non-numeric arrays.
+    """
     nrm = as_float_array(normals, "normals", ndim=2)
     v = as_float_array(velocity, "velocity", shape=(nrm.shape[1],))
     return nrm @ v >= 0.0

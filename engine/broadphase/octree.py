@@ -15,7 +15,10 @@ the leaves it reaches that have a larger index, so every pair is found once.
 """
 from __future__ import annotations
 
+from typing import Literal, overload
+
 import numpy as np
+from numpy.typing import ArrayLike
 
 import engine.broadphase.pairs as pair_buffer
 from engine._config import njit
@@ -137,12 +140,35 @@ def _octree_pairs_kernel(lo, hi, perm, node_lo, node_hi, first, last, child0, n_
     return out, count, tests
 
 
-def build_octree(lo, hi, leaf_size: int = 8):
-    """The loose octree of boxes lo, hi ((n, d)) as index arrays.
+def build_octree(lo: ArrayLike, hi: ArrayLike, leaf_size: int = 8) -> tuple[np.ndarray, ...]:
+    """The loose octree of the given boxes, as index arrays (what a drawing of the tree needs).
 
-    Returns (perm, node_lo, node_hi, first, last, child0, n_children): node k's loose bounds are node_lo[k],
-    node_hi[k] ((3,)); a leaf (n_children[k] == 0, child0[k] == −1) holds objects perm[first[k]:last[k]]; an
-    inner node's children are nodes child0[k] .. child0[k] + n_children[k] − 1; node 0 is the root.
+    Parameters
+    ----------
+    lo, hi : array_like, shape (n, d)
+        The boxes, n >= 1, d = 1, 2 or 3, ``lo <= hi``, finite.
+    leaf_size : int, optional
+        A node holding more than this many objects is cut in eight octants; >= 1.
+
+    Returns
+    -------
+    perm : numpy.ndarray, shape (n,), int64
+        The objects in leaf order: leaf k holds the objects ``perm[first[k]:last[k]]``.
+    node_lo, node_hi : numpy.ndarray, shape (m, 3), float64
+        Each node's loose bounds: the union of the boxes of the objects below it (1-D and 2-D boxes are padded
+        with zero-width axes).
+    first, last : numpy.ndarray, shape (m,), int64
+        The range of ``perm`` below each node.
+    child0, n_children : numpy.ndarray, shape (m,), int64
+        An inner node's children are the nodes ``child0[k] .. child0[k] + n_children[k] − 1``; a leaf has
+        ``n_children[k] == 0`` and ``child0[k] == −1``. Node 0 is the root.
+
+    Raises
+    ------
+    ValueError
+        For invalid boxes (as :func:`find_pairs`), no box at all, or ``leaf_size`` < 1 or not an int.
+    TypeError
+        For non-numeric boxes.
     """
     if isinstance(leaf_size, bool) or not isinstance(leaf_size, int | np.integer) or leaf_size < 1:
         raise ValueError(f"leaf_size must be an int >= 1, got {leaf_size!r}")
@@ -156,13 +182,44 @@ def build_octree(lo, hi, leaf_size: int = 8):
 MIN_OBJECTS_PER_THREAD = 2048
 
 
-def octree_pairs(lo, hi, leaf_size: int = 8, *, return_tests: bool = False, threads: int = 1):
-    """All pairs of overlapping closed boxes with a loose octree (see the module docstring).
+@overload
+def octree_pairs(lo: ArrayLike, hi: ArrayLike, leaf_size: int = ..., *, return_tests: Literal[False] = ...,
+                 threads: int = ...) -> np.ndarray: ...
+@overload
+def octree_pairs(lo: ArrayLike, hi: ArrayLike, leaf_size: int = ..., *, return_tests: Literal[True],
+                 threads: int = ...) -> tuple[np.ndarray, int]: ...
+def octree_pairs(lo: ArrayLike, hi: ArrayLike, leaf_size: int = 8, *, return_tests: bool = False,
+                 threads: int = 1) -> np.ndarray | tuple[np.ndarray, int]:
+    """All pairs of overlapping closed boxes with a loose octree: ``find_pairs(method="octree")``.
 
-    lo, hi: (n, d), d in {1, 2, 3}, lo <= hi; leaf_size: objects per leaf before a cut. Returns canonical
-    pairs, int64 (k, 2); with ``return_tests=True``, ``(pairs, tests)`` where tests counts the box–box tests
-    of the traversal: the object against each node's loose bounds, and against the objects of the leaves.
-    threads: how many threads may share the queries (the same answer, bit for bit).
+    Each object lives in the leaf of its centre and descends the nodes whose loose bounds overlap its box (see
+    the module's description).
+
+    Parameters
+    ----------
+    lo, hi : array_like, shape (n, d)
+        The boxes' corners, d = 1, 2 or 3, ``lo <= hi``, finite (converted to float64).
+    leaf_size : int, optional
+        Objects per leaf before a cut, >= 1.
+    return_tests : bool, optional
+        Also return the number of box–box tests of the traversal: the object against each node's loose bounds,
+        and against the objects of the leaves it reaches.
+    threads : int, optional
+        How many threads may share the queries, 1 to 256 (the same answer, bit for bit).
+
+    Returns
+    -------
+    pairs : numpy.ndarray, shape (k, 2), int64
+        Canonical pairs: ``i < j`` in every row, rows sorted, no duplicate.
+    tests : int
+        Only with ``return_tests=True``.
+
+    Raises
+    ------
+    ValueError
+        For invalid boxes or ``threads`` (as :func:`find_pairs`), or ``leaf_size`` < 1 or not an int.
+    TypeError
+        For non-numeric boxes.
     """
     threads = as_threads(threads)
     if isinstance(leaf_size, bool) or not isinstance(leaf_size, int | np.integer) or leaf_size < 1:

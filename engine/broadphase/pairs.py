@@ -19,9 +19,12 @@ axis (which every box then overlaps), so each kernel is written once, in 3-D.
 from __future__ import annotations
 
 import threading
+from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
+from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from engine._config import njit
 from engine._validate import as_count, as_float_array
@@ -41,8 +44,9 @@ def empty_pairs() -> np.ndarray:
     return np.zeros((0, 2), dtype=np.int64)
 
 
-def with_tests(pairs: np.ndarray, tests: int, return_tests: bool):
-    """What a broad phase returns: ``pairs``, or ``(pairs, tests)`` when the caller asked for the work count."""
+def with_tests(pairs: np.ndarray, tests: int, return_tests: bool) -> Any:
+    """What a broad phase returns: ``pairs`` ((k, 2) int64), or ``(pairs, tests)`` when the caller asked for the
+    work count (``tests`` as a Python int)."""
     return (pairs, int(tests)) if return_tests else pairs
 
 
@@ -109,11 +113,39 @@ def canonicalise_pairs(candidates, count, n):
     return out[:rows].copy()
 
 
-def canonical_pairs(pairs, n: int | None = None) -> np.ndarray:
-    """Put index pairs in canonical form: int64 (k, 2), i < j per row, rows sorted, no duplicates.
+def canonical_pairs(pairs: ArrayLike, n: int | None = None) -> np.ndarray:
+    """Put index pairs in canonical form: int64 (k, 2), ``i < j`` in every row, rows sorted, no duplicate.
 
-    ``pairs`` is any integer array of shape (m, 2); rows (i, j) and (j, i) are the same pair and rows (i, i)
-    are dropped. ``n`` (optional) is the number of objects; indices must lie in [0, n).
+    Rows (i, j) and (j, i) are the same pair; rows (i, i) are dropped. The sort is a radix sort on one integer
+    key per pair, O(m).
+
+    Parameters
+    ----------
+    pairs : array_like of int, shape (m, 2)
+        Index pairs in any order, with repeats allowed; an empty array of any shape (even float, as
+        ``np.array([])``) means no pairs.
+    n : int, optional
+        The number of objects; every index must then lie in [0, n). By default, one more than the largest index.
+
+    Returns
+    -------
+    numpy.ndarray, shape (k, 2), int64
+        A new array; never a view of ``pairs``.
+
+    Raises
+    ------
+    TypeError
+        When ``pairs`` is not an integer array (and not empty), or ``n`` is not an int.
+    ValueError
+        When ``pairs`` does not have shape (m, 2), holds a negative index, or an index >= ``n`` (the message
+        names the first such row), or when ``n < 0``.
+
+    Examples
+    --------
+    >>> from engine.broadphase import canonical_pairs
+    >>> canonical_pairs([[3, 1], [0, 2], [1, 3], [2, 2]])
+    array([[0, 2],
+           [1, 3]])
     """
     if n is not None:
         n = as_count(n, "n", 0)
@@ -142,8 +174,12 @@ def canonical_pairs(pairs, n: int | None = None) -> np.ndarray:
     return canonicalise_pairs(arr, arr.shape[0], int(n))
 
 
-def as_boxes(lo, hi) -> tuple[np.ndarray, np.ndarray]:
-    """Validate axis-aligned boxes [lo_i, hi_i]: float64 copies of shape (n, d), d in {1, 2, 3}, lo <= hi."""
+def as_boxes(lo: ArrayLike | None, hi: ArrayLike | None) -> tuple[np.ndarray, np.ndarray]:
+    """Validate axis-aligned boxes [lo_i, hi_i]: float64 copies of shape (n, d), d in {1, 2, 3}, lo <= hi.
+
+    ValueError (naming ``lo``/``hi`` and the first offending entry) for NaN, inf, mismatched shapes, another d
+    or lo > hi; TypeError for non-numeric arrays (None included).
+    """
     lo_arr = as_float_array(lo, "lo", ndim=2)
     hi_arr = as_float_array(hi, "hi", ndim=2)
     if lo_arr.shape != hi_arr.shape:
@@ -157,7 +193,8 @@ def as_boxes(lo, hi) -> tuple[np.ndarray, np.ndarray]:
     return lo_arr, hi_arr
 
 
-def as_one_box(lo_i, hi_i, d: int, names: tuple[str, str] = ("lo_i", "hi_i")) -> tuple[np.ndarray, np.ndarray]:
+def as_one_box(lo_i: ArrayLike, hi_i: ArrayLike, d: int,
+               names: tuple[str, str] = ("lo_i", "hi_i")) -> tuple[np.ndarray, np.ndarray]:
     """Validate one box [lo_i, hi_i]: float64 copies of shape (d,) each, lo_i <= hi_i; ``names`` are the
     argument names the errors quote."""
     lo_name, hi_name = names
@@ -171,7 +208,7 @@ def as_one_box(lo_i, hi_i, d: int, names: tuple[str, str] = ("lo_i", "hi_i")) ->
     return lo_arr, hi_arr
 
 
-def as_live_id(obj_id, is_live) -> int:
+def as_live_id(obj_id: Any, is_live: Callable[[int], bool]) -> int:
     """``obj_id`` as an int after checking it: TypeError unless an int, ValueError unless ``is_live(obj_id)``
     (the id of a live object of an incremental broad phase)."""
     if isinstance(obj_id, bool) or not isinstance(obj_id, int | np.integer):
@@ -181,8 +218,9 @@ def as_live_id(obj_id, is_live) -> int:
     return int(obj_id)
 
 
-def as_boxes_3d(lo, hi) -> tuple[np.ndarray, np.ndarray]:
-    """Validated boxes padded to 3-D: (n, 3) float64 lo and hi; padded axes are [0, 0], overlapped by all."""
+def as_boxes_3d(lo: ArrayLike, hi: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+    """Validated boxes (as :func:`as_boxes`) padded to 3-D: (n, 3) float64 lo and hi; the padded axes are
+    [0, 0], which every box overlaps, so the pairs are those of the d-D boxes."""
     lo_arr, hi_arr = as_boxes(lo, hi)
     d = lo_arr.shape[1]
     if d == 3:
@@ -217,12 +255,12 @@ def work_pair_buffer(rows: int) -> np.ndarray:
     return buf
 
 
-def as_threads(threads) -> int:
+def as_threads(threads: Any) -> int:
     """The checked ``threads`` argument of a broad phase: an int in [1, MAX_THREADS]."""
     return as_count(threads, "threads", minimum=1, maximum=MAX_THREADS)
 
 
-def split_work(work, threads: int, min_work: int) -> list[tuple[int, int]]:
+def split_work(work: np.ndarray, threads: int, min_work: int) -> list[tuple[int, int]]:
     """Cut the items 0..m−1, whose cumulative work is ``work`` ((m + 1,) non-decreasing, work[0] = 0), into at
     most ``threads`` contiguous ranges (first, last) of about equal work, each of at least ``min_work`` (one
     range when there is too little work to share)."""
@@ -235,7 +273,8 @@ def split_work(work, threads: int, min_work: int) -> list[tuple[int, int]]:
     return list(zip(bounds[:-1], bounds[1:]))
 
 
-def run_split(sweep, ranges, n: int, extra=None):
+def run_split(sweep: Callable[[int, int], tuple[np.ndarray, int, int]], ranges: list[tuple[int, int]], n: int,
+              extra: tuple[np.ndarray, int, int] | None = None) -> tuple[np.ndarray, int]:
     """Run ``sweep(first, last) -> (buffer, count, tests)`` over the item ranges, one thread per range (the
     kernels release the GIL), and merge them (and ``extra``, one more (buffer, count, tests) if given):
     ``(canonical pairs of the n objects, total tests)``. The parts hold disjoint sets of pairs, so the result is

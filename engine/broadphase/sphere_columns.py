@@ -179,9 +179,13 @@ def touching_at_scale(dx, dy, dz, s):
 
 @njit
 def sweep_columns(layout, keys, m, sx, sy, sz, sr, sid, col_ids, col_start, first, last, buf, count):
-    """The sweeps from home columns col_ids[first:last] (see the module docstring): records the touching pairs
-    (original sphere ids) in ``buf`` from row ``count`` on (the two-try record) and returns the new count,
-    which exceeds buf's rows when it was too small."""
+    """The sweeps from the home columns col_ids[first:last] (see the module's description).
+
+    The arguments are the layout, the outputs of ``sort_into_columns`` (keys (m + 1,), m, sx, sy, sz, sr (m,)
+    float64, sid (m,) int64) and of ``home_columns`` (col_ids (c,), col_start (c + 1,) int64). Records the
+    touching pairs (original sphere ids) in ``buf`` (int64 (capacity, 2)) from row ``count`` on (the two-try
+    record) and returns the new count, which exceeds ``capacity`` when buf was too small.
+    """
     bases = np.empty(5, dtype=np.int64)  # run 0: the home column itself; runs 1-4: its forward neighbours
     starts = np.empty(5, dtype=np.int64)
     reach = layout.reach

@@ -1,6 +1,6 @@
 """Sphere pairs: broad phase + exact sphere test, the fast path of the confined-gas simulation.
 
-``sphere_pairs(centers, radii)`` returns exactly the pairs with |c_i − c_j| <= r_i + r_j, computed as
+``sphere_pairs(centers, radii)`` returns exactly the pairs with ``|c_i − c_j| <= r_i + r_j``, computed as
 ``dx² + dy² + dz² <= (r_i + r_j)²`` in IEEE double precision (touching counts), together with
 ``|dx|, |dy|, |dz| <= r_i + r_j`` so that squares underflowing to zero (coordinates below ~1e-154) cannot make
 distinct points touch.
@@ -25,6 +25,7 @@ import threading
 from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
+from numpy.typing import ArrayLike, DTypeLike
 
 import engine.broadphase.pairs as pair_buffer
 from engine._config import njit
@@ -82,7 +83,7 @@ def _large_sphere_pairs(c, r, large, out, count):
 _WORK = threading.local()  # per-thread work arrays of the sphere grid, reused between calls
 
 
-def _work_array(name: str, size: int, dtype) -> np.ndarray:
+def _work_array(name: str, size: int, dtype: DTypeLike) -> np.ndarray:
     """A per-thread work array of at least ``size`` elements (grown by 25 %, never shrunk): reusing it saves
     the page faults of fresh allocations, a large share of the time at 1e5-1e6 spheres."""
     arr = getattr(_WORK, name, None)
@@ -92,7 +93,8 @@ def _work_array(name: str, size: int, dtype) -> np.ndarray:
     return arr
 
 
-def _sphere_grid_pairs(c, r, large, cell_size, equal_radii, threads):
+def _sphere_grid_pairs(c: np.ndarray, r: np.ndarray, large: np.ndarray, cell_size: float, equal_radii: bool,
+                       threads: int) -> np.ndarray:
     """Column broad phase + exact test of spheres (n, 3), radii (n,); canonical pairs (engine.broadphase.
     sphere_columns); ``threads`` > 1 sweeps disjoint ranges of columns on that many threads."""
     n = c.shape[0]
@@ -119,7 +121,7 @@ def _sphere_grid_pairs(c, r, large, cell_size, equal_radii, threads):
     return pair_buffer.canonicalise_pairs(buf, count, n)
 
 
-def _sweep_chunk(grid, chunk, buf):
+def _sweep_chunk(grid: tuple, chunk: tuple[int, int], buf: np.ndarray) -> tuple[np.ndarray, int]:
     """The sweeps from the home columns chunk = (first, last) of grid; returns (buffer, pair count), with a
     buffer grown to the count and swept again when the one given was too small."""
     count = sweep_columns(*grid, chunk[0], chunk[1], buf, 0)
@@ -148,7 +150,7 @@ def _all_within(a, limit):
     return True
 
 
-def _as_centres(centers) -> np.ndarray:
+def _as_centres(centers: ArrayLike) -> np.ndarray:
     """The checked centres: a caller's C-contiguous float64 (n, 3) array of finite values is used as it is (no
     kernel writes to it), anything else gets as_float_array's copy and checks (and its error messages)."""
     if (isinstance(centers, np.ndarray) and centers.dtype == np.float64 and centers.ndim == 2
@@ -157,7 +159,7 @@ def _as_centres(centers) -> np.ndarray:
     return as_float_array(centers, "centers", ndim=2)
 
 
-def _as_spheres(centers, radii):
+def _as_spheres(centers: ArrayLike, radii: ArrayLike) -> tuple[np.ndarray, np.ndarray, bool]:
     c = _as_centres(centers)
     if c.shape[1] not in (1, 2, 3):
         raise ValueError(f"centers must have shape (n, d) with d = 1, 2 or 3, got {c.shape}")
@@ -201,12 +203,49 @@ def _scene_stats(c, r, large):
     return scale + r_all, r_small, spacing
 
 
-def sphere_pairs(centers, radii, method: str = "grid", *, threads: int = 1) -> np.ndarray:
-    """All pairs of spheres with |c_i − c_j| <= r_i + r_j (touching counts), broad phase + exact test.
+def sphere_pairs(centers: ArrayLike, radii: ArrayLike, method: str = "grid", *, threads: int = 1) -> np.ndarray:
+    """All pairs of spheres with ``|c_i − c_j| <= r_i + r_j`` (touching counts): broad phase, then the exact test.
 
-    centers: (n, d), d in {1, 2, 3}; radii: a scalar or (n,), >= 0. method: "grid" (default, the fastest) or
-    any name of ``BROAD_PHASES`` (run on the spheres' bounding boxes). threads: how many threads may share the
-    work (1 to 256; the answer is the same, bit for bit). Returns canonical pairs, int64 (k, 2).
+    The test is ``dx² + dy² + dz² <= (r_i + r_j)²`` in IEEE double precision (made on rescaled values when the
+    squares would underflow), so the pairs are exactly those of the brute-force test, whatever the method.
+
+    Parameters
+    ----------
+    centers : array_like, shape (n, d)
+        The centres, d = 1, 2 or 3, finite (converted to float64; a C-contiguous float64 (n, 3) array is read
+        without a copy and never written).
+    radii : float or array_like, shape (n,)
+        The radii, >= 0; a scalar for equal spheres.
+    method : str, optional
+        "grid" (the default and the fastest: sorted columns of a uniform grid specialised to spheres), or any
+        other name of ``BROAD_PHASES``, run on the spheres' bounding boxes.
+    threads : int, optional
+        How many threads may share the work, 1 to 256 (the same answer, bit for bit).
+
+    Returns
+    -------
+    numpy.ndarray, shape (k, 2), int64
+        Canonical pairs: ``i < j`` in every row, rows sorted, no duplicate.
+
+    Raises
+    ------
+    ValueError
+        For NaN, ±inf or magnitudes above 1e150, a shape other than (n, d) with d in {1, 2, 3} for ``centers``
+        or (n,) for ``radii``, a negative radius (the message names its index), an unknown ``method`` or
+        ``threads`` out of range.
+    TypeError
+        For non-numeric arrays, a ``method`` that is not a string, or ``threads`` that is not an int.
+
+    See Also
+    --------
+    find_pairs : the same contract for boxes.
+    spheres_overlap_pairs : the exact test alone, on given candidate pairs.
+
+    Examples
+    --------
+    >>> from engine.broadphase import sphere_pairs
+    >>> sphere_pairs([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [3.0, 0.0, 0.0]], 0.5)  # spheres 0 and 1 touch
+    array([[0, 1]])
     """
     from engine.broadphase import BROAD_PHASES, find_pairs
 
@@ -232,8 +271,30 @@ def sphere_pairs(centers, radii, method: str = "grid", *, threads: int = 1) -> n
     return _exact_filter_kernel(candidates, c, r)
 
 
-def spheres_overlap_pairs(centers, radii, pairs) -> np.ndarray:
-    """Keep the rows of canonical ``pairs`` ((m, 2) int64) whose spheres touch (the exact narrow test)."""
+def spheres_overlap_pairs(centers: ArrayLike, radii: ArrayLike, pairs: ArrayLike) -> np.ndarray:
+    """The candidate pairs whose spheres touch or overlap: the exact test of :func:`sphere_pairs` alone.
+
+    Parameters
+    ----------
+    centers : array_like, shape (n, d)
+        The centres, d = 1, 2 or 3, finite.
+    radii : float or array_like, shape (n,)
+        The radii, >= 0; a scalar for equal spheres.
+    pairs : array_like of int, shape (m, 2)
+        Candidate pairs of indices in [0, n), in any order (they are put in canonical form first).
+
+    Returns
+    -------
+    numpy.ndarray, shape (k, 2), int64
+        The canonical pairs with ``|c_i − c_j| <= r_i + r_j``: a subset of ``pairs``.
+
+    Raises
+    ------
+    ValueError
+        For invalid spheres (as :func:`sphere_pairs`), or an index of ``pairs`` outside [0, n).
+    TypeError
+        For non-numeric arrays, or ``pairs`` that are not integers.
+    """
     c, r, _ = _as_spheres(centers, radii)
     candidates = canonical_pairs(pairs, n=c.shape[0])
     return _exact_filter_kernel(candidates, c, r)

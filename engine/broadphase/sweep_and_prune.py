@@ -19,8 +19,11 @@ list is nearly sorted and the repair is close to linear).
 from __future__ import annotations
 
 from collections import namedtuple
+from collections.abc import Sequence
+from typing import Literal, overload
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 import engine.broadphase.pairs as pair_buffer
 from engine._config import njit
@@ -92,7 +95,7 @@ def _sweep_intervals_kernel(begin, end):
     return pair_buffer.canonicalise_pairs(out, count, n)
 
 
-def _as_intervals(begin, end):
+def _as_intervals(begin: ArrayLike | None, end: ArrayLike | None) -> tuple[np.ndarray, np.ndarray]:
     b = as_float_array(begin, "begin", ndim=1)
     e = as_float_array(end, "end", ndim=1)
     if b.shape != e.shape:
@@ -104,10 +107,42 @@ def _as_intervals(begin, end):
     return b, e
 
 
-def sweep_intervals(begin, end) -> np.ndarray:
+def sweep_intervals(begin: ArrayLike, end: ArrayLike) -> np.ndarray:
     """The chapter's 1-D sweep-and-prune: all pairs (i, j) whose closed intervals [b_i, e_i], [b_j, e_j] meet.
 
-    begin, end: (n,) with begin <= end. Returns canonical pairs, int64 (k, 2) (0-based indices).
+    The slide's algorithm, literally: the 2n ends sorted (at a tied value every b before any e, so touching
+    intervals meet), swept while keeping the list of active intervals.
+
+    Parameters
+    ----------
+    begin, end : array_like, shape (n,)
+        The intervals' ends b_i and e_i, ``begin <= end``, finite.
+
+    Returns
+    -------
+    numpy.ndarray, shape (k, 2), int64
+        Canonical pairs of 0-based indices: ``i < j`` in every row, rows sorted, no duplicate.
+
+    Raises
+    ------
+    ValueError
+        When ``begin`` or ``end`` is not 1-D, holds NaN or ±inf, when their shapes differ, or when
+        ``begin[i] > end[i]`` (the message names the first such i).
+    TypeError
+        When ``begin`` or ``end`` is not a real numeric array.
+
+    See Also
+    --------
+    sap_example_trace : the same sweep, step by step, as text.
+
+    Examples
+    --------
+    The first three intervals of the slide's example, [3, 7], [7.7, 18] and [1, 8]:
+
+    >>> from engine.broadphase import sweep_intervals
+    >>> sweep_intervals([3, 7.7, 1], [7, 18, 8])
+    array([[0, 2],
+           [1, 2]])
     """
     b, e = _as_intervals(begin, end)
     if b.shape[0] < 2:
@@ -115,11 +150,29 @@ def sweep_intervals(begin, end) -> np.ndarray:
     return _sweep_intervals_kernel(b, e)
 
 
-def sap_example_trace(begin=None, end=None, labels=None) -> str:
-    """The step-by-step sweep (event, active list, pairs reported) as text, by default on the slide's example.
+def sap_example_trace(begin: ArrayLike | None = None, end: ArrayLike | None = None,
+                      labels: Sequence[object] | None = None) -> str:
+    """The step-by-step 1-D sweep (event, active list, pairs reported) as text, by default on the slide's example.
 
-    begin, end: (n,) intervals (default: the slide's six intervals, labelled 1..6 as on the slide);
-    labels: n names used in the text (default 1..n). The events and pairs are those of :func:`sweep_intervals`.
+    The events and pairs are those of :func:`sweep_intervals`; ``colldet sap-example`` prints this table.
+
+    Parameters
+    ----------
+    begin, end : array_like, shape (n,), optional
+        The intervals, ``begin <= end``. Default: the slide's six intervals (``SLIDE_EXAMPLE``), labelled 1..6
+        as on the slide.
+    labels : sequence of n objects, optional
+        The names of the intervals in the text (default 1..n).
+
+    Returns
+    -------
+    str
+        One line per event, then the list of overlapping pairs.
+
+    Raises
+    ------
+    ValueError
+        For invalid intervals (as :func:`sweep_intervals`), or when ``labels`` does not have n entries.
     """
     if begin is None and end is None:
         keys = sorted(SLIDE_EXAMPLE)
@@ -159,7 +212,8 @@ def sap_example_trace(begin=None, end=None, labels=None) -> str:
 # ---------------------------------------------------------------------------------------------------------
 #: below this many boxes the columns are always a table (small scenes: at most m/8 columns, one below 32 boxes)
 SPARSE_MIN_BOXES = 256
-#: the coarse grid of columns over the two axes other than the sweep axis: origin, 1/size and count of each
+#: the coarse grid of columns over the two axes a1, a2 other than the sweep axis: for each, the origin (o1, o2),
+#: 1 / the column size (inv1, inv2; 0.0 for a single column) and the number of columns (k1, k2)
 ColumnGrid = namedtuple("ColumnGrid", ["o1", "inv1", "k1", "o2", "inv2", "k2"])
 
 
@@ -238,7 +292,8 @@ SweepKeys = namedtuple("SweepKeys", ["origin", "scale"])
 
 @njit
 def sweep_keys(order, lo, hi, axis):
-    """The SweepKeys of the boxes along ``axis``: their range mapped onto 0 .. KEY_STEPS − 1."""
+    """The SweepKeys of the boxes ``order`` ((m,) int64 rows of lo, hi (n, 3) float64) along ``axis``: their range
+    mapped onto 0 .. KEY_STEPS − 1."""
     origin, top = _axis_range(order, lo, hi, axis)
     span = top - origin
     return SweepKeys(origin, KEY_STEPS / span if span > 0.0 else 0.0)
@@ -398,7 +453,8 @@ def sweep_order(lo, hi, axis):
 MIN_ENTRIES_PER_THREAD = 4096
 
 
-def _sweep_sorted(order, lo, hi, axis: int, n_objects: int, threads: int = 1):
+def _sweep_sorted(order: np.ndarray, lo: np.ndarray, hi: np.ndarray, axis: int, n_objects: int,
+                  threads: int = 1) -> tuple[np.ndarray, int]:
     """Sweep-and-prune of the boxes (n, 3) lo, hi in sweep-key order ``order`` along ``axis``: (canonical
     pairs, tests); ``threads`` > 1 sweeps disjoint ranges of columns on that many threads."""
     grid, keys, column_key, start, ident, key_b, soa = _prepare_columns(order, lo, hi, axis)
@@ -418,7 +474,7 @@ def _sweep_sorted(order, lo, hi, axis: int, n_objects: int, threads: int = 1):
     return pair_buffer.run_split(sweep, ranges, n_objects)
 
 
-def _widest_axis(lo, hi) -> int:
+def _widest_axis(lo: np.ndarray, hi: np.ndarray) -> int:
     """The axis along which the box centres spread most (largest variance, Ericson 7.5.2)."""
     if lo.shape[0] == 0:
         return 0
@@ -442,13 +498,44 @@ def _centre_variance(lo, hi):
     return var
 
 
-def sap_pairs(lo, hi, axis: int | None = None, *, return_tests: bool = False, threads: int = 1):
-    """All pairs of overlapping closed boxes by sweep-and-prune.
+@overload
+def sap_pairs(lo: ArrayLike, hi: ArrayLike, axis: int | None = ..., *, return_tests: Literal[False] = ...,
+              threads: int = ...) -> np.ndarray: ...
+@overload
+def sap_pairs(lo: ArrayLike, hi: ArrayLike, axis: int | None = ..., *, return_tests: Literal[True],
+              threads: int = ...) -> tuple[np.ndarray, int]: ...
+def sap_pairs(lo: ArrayLike, hi: ArrayLike, axis: int | None = None, *, return_tests: bool = False,
+              threads: int = 1) -> np.ndarray | tuple[np.ndarray, int]:
+    """All pairs of overlapping closed boxes by sweep-and-prune: ``find_pairs(method="sap")``.
 
-    lo, hi: (n, d), d in {1, 2, 3}, lo <= hi. axis: the sweep axis (default: the axis of largest spread of the
-    box centres). Returns canonical pairs, int64 (k, 2); with ``return_tests=True``, ``(pairs, tests)`` where
-    tests counts the box tests made (pairs overlapping on the sweep axis within a column). threads: how many
-    threads may share the sweep (the same answer, bit for bit).
+    The boxes are sorted once on the sweep axis and swept per column of a coarse grid over the two other axes
+    (box pruning, see the module's description).
+
+    Parameters
+    ----------
+    lo, hi : array_like, shape (n, d)
+        The boxes' corners, d = 1, 2 or 3, ``lo <= hi``, finite (converted to float64).
+    axis : int, optional
+        The sweep axis, in [0, d). Default: the axis along which the box centres spread most (largest variance).
+    return_tests : bool, optional
+        Also return the number of box tests made: the pairs of entries of a column whose intervals overlap on
+        the sweep axis.
+    threads : int, optional
+        How many threads may share the sweep, 1 to 256 (the same answer, bit for bit).
+
+    Returns
+    -------
+    pairs : numpy.ndarray, shape (k, 2), int64
+        Canonical pairs: ``i < j`` in every row, rows sorted, no duplicate.
+    tests : int
+        Only with ``return_tests=True``.
+
+    Raises
+    ------
+    ValueError
+        For invalid boxes or ``threads`` (as :func:`find_pairs`), or ``axis`` outside [0, d).
+    TypeError
+        For non-numeric boxes, or an ``axis`` that is not an int.
     """
     threads = as_threads(threads)
     lo3, hi3 = as_boxes_3d(lo, hi)
@@ -498,11 +585,53 @@ class IncrementalSAP:
         pairs = sap.update(lo_next, hi_next)  # new boxes of every live object (ids ascending) -> pairs
 
     or manage objects one by one: ``add(lo_i, hi_i) -> id``, ``move(id, lo_i, hi_i)``, ``remove(id)``,
-    ``pairs()``. Pairs are canonical pairs of ids, exactly the overlapping closed boxes. Freed ids are reused.
-    ``last_swaps`` is the number of insertion-sort swaps of the last repair.
+    ``pairs()``. Pairs are canonical pairs of ids, exactly the overlapping closed boxes (the same as
+    :func:`find_pairs` on the live boxes). Freed ids are reused. Each query repairs the order by insertion sort,
+    O(n + swaps): close to linear when the objects moved little.
+
+    Parameters
+    ----------
+    lo, hi : array_like, shape (n, d), optional
+        The initial boxes, d = 1, 2 or 3, ``lo <= hi``; they get the ids 0..n−1. Omit both to start empty.
+    dim : int, optional
+        The dimension d (1, 2 or 3); required when no boxes are given, else it must match their d.
+    axis : int, optional
+        The sweep axis, in [0, d). Default: the axis along which the initial box centres spread most (0 when
+        empty).
+
+    Attributes
+    ----------
+    axis : int
+        The sweep axis.
+    last_swaps : int
+        The number of insertion-sort swaps of the last repair (0 when the order was already sorted).
+
+    Raises
+    ------
+    ValueError
+        For invalid boxes (as :func:`find_pairs`), a missing or wrong ``dim``, or ``axis`` outside [0, d).
+    TypeError
+        For non-numeric boxes.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from engine.broadphase import IncrementalSAP
+    >>> sap = IncrementalSAP(np.array([[0.0], [2.0]]), np.array([[1.0], [3.0]]))
+    >>> sap.pairs()
+    array([], shape=(0, 2), dtype=int64)
+    >>> sap.move(1, [1.0], [2.0])  # object 1 now touches object 0
+    >>> sap.pairs()
+    array([[0, 1]])
+    >>> sap.add([0.5], [0.6])
+    2
+    >>> sap.pairs()
+    array([[0, 1],
+           [0, 2]])
     """
 
-    def __init__(self, lo=None, hi=None, *, dim: int | None = None, axis: int | None = None):
+    def __init__(self, lo: ArrayLike | None = None, hi: ArrayLike | None = None, *, dim: int | None = None,
+                 axis: int | None = None):
         if lo is None and hi is None:
             if dim is None:
                 raise ValueError("give the initial boxes lo, hi, or the dimension dim of an empty SAP")
@@ -537,21 +666,52 @@ class IncrementalSAP:
     # -- bookkeeping ------------------------------------------------------------------------------------
     @property
     def dim(self) -> int:
+        """The dimension d of the boxes (1, 2 or 3)."""
         return self._d
 
     def __len__(self) -> int:
+        """The number of live objects.
+
+        Returns
+        -------
+        int
+        """
         return int(self._order.shape[0])
 
     def ids(self) -> np.ndarray:
-        """The live ids, ascending, int64 (m,)."""
+        """The live ids.
+
+        Returns
+        -------
+        numpy.ndarray, shape (m,), int64
+            Ascending: the row order ``update`` expects.
+        """
         return np.flatnonzero(self._alive[: self._size]).astype(np.int64)
 
-    def _check_id(self, obj_id) -> int:
+    def _check_id(self, obj_id: int) -> int:
         return as_live_id(obj_id, lambda i: 0 <= i < self._size and bool(self._alive[i]))
 
     # -- objects ----------------------------------------------------------------------------------------
-    def add(self, lo_i, hi_i) -> int:
-        """Insert the box [lo_i, hi_i] ((d,) each); returns its id."""
+    def add(self, lo_i: ArrayLike, hi_i: ArrayLike) -> int:
+        """Insert a box.
+
+        Parameters
+        ----------
+        lo_i, hi_i : array_like, shape (d,)
+            The box's corners, ``lo_i <= hi_i``, finite.
+
+        Returns
+        -------
+        int
+            The object's id: a freed id if there is one, else the next unused one.
+
+        Raises
+        ------
+        ValueError
+            When the corners do not have shape (d,), are not finite, or ``lo_i > hi_i`` on some axis.
+        TypeError
+            For non-numeric corners.
+        """
         lo_i, hi_i = as_one_box(lo_i, hi_i, self._d)
         if self._free:
             obj_id = self._free.pop()
@@ -573,22 +733,68 @@ class IncrementalSAP:
         self._order = np.insert(self._order, at, obj_id)
         return obj_id
 
-    def remove(self, obj_id) -> None:
-        """Delete object ``obj_id``; its id may be reused by a later ``add``."""
+    def remove(self, obj_id: int) -> None:
+        """Delete an object; its id may be reused by a later ``add``.
+
+        Parameters
+        ----------
+        obj_id : int
+            The id of a live object.
+
+        Raises
+        ------
+        TypeError
+            When ``obj_id`` is not an int.
+        ValueError
+            When ``obj_id`` is not the id of a live object.
+        """
         obj_id = self._check_id(obj_id)
         self._alive[obj_id] = False
         self._order = self._order[self._order != obj_id]
         self._free.append(obj_id)
 
-    def move(self, obj_id, lo_i, hi_i) -> None:
-        """Give object ``obj_id`` the new box [lo_i, hi_i]; the order is repaired at the next query."""
+    def move(self, obj_id: int, lo_i: ArrayLike, hi_i: ArrayLike) -> None:
+        """Give an object a new box; the sorted order is repaired at the next query.
+
+        Parameters
+        ----------
+        obj_id : int
+            The id of a live object.
+        lo_i, hi_i : array_like, shape (d,)
+            The new corners, ``lo_i <= hi_i``, finite.
+
+        Raises
+        ------
+        TypeError
+            When ``obj_id`` is not an int, or the corners are not numeric.
+        ValueError
+            When ``obj_id`` is not live, or the box is invalid (as ``add``).
+        """
         obj_id = self._check_id(obj_id)
         lo_i, hi_i = as_one_box(lo_i, hi_i, self._d)
         self._lo[obj_id, : self._d] = lo_i
         self._hi[obj_id, : self._d] = hi_i
 
-    def update(self, lo, hi) -> np.ndarray:
-        """New boxes for every live object (rows in ascending id order, (m, d) each); returns pairs()."""
+    def update(self, lo: ArrayLike, hi: ArrayLike) -> np.ndarray:
+        """New boxes for every live object, then the pairs: one frame of a simulation.
+
+        Parameters
+        ----------
+        lo, hi : array_like, shape (m, d)
+            One row per live object, in ascending id order (the order of ``ids()``), ``lo <= hi``.
+
+        Returns
+        -------
+        numpy.ndarray, shape (k, 2), int64
+            ``pairs()`` after the move.
+
+        Raises
+        ------
+        ValueError
+            For invalid boxes (as :func:`find_pairs`), or a shape other than (m, d). Nothing is moved then.
+        TypeError
+            For non-numeric boxes.
+        """
         lo_d, hi_d = as_boxes(lo, hi)
         ids = self.ids()
         if lo_d.shape != (ids.shape[0], self._d):
@@ -599,7 +805,14 @@ class IncrementalSAP:
         return self.pairs()
 
     def pairs(self) -> np.ndarray:
-        """Repair the sorted order by insertion sort, sweep, and return the canonical pairs of ids."""
+        """Repair the sorted order by insertion sort, sweep, and return the overlapping pairs of ids.
+
+        Returns
+        -------
+        numpy.ndarray, shape (k, 2), int64
+            Canonical pairs of ids (``i < j`` in every row, rows sorted, no duplicate) whose closed boxes
+            overlap.
+        """
         if self._order.shape[0] < 2:
             return empty_pairs()
         self.last_swaps = int(_insertion_sort_order(self._order, self._lo, self.axis))

@@ -21,7 +21,10 @@ collision"); the uniform cut is the "absolue" one. Ericson, *Real-Time Collision
 """
 from __future__ import annotations
 
+from typing import Literal, overload
+
 import numpy as np
+from numpy.typing import ArrayLike
 
 import engine.broadphase.pairs as pair_buffer
 from engine._config import njit
@@ -248,14 +251,29 @@ def _default_cell_size(lo, hi):
     return size if size > 0.0 else 1.0
 
 
-def default_cell_size(lo, hi) -> float:
-    """The grid's default cell side for boxes lo, hi ((n, d)) (> 0; 1.0 for n = 0).
+def default_cell_size(lo: ArrayLike, hi: ArrayLike) -> float:
+    """The grid's default cell side for the given boxes.
 
     max(2 × the mean over the boxes of their largest side, (V / n)^(1/k)), where the scene's extent (largest hi
     minus smallest lo) is positive along k of the axes and V is the product of those extents (the side of a
     cell holding one object on average: the fallback of point-like scenes; 0 when k = 0); 1.0 if that is 0.
     When the spacing term exceeds ``SPARSE_SPACING_RATIO`` times 2 × the mean largest side (far-apart
     clusters), ``grid_pairs`` uses cells of 2 × the mean largest side instead, storing only the occupied ones.
+
+    Parameters
+    ----------
+    lo, hi : array_like, shape (n, d)
+        The boxes, d = 1, 2 or 3, ``lo <= hi``, finite.
+
+    Returns
+    -------
+    float
+        > 0; 1.0 for n = 0.
+
+    Raises
+    ------
+    ValueError, TypeError
+        For invalid boxes, as :func:`find_pairs`.
     """
     lo3, hi3 = as_boxes_3d(lo, hi)
     if lo3.shape[0] == 0:
@@ -263,13 +281,46 @@ def default_cell_size(lo, hi) -> float:
     return float(_default_cell_size(lo3, hi3))
 
 
-def grid_pairs(lo, hi, cell_size: float | None = None, *, return_tests: bool = False, threads: int = 1):
-    """All pairs of overlapping closed boxes with a uniform grid.
+@overload
+def grid_pairs(lo: ArrayLike, hi: ArrayLike, cell_size: float | None = ..., *, return_tests: Literal[False] = ...,
+               threads: int = ...) -> np.ndarray: ...
+@overload
+def grid_pairs(lo: ArrayLike, hi: ArrayLike, cell_size: float | None = ..., *, return_tests: Literal[True],
+               threads: int = ...) -> tuple[np.ndarray, int]: ...
+def grid_pairs(lo: ArrayLike, hi: ArrayLike, cell_size: float | None = None, *, return_tests: bool = False,
+               threads: int = 1) -> np.ndarray | tuple[np.ndarray, int]:
+    """All pairs of overlapping closed boxes with a uniform grid: ``find_pairs(method="grid")``.
 
-    lo, hi: (n, d), d in {1, 2, 3}, lo <= hi. cell_size: the cell side (> 0; default from the box sizes, see the
-    module docstring). Returns canonical pairs, int64 (k, 2); with ``return_tests=True``, ``(pairs, tests)``
-    where tests counts the box–box overlap tests made (boxes sharing a cell, and the too-large boxes' tests).
-    threads: how many threads may share the tests (the same answer, bit for bit).
+    Each box enters every cell it covers and the boxes sharing a cell are tested; a pair is reported only in
+    the cell of the lower corner of the two boxes' overlap, so once. Boxes covering more than 64 cells are
+    tested against every box instead.
+
+    Parameters
+    ----------
+    lo, hi : array_like, shape (n, d)
+        The boxes' corners, d = 1, 2 or 3, ``lo <= hi``, finite (converted to float64).
+    cell_size : float, optional
+        The cell side, > 0. Default: :func:`default_cell_size` (from the box sizes and the mean spacing). When a
+        table of every cell would need more than max(8·n, 64) cells, only the occupied cells are stored (the
+        cells keep their side, enlarged only past 2^21 cells per axis).
+    return_tests : bool, optional
+        Also return the number of box–box tests made: boxes sharing a cell, and the too-large boxes' tests.
+    threads : int, optional
+        How many threads may share the tests, 1 to 256 (the same answer, bit for bit).
+
+    Returns
+    -------
+    pairs : numpy.ndarray, shape (k, 2), int64
+        Canonical pairs: ``i < j`` in every row, rows sorted, no duplicate.
+    tests : int
+        Only with ``return_tests=True``.
+
+    Raises
+    ------
+    ValueError
+        For invalid boxes or ``threads`` (as :func:`find_pairs`), or a ``cell_size`` that is not > 0 and finite.
+    TypeError
+        For non-numeric boxes, or a ``cell_size`` that is not a real number.
     """
     threads = as_threads(threads)
     lo3, hi3 = as_boxes_3d(lo, hi)

@@ -1,4 +1,4 @@
-"""The chapter's "Algorithme 3 bissection" (slide "Méthode de la Dichotomie (Bisection)").
+"""The chapter's "Algorithme 3 bissection" (slide "Méthode de la Dichotomie (Bisection)")::
 
     définir a, b réels { avec f(a) * f(b) < 0 }
     tantque |a - b| > ε
@@ -7,10 +7,12 @@
     fintantque
 
 Two repairs of the textbook loop, both needed for a robust root finder:
+
 - the sign test compares signs instead of multiplying values, so f(a) = 1e-200 and f(x') = -1e-200 (whose
   product underflows to 0) still move the right end;
 - when f(x') is exactly 0 the root is returned at once (the textbook loop would then move ``a`` past the root,
   because f(x') * f(a) = 0 is never < 0 again).
+
 The loop also stops when the bracket can no longer shrink in floating point (tol below the spacing of doubles).
 """
 from __future__ import annotations
@@ -44,7 +46,7 @@ class BisectionResult:
     a: float  #: final bracket, a <= root <= b
     b: float
     iterations: int  #: number of halvings (evaluations of f at a midpoint)
-    converged: bool  #: |b - a| <= tol, or an exact zero was hit
+    converged: bool  #: ``|b - a| <= tol``, or an exact zero was hit
 
 
 def max_bisection_iterations(a: float, b: float, tol: float) -> int:

@@ -57,7 +57,9 @@ def split_state(y: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
 
 
 def rk4_step(f: Callable[[float, Any], Any], t: float, y: ArrayLike, dt: float) -> np.ndarray | float:
-    """One classical RK4 step of dY/dt = f(t, Y)::
+    """One classical RK4 step of dY/dt = f(t, Y).
+
+    The scheme::
 
         k1 = f(t, Y)
         k2 = f(t + dt/2, Y + dt/2 k1)
