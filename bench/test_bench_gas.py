@@ -1,6 +1,8 @@
 """W3, the confined gas: event-driven collisions per second at N = 32,000 and η = 0.1, 0.3
-(target >= 150,000 per second on one core), and the stepped method's frames per second at N = 2,620 for every
-broad phase (the same scene, so the entries of a group are comparable as ratios).
+(target >= 150,000 per second on one core), the same periodic against Smallenburg's EDMD "Cell" C code when
+``EDMD_C_SOURCE`` names a local copy of it (bench/edmd_peer.py; otherwise the peer is skipped and said so), and the
+stepped method's frames per second at N = 2,620 for every broad phase (the same scene, so the entries of a group
+are comparable as ratios).
 
 ``--quick`` keeps N = 4,000 for the event-driven runs and fewer frames.
 """
@@ -9,6 +11,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from bench.edmd_peer import ENV, cell_code_rate, peer_source
 from engine.broadphase import BROAD_PHASES
 from engine.gas import EventDrivenGas, SteppedGas, radius_for_packing
 from engine.gas.initial import draw_velocities, place_spheres
@@ -16,12 +19,12 @@ from engine.gas.initial import draw_velocities, place_spheres
 L = 10.0
 
 
-def _scene(n, eta, seed=0):
+def _scene(n, eta, seed=0, boundary="walls"):
     r = np.full(n, radius_for_packing(n, eta, L))
     m = np.ones(n)
     rng = np.random.default_rng(seed)
-    p = place_spheres(n, r, L, "walls", rng)
-    v = draw_velocities(m, 1.0, "walls", rng)
+    p = place_spheres(n, r, L, boundary, rng)
+    v = draw_velocities(m, 1.0, boundary, rng)
     return p, v, r, m
 
 
@@ -85,3 +88,35 @@ def test_events_stepped_peer_collisions_per_second(benchmark, quick):
     per_round = state["collisions"] / state["rounds"]
     benchmark.extra_info.update(n=4000, eta=0.1, work=per_round, unit="collisions",
                                 collisions_per_second=per_round / benchmark.stats.stats.mean)
+
+
+@pytest.mark.parametrize("eta", [0.1, 0.3])
+@pytest.mark.benchmark(group="gas W3: event-driven, periodic, against the EDMD C code")
+def test_events_periodic_against_c_code(benchmark, quick, eta):
+    """N = 32,000 (quick: 4,000) periodic, rounds of 0.2 time units after t = 1; then, when EDMD_C_SOURCE is set,
+    the Cell code on the same N and η (FCC start, gcc -O3 -march=native), collisions per CPU second as the
+    difference of a short and a long run (bench/edmd_peer.py). Both rates are per second of processor time, the
+    engine's from its fastest round."""
+    n = 4000 if quick else 32000
+    p, v, r, m = _scene(n, eta, boundary="periodic")
+    gas = EventDrivenGas(p, v, r, m, L, periodic=True)
+    gas.run(1.0)
+    state = {"t": gas.time, "best": 0.0, "collisions": 0}
+
+    def advance():
+        gas.reset_sums()
+        state["t"] += 0.2
+        gas.run(state["t"])
+        state["collisions"] += gas.collisions
+        return gas.collisions
+
+    benchmark.pedantic(advance, rounds=3 if quick else 5, iterations=1, warmup_rounds=1)
+    per_round = state["collisions"] / ((3 if quick else 5) + 1)
+    rate = per_round / benchmark.stats.stats.min
+    folder = peer_source()
+    peer = cell_code_rate(folder, n, eta) if folder is not None else None
+    benchmark.extra_info.update(n=n, eta=eta, collisions_per_round=per_round, work=per_round, unit="collisions",
+                                collisions_per_second=rate, c_code_collisions_per_second=peer,
+                                ratio_to_c_code=rate / peer if peer else None,
+                                peer="EDMD Cell (gcc -O3 -march=native)" if peer else f"skipped: {ENV} not set")
+    assert per_round > 0

@@ -13,6 +13,7 @@ import time
 import numpy as np
 import pandas as pd
 
+from bench.edmd_peer import against_c_code, c_code_lines
 from engine.gas import (
     carnahan_starling,
     maxwell_boltzmann_test,
@@ -198,6 +199,7 @@ def gas_section(out: pathlib.Path, info: dict, quick: bool = False, client=None)
              "routes to Z agree in equilibrium, Z − 1 = Γσ·sqrt(πm/kT)/6, the periodic Z follows "
              "Carnahan–Starling, and a walled box of this size lies several % below it.", ""]
     lines += _eos_lines(rows) + _bias_lines(rows)
+    lines += c_code_lines(against_c_code(4_000, alternations=1) if quick else against_c_code())
     lines += ["![speed histogram](gas_speeds.png)", "", f"Section computed in {time.perf_counter() - started:.0f} s.",
               ""]
     (out / "gas.md").write_text("\n".join(lines))

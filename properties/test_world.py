@@ -1,11 +1,11 @@
 """Properties of the collision pipeline (engine.world.World): the compiled frame against reference paths.
 
-- stateful, for every broad phase (and a tree that rebuilds at every escape, and one that never rebuilds):
-  after every random add / remove / move / batch update (quaternions, matrices, scipy Rotations), grounds
-  included (Plane and HeightCurve), ``pairs()`` equals (a) the reference path — every pair of live ids through
-  the same dispatch tables, no broad phase — and (b) an independent oracle, the GJK distance between the point
-  sets minus the radii (a Plane: the lowest point against the altitude); ``contacts()`` has the same pairs,
-  and the same contacts in every world;
+- stateful, for every broad phase (and a tree and a SAP that rebuild at every escape or insertion, and ones
+  that never rebuild): after every random add / remove / move / batch update (quaternions, matrices, scipy
+  Rotations), or several adds and removes before one query, grounds included (Plane and HeightCurve),
+  ``pairs()`` equals (a) the reference path — every pair of live ids through the same dispatch tables, no broad
+  phase — and (b) an independent oracle, the GJK distance between the point sets minus the radii (a Plane: the
+  lowest point against the altitude); ``contacts()`` has the same pairs, and the same contacts in every world;
 - contacts: unit normal from the first body to the second (translating the second by depth along it separates
   the pair, by less does not), depth >= 0 and equal to engine.epa_penetration (+ the radii), points within
   depth/2 of both shapes, point ids distinct within a pair;
@@ -20,7 +20,7 @@ import numpy as np
 import pytest
 from hypothesis import assume, example, given, settings
 from hypothesis import strategies as st
-from hypothesis.stateful import Bundle, RuleBasedStateMachine, consumes, invariant, rule
+from hypothesis.stateful import Bundle, RuleBasedStateMachine, consumes, invariant, multiple, rule
 from scipy.spatial.transform import Rotation
 
 from engine import (
@@ -106,13 +106,14 @@ def reference_pairs(world):
     return allp[rows.status == TOUCHING]
 
 
-def check_against_oracles(world, model):
+def check_against_oracles(world, model, oracle=None):
+    """``oracle``: ``oracle_pairs(model)`` if already computed (it depends on the model only)."""
     got = world.pairs()
     assert got.dtype == np.int64 and got.ndim == 2 and got.shape[1] == 2
     rows = [tuple(p) for p in got.tolist()]
     assert rows == sorted(set(rows)) and all(i < j for i, j in rows)
     np.testing.assert_array_equal(got, reference_pairs(world))
-    hits, ambiguous = oracle_pairs(model)
+    hits, ambiguous = oracle_pairs(model) if oracle is None else oracle
     assert set(rows) - ambiguous == hits - ambiguous
     return got
 
@@ -122,28 +123,47 @@ def check_against_oracles(world, model):
 # ---------------------------------------------------------------------------------------------------------------
 
 class WorldMachine(RuleBasedStateMachine):
-    """The same edits on one World per broad phase (and tree worlds that always / never rebuild)."""
+    """The same edits on one World per broad phase (and tree and SAP worlds that always / never rebuild)."""
 
     ids = Bundle("ids")
 
     def __init__(self):
         super().__init__()
         self.worlds = [World(bp) for bp in BROAD_PHASES]
-        for threshold in (0, 10**9):
-            tree = World("tree")
-            tree.rebuild_threshold = threshold
-            self.worlds.append(tree)
+        for method in ("tree", "sap"):
+            for threshold in (0, 10**9):
+                world = World(method)
+                world.rebuild_threshold = threshold
+                self.worlds.append(world)
         self.model: dict = {}
 
     def _same(self, results):
         assert all(r == results[0] for r in results)
         return results[0]
 
-    @rule(target=ids, shape=bodies)
-    def add(self, shape):
+    def _add(self, shape):
         i = self._same([w.add(shape) for w in self.worlds])
         self.model[i] = (shape, shape.center.copy(), shape.rotation.copy())
         return i
+
+    def _remove(self, i):
+        for w in self.worlds:
+            w.remove(i)
+        del self.model[i]
+
+    @rule(target=ids, shape=bodies)
+    def add(self, shape):
+        return self._add(shape)
+
+    @rule(target=ids, shapes=st.lists(bodies, min_size=1, max_size=3), drop=st.sets(st.integers(0, 2)))
+    def add_several_remove_some(self, shapes, drop):
+        """Several edits before the next query: bodies added, some removed again, one more added (it may take a
+        removed body's id); the broad phases see them all at once."""
+        added = [self._add(shape) for shape in shapes]
+        for i in [added[k] for k in sorted(drop) if k < len(added)]:
+            self._remove(i)
+            added.remove(i)
+        return multiple(*added, self._add(shapes[0]))
 
     @rule(ground=planes | curves)
     def add_ground(self, ground):
@@ -152,9 +172,7 @@ class WorldMachine(RuleBasedStateMachine):
 
     @rule(i=consumes(ids))
     def remove(self, i):
-        for w in self.worlds:
-            w.remove(i)
-        del self.model[i]
+        self._remove(i)
 
     @rule(i=ids, pose=poses)
     def move(self, i, pose):
@@ -186,9 +204,9 @@ class WorldMachine(RuleBasedStateMachine):
 
     @invariant()
     def frame_equals_reference(self):
-        first = None
+        first, oracle = None, oracle_pairs(self.model)
         for w in self.worlds:
-            got = check_against_oracles(w, self.model)
+            got = check_against_oracles(w, self.model, oracle)
             contacts = w.contacts()
             np.testing.assert_array_equal(contacts.pairs, got)
             if first is None:

@@ -122,11 +122,11 @@ def test_hull_pair_keeps_its_features(seed, dx, dz, press):
     b = w.add(ConvexPolyhedron(-pts + 2.0 * 0.995 * top))  # A turned over, its tip pressed into A's top vertex
     c0, _, _ = w.pose(b)
     first = _frame(w)
-    w.move(b, center=c0 + [0.0, -press, 0.0])
+    w.move(b, center=c0 - press * top)  # pressed towards A's centre: the tip 0.995 top goes deeper inside A
     second = _frame(w)
     assert all(second[i] for i in set(second) & set(first))  # the points whose features stayed persist ...
     assert not any(second[i] for i in set(second) - set(first))  # ... the others are new
-    w.move(b, center=c0 + [1e-9 * dx, -press, 1e-9 * dz])  # a nudge far below every feature's tolerance
+    w.move(b, center=c0 - press * top + [1e-9 * dx, 0.0, 1e-9 * dz])  # a nudge far below every tolerance
     third = _frame(w)
     assert third.keys() == second.keys() and all(third.values())
     assert a in w.contacts().pairs[0]

@@ -19,15 +19,16 @@ import numpy as np
 
 from engine._config import njit
 from engine._validate import as_float_array, as_positive
+from engine.gas.kernels import state_kernel
 
 __all__ = ["collide_elastic", "reflect_off_wall", "pair_impulse"]
 
 
-@njit(error_model="numpy")  # no zero division: rr > 0 and m_i + m_j > 0 are checked or given
-def pair_impulse(v, m, i, j, rx, ry, rz, off=0):
-    """Kernel shared by both gas methods: answer the elastic collision of spheres i and j in place on the
-    velocities v[:, off:off + 3] (v: (n, 3) float64, or a packed (n, k) state whose velocity columns start at
-    ``off``); m: (n,) float64 masses; r = p_i − p_j (any periodic image).
+@state_kernel  # no zero division: rr > 0 and m_i + m_j > 0 are checked or given
+def pair_impulse(v, mi, mj, i, j, rx, ry, rz, off=0):
+    """Kernel shared by both gas methods: answer the elastic collision of spheres i and j (masses mi, mj > 0) in
+    place on the velocities v[:, off:off + 3] (v: (n, 3) float64, or a packed (n, k) state whose velocity
+    columns start at ``off``); r = p_i − p_j (any periodic image).
 
     Chapter 1.B (and 2.C, the same formula written with <v_A − v_B, p_A − p_B>/|p_A − p_B|²): the normal
     components are exchanged with the weights 2 m_j/(m_i + m_j) and 2 m_i/(m_i + m_j). Returns the virial term
@@ -39,8 +40,6 @@ def pair_impulse(v, m, i, j, rx, ry, rz, off=0):
     b = (v[i, off] - v[j, off]) * rx + (v[i, off + 1] - v[j, off + 1]) * ry + (v[i, off + 2] - v[j, off + 2]) * rz
     if not b < 0.0:  # receding or grazing pair
         return 0.0
-    mi = m[i]
-    mj = m[j]
     total = mi + mj
     # (v_i − v_j)·n n = (b / rr) r ; the factors below are 2 m_j/(m_i+m_j) and 2 m_i/(m_i+m_j)
     s = b / rr
@@ -60,10 +59,7 @@ def _collide_elastic_kernel(v1, v2, m1, m2, p1, p2):
     v = np.empty((2, 3))
     v[0] = v1
     v[1] = v2
-    m = np.empty(2)
-    m[0] = m1
-    m[1] = m2
-    virial = pair_impulse(v, m, 0, 1, p1[0] - p2[0], p1[1] - p2[1], p1[2] - p2[2], 0)
+    virial = pair_impulse(v, m1, m2, 0, 1, p1[0] - p2[0], p1[1] - p2[1], p1[2] - p2[2], 0)
     return v, virial
 
 

@@ -7,12 +7,12 @@ from __future__ import annotations
 
 import math
 
-from engine._config import njit
+from engine.gas.kernels import state_kernel
 
 __all__ = ["minimum_image", "wrap_coordinate"]
 
 
-@njit(error_model="numpy")
+@state_kernel
 def minimum_image(rx, ry, rz, box):
     """The separation (rx, ry, rz) of two centres reduced to its nearest periodic image (box side L = ``box``)."""
     rx -= box * round(rx / box)
@@ -21,7 +21,7 @@ def minimum_image(rx, ry, rz, box):
     return rx, ry, rz
 
 
-@njit(error_model="numpy")
+@state_kernel
 def wrap_coordinate(x, half):
     """A coordinate x wrapped into [−L/2, L/2) (L = 2 half); round-off of the wrap that lands on L/2 goes to −L/2."""
     box = 2.0 * half

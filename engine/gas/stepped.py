@@ -24,12 +24,12 @@ from typing import NamedTuple
 
 import numpy as np
 
-from engine._config import njit
 from engine._validate import as_choice, as_count, as_positive
 from engine.broadphase import IncrementalSAP, find_pairs
 from engine.broadphase.pairs import canonical_pairs
 from engine.gas.elastic import pair_impulse
 from engine.gas.initial import check_gas_state
+from engine.gas.kernels import state_kernel
 from engine.gas.observables import kinetic_energy_kernel
 from engine.gas.periodic import minimum_image, wrap_coordinate
 from engine.gas.tally import COLLISIONS, VIRIAL, WALL_HITS, WALL_IMPULSE, GasTally, new_counters, new_sums
@@ -56,7 +56,7 @@ class FrameState(NamedTuple):
     dt: float
 
 
-@njit(error_model="numpy")
+@state_kernel
 def _into_box(x, half, r, periodic):
     """Coordinate x of a sphere of radius r clamped into the reachable [−L/2 + r, L/2 − r] (periodic: wrapped
     into [−L/2, L/2))."""
@@ -71,7 +71,7 @@ def _into_box(x, half, r, periodic):
     return x
 
 
-@njit(error_model="numpy")
+@state_kernel
 def _move_and_walls(s):
     """Steps 1 and 2 of the frame: p ← p + v Δt, then the walls (chapter 2.B: a sphere past a wall and moving
     outwards gets v_k reversed and travels the distance past the wall back) or the periodic wrap."""
@@ -91,7 +91,7 @@ def _move_and_walls(s):
             pos[i, k] = _into_box(p, half, rad[i], periodic)
 
 
-@njit(error_model="numpy")
+@state_kernel
 def _separation(s, i, j):
     """p_i − p_j (its nearest periodic image when periodic)."""
     pos = s.pos
@@ -103,7 +103,7 @@ def _separation(s, i, j):
     return rx, ry, rz
 
 
-@njit(error_model="numpy")
+@state_kernel
 def _keep_inside(s, q):
     """Sphere q's centre into the reachable cube (periodic: wrapped into [−L/2, L/2)³)."""
     pos, half, r, periodic = s.pos, s.half, s.rad[q], s.periodic
@@ -111,12 +111,11 @@ def _keep_inside(s, q):
         pos[q, k] = _into_box(pos[q, k], half, r, periodic)
 
 
-@njit(error_model="numpy")
+@state_kernel
 def _answer_contacts(pairs, s):
     """The elastic response of every approaching contact among the candidate pairs (canonical order), at its
     contact instant: back to contact, the chapter's formulas (1.B / 2.C), forward again with the new velocities."""
     pos, vel, rad, mass, dt, sums, counters = s.pos, s.vel, s.rad, s.mass, s.dt, s.sums, s.counters
-    old = np.empty(6)
     for p in range(pairs.shape[0]):
         i = pairs[p, 0]
         j = pairs[p, 1]
@@ -138,19 +137,18 @@ def _answer_contacts(pairs, s):
             tau = 0.0
         if tau > dt:
             tau = dt
-        for k in range(3):
-            old[k] = vel[i, k]
-            old[3 + k] = vel[j, k]
-        w = pair_impulse(vel, mass, i, j, rx - vx * tau, ry - vy * tau, rz - vz * tau, 0)
+        old_i = (vel[i, 0], vel[i, 1], vel[i, 2])
+        old_j = (vel[j, 0], vel[j, 1], vel[j, 2])
+        w = pair_impulse(vel, mass[i], mass[j], i, j, rx - vx * tau, ry - vy * tau, rz - vz * tau, 0)
         if w > 0.0:
             sums[VIRIAL] += w
             counters[COLLISIONS] += 1
             for k in range(3):  # forward again from the contact with the new velocities
-                pos[i, k] += (vel[i, k] - old[k]) * tau
-                pos[j, k] += (vel[j, k] - old[3 + k]) * tau
+                pos[i, k] += (vel[i, k] - old_i[k]) * tau
+                pos[j, k] += (vel[j, k] - old_j[k]) * tau
 
 
-@njit(error_model="numpy")
+@state_kernel
 def _remove_overlaps(pairs, s):
     """Push overlapping candidate pairs apart along their line of centres, mass-weighted (momentum kept), pass
     after pass until none overlaps (at most _MAX_PASSES). Returns the number of pairs still overlapping."""
@@ -188,7 +186,7 @@ def _remove_overlaps(pairs, s):
     return remaining
 
 
-@njit(error_model="numpy")
+@state_kernel
 def _respond(pairs, s):
     """Step 4 of the frame on the candidate pairs: the elastic response of approaching contacts, every centre
     back into the reachable box (the moves to contact and back may cross a wall), then overlap removal.

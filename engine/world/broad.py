@@ -54,24 +54,43 @@ class RebuildBroadPhase:
 
 
 class SAPBroadPhase:
-    """An ``IncrementalSAP`` whose object ids map to body ids; its sorted order survives from frame to frame."""
+    """An ``IncrementalSAP`` whose object ids map to body ids; its sorted order survives from frame to frame.
+    Bodies added since the last query are inserted then — one by one if they are few, else by building the
+    SAP again over every body at once."""
 
-    def __init__(self):
+    def __init__(self, rebuild_threshold: int = REBUILD_THRESHOLD):
         self.sap = IncrementalSAP(dim=3)
         self.body_of = np.full(16, -1, np.int64)
         self.slot_of: dict[int, int] = {}
+        self.pending: list[int] = []
+        self.rebuild_threshold = rebuild_threshold
 
     def add(self, store, body: int) -> None:
-        slot = self.sap.add(store.lo[body], store.hi[body])
-        if slot >= self.body_of.shape[0]:
-            self.body_of = np.concatenate([self.body_of, np.full(slot + 1, -1, np.int64)])
-        self.body_of[slot] = body
-        self.slot_of[body] = slot
+        self.pending.append(body)
 
     def remove(self, store, body: int) -> None:
-        self.sap.remove(self.slot_of.pop(body))
+        if body in self.slot_of:
+            self.sap.remove(self.slot_of.pop(body))
+        else:
+            self.pending.remove(body)
+
+    def _insert_pending(self, store, bodies) -> None:
+        if len(self.pending) > self.rebuild_threshold:
+            self.sap = IncrementalSAP(store.lo[bodies], store.hi[bodies])
+            self.body_of = np.concatenate([bodies, np.full(16, -1, np.int64)])
+            self.slot_of = dict(zip(bodies.tolist(), range(bodies.shape[0])))
+        else:
+            for body in self.pending:
+                slot = self.sap.add(store.lo[body], store.hi[body])
+                if slot >= self.body_of.shape[0]:
+                    self.body_of = np.concatenate([self.body_of, np.full(slot + 1, -1, np.int64)])
+                self.body_of[slot] = body
+                self.slot_of[body] = slot
+        self.pending = []
 
     def candidates(self, store, bodies: np.ndarray) -> np.ndarray:
+        if self.pending:
+            self._insert_pending(store, bodies)
         slots = self.sap.ids()
         if slots.shape[0] < 2:
             return np.empty((0, 2), np.int64)
@@ -81,7 +100,8 @@ class SAPBroadPhase:
 
 class TreeBroadPhase:
     """A ``DynamicAABBTree`` of fat boxes (see the module docstring); ``rebuild_threshold`` bounds the leaves
-    moved one by one per query."""
+    moved (or inserted: a body added since the last query has no leaf yet and counts as escaped) one by one per
+    query."""
 
     def __init__(self, rebuild_threshold: int = REBUILD_THRESHOLD):
         self.tree = DynamicAABBTree(dim=3, margin=0.0)
@@ -90,6 +110,7 @@ class TreeBroadPhase:
         self.cached: np.ndarray | None = None
         self.rebuild_threshold = rebuild_threshold
         self.rebuilds = 0
+        self.removed: list[int] = []  # bodies removed since the last query: their cached pairs are dropped then
 
     @staticmethod
     def _fatten(store, bodies) -> None:
@@ -98,22 +119,26 @@ class TreeBroadPhase:
         store.fat_hi[bodies] = store.hi[bodies] + grow
         store.escaped[bodies] = False
 
-    def _map(self, leaf: int, body: int) -> None:
-        if leaf >= self.body_of.shape[0]:
-            self.body_of = np.concatenate([self.body_of, np.full(leaf + 1, -1, np.int64)])
-        self.body_of[leaf] = body
-        self.leaf_of[body] = leaf
-
     def add(self, store, body: int) -> None:
-        self._fatten(store, np.array([body]))
-        self._map(self.tree.insert(store.fat_lo[body], store.fat_hi[body]), body)
-        self.cached = None
+        """Nothing until the next query: the body's fat box is empty, so the upload flags it as escaped."""
+        store.fat_lo[body], store.fat_hi[body] = np.inf, -np.inf
+        store.escaped[body] = True
 
     def remove(self, store, body: int) -> None:
-        leaf = self.leaf_of.pop(body)
-        self.tree.remove(leaf)
-        self.body_of[leaf] = -1
-        self.cached = None
+        leaf = self.leaf_of.pop(body, None)
+        if leaf is not None:
+            self.tree.remove(leaf)
+            self.body_of[leaf] = -1
+        self.removed.append(body)
+
+    def _drop_removed(self, store) -> None:
+        """Drop the cached pairs of the bodies removed since the last query (one pass for all of them; an id
+        reused by a body added since is dropped too, and that body, escaped, is queried afresh)."""
+        if self.cached is not None:
+            gone = np.zeros(store.capacity, np.bool_)
+            gone[self.removed] = True
+            self.cached = self.cached[~(gone[self.cached[:, 0]] | gone[self.cached[:, 1]])]
+        self.removed = []
 
     def _rebuild(self, store, bodies) -> None:
         self.tree = DynamicAABBTree.from_boxes(store.fat_lo[bodies], store.fat_hi[bodies], margin=0.0)
@@ -123,12 +148,20 @@ class TreeBroadPhase:
         self.rebuilds += 1
 
     def _requery(self, store, escaped) -> None:
-        """Move the leaves of the escaped bodies and replace their cached pairs by what the tree now finds."""
+        """Move (or insert) the leaves of the escaped bodies and replace their cached pairs by what the tree now
+        finds."""
         moved = np.zeros(store.capacity, np.bool_)
         moved[escaped] = True
         keep = ~(moved[self.cached[:, 0]] | moved[self.cached[:, 1]])
         for body in escaped.tolist():  # a few leaves: Box2D's move buffer
-            self.tree.move(self.leaf_of[body], store.fat_lo[body], store.fat_hi[body])
+            if body in self.leaf_of:
+                self.tree.move(self.leaf_of[body], store.fat_lo[body], store.fat_hi[body])
+            else:
+                leaf = self.tree.insert(store.fat_lo[body], store.fat_hi[body])
+                if leaf >= self.body_of.shape[0]:
+                    self.body_of = np.concatenate([self.body_of, np.full(leaf + 1, -1, np.int64)])
+                self.body_of[leaf] = body
+                self.leaf_of[body] = leaf
         found = []
         for body in escaped.tolist():
             others = self.body_of[self.tree.query(store.fat_lo[body], store.fat_hi[body])]
@@ -138,6 +171,8 @@ class TreeBroadPhase:
         self.cached = np.concatenate([self.cached[keep], _canonical(np.concatenate(found))])
 
     def candidates(self, store, bodies: np.ndarray) -> np.ndarray:
+        if self.removed:
+            self._drop_removed(store)
         escaped = bodies[store.escaped[bodies]]
         if escaped.shape[0]:
             self._fatten(store, escaped)
@@ -147,8 +182,10 @@ class TreeBroadPhase:
             else:
                 self._requery(store, escaped)
         if self.cached is None:
-            self.cached = _canonical(self.body_of[self.tree.pairs()])
+            self.cached = _canonical(self.body_of[self.tree.pairs()]) if bodies.shape[0] > 1 else \
+                np.empty((0, 2), np.int64)
         return self.cached
+
 
 def make_broad_phase(method: str):
     """The broad-phase state for ``World(broad_phase=method)``."""

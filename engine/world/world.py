@@ -131,7 +131,8 @@ class World:
 
     @property
     def rebuild_threshold(self) -> int:
-        """Tree broad phase: more bodies than this leaving their fat boxes at once rebuild the tree."""
+        """Tree broad phase: more bodies than this leaving their fat boxes (or added) since the last query rebuild
+        the tree; SAP: more bodies than this added since the last query rebuild the sweep over every body."""
         return getattr(self._broad, "rebuild_threshold", 0)
 
     @rebuild_threshold.setter
@@ -166,10 +167,9 @@ class World:
         st.count[body] = m
         st.local[body, :m] = shape.local
         st.local[body, m:] = shape.local[0]
-        st.fat_lo[body], st.fat_hi[body] = np.inf, -np.inf
+        self._broad.add(st, body)
         refresh_bodies(st.view(), np.array([body]), shape.center[None], 1,
                        np.ascontiguousarray(shape.rotation, dtype=np.float64)[None], _NO_QUATERNIONS, vel[None])
-        self._broad.add(st, body)
         return body
 
     def remove(self, body_id) -> None:
