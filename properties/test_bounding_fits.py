@@ -15,7 +15,15 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 from scipy.optimize import linprog
 
-from engine.bounding.aabb import aabb_contains, fit_aabb, fit_aabbs, merge_aabb, transform_aabb, transform_aabbs
+from engine.bounding.aabb import (
+    aabb_contains,
+    enclose_aabbs,
+    fit_aabb,
+    fit_aabbs,
+    merge_aabb,
+    transform_aabb,
+    transform_aabbs,
+)
 from engine.bounding.kdop import (
     fit_kdop,
     fit_kdops,
@@ -165,6 +173,28 @@ def test_welzl_handles_duplicates_collinear_coplanar_without_nan():
         assert np.isfinite(c).all() and np.isfinite(r)
         assert np.allclose(c, c_ref, atol=1e-12) and r == pytest.approx(r_ref, abs=1e-12)
 
+
+
+@given(seeds)
+def test_welzl_on_an_apex_over_a_tiny_triangle_is_the_ball_through_all_four(seed):
+    """An apex at height 1 over an equilateral triangle of circumradius eps (2e-6 to 5e-6) centred below it:
+    all four points are on the minimal ball, of radius (1 + eps^2) / 2, but the tetrahedron is nearly flat
+    (|u . (v x w)| ~ 2.6 eps^2 |u| |v| |w| <= 1e-10 |u| |v| |w|), so the circumsphere formula is not used and
+    the ball is chosen among the 2- and 3-point balls that hold all four. The fourth point lies ~eps^2
+    (relative) outside the 3-point ball of the others, beyond the 1e-12 acceptance, so that branch is taken for
+    some visiting orders (several cones and seeds per example). (Just above that flatness bound, eps ~ 7e-6,
+    the circumsphere formula is used and is ill-conditioned: radii 2e-7 too large have been seen.)"""
+    rng = np.random.default_rng(seed)
+    for _ in range(6):
+        eps = rng.uniform(2e-6, 5e-6)
+        angles = rng.uniform(0.0, 2.0 * np.pi) + np.array([0.0, 2.0, 4.0]) * np.pi / 3.0
+        cone = np.vstack([[0.0, 0.0, 1.0], np.column_stack([eps * np.cos(angles), eps * np.sin(angles),
+                                                            np.zeros(3)])])
+        q, _ = np.linalg.qr(rng.normal(size=(3, 3)))  # any orthonormal frame: the result is frame-free
+        pts = cone @ q.T + rng.normal(size=3)
+        center, radius = min_bounding_sphere(pts, seed=int(rng.integers(1000)))
+        assert radius == pytest.approx((1.0 + eps**2) / 2.0, rel=1e-9)
+        assert (np.linalg.norm(pts - center, axis=1) <= radius + REL * scale_of(pts)).all()
 
 @given(clouds_any_dim(), seeds)
 def test_welzl_result_does_not_depend_on_the_seed_beyond_round_off(pts, seed):
@@ -391,3 +421,53 @@ def test_summaries_are_json_ready_and_agree_with_the_fits(pts):
     assert expected <= set(summary)
     with pytest.raises(ValueError, match="does not apply"):
         describe_bounding_volumes(pts, kinds=["kdop8" if pts.shape[1] == 3 else "obb"])
+
+
+# ------------------------------------------------------------------------------------------------------------
+# a hierarchy node's boxes, and OBB frames
+# ------------------------------------------------------------------------------------------------------------
+@given(seeds, st.integers(1, 12), st.integers(0, 12))
+def test_enclose_aabbs_is_the_box_of_the_members_and_the_box_of_their_centres(seed, n, m):
+    rng = np.random.default_rng(seed)
+    lo = rng.integers(-20, 20, size=(n, 3)).astype(np.float64)
+    hi = lo + rng.integers(0, 6, size=(n, 3))
+    members = rng.integers(0, n, size=m).astype(np.int64)  # any rows, repeats allowed
+    out = [np.full(3, np.nan) for _ in range(4)]
+    enclose_aabbs(lo, hi, members, *out)
+    if m == 0:
+        expected = [np.full(3, np.inf), np.full(3, -np.inf), np.full(3, np.inf), np.full(3, -np.inf)]
+    else:
+        centres = (lo[members] + hi[members]) / 2  # exact: integers and halves
+        expected = [lo[members].min(axis=0), hi[members].max(axis=0), centres.min(axis=0), centres.max(axis=0)]
+    for got, want in zip(out, expected):
+        assert np.array_equal(got, want)
+
+
+@given(seeds)
+def test_obb_from_aabb_is_that_box(seed):
+    rng = np.random.default_rng(seed)
+    lo = rng.integers(-5, 5, size=3).astype(np.float64)
+    hi = lo + rng.integers(0, 4, size=3)
+    box = OBB.from_aabb(lo, hi)
+    assert np.array_equal(box.center, (lo + hi) / 2) and np.array_equal(box.axes, np.eye(3))
+    assert np.array_equal(box.half_extents, (hi - lo) / 2)
+    # corners in the documented sign order (-,-,-), (+,-,-), (-,+,-), ...: bit k of the index picks hi on axis k
+    expected = np.array([[(hi if (i >> k) & 1 else lo)[k] for k in range(3)] for i in range(8)])
+    assert np.array_equal(box.corners(), expected)
+    pts = rng.integers(-7, 7, size=(40, 3)).astype(np.float64) / 2  # halves: on the faces too
+    assert np.array_equal(box.contains(pts), aabb_contains(lo, hi, pts))
+
+
+@given(rigid_motions(3), st.floats(0.1, 10.0), seeds)
+def test_obb_contains_exactly_the_points_within_its_half_extents(motion, size, seed):
+    rotation, center = motion
+    rng = np.random.default_rng(seed)
+    half = rng.uniform(0.5, 2.0, size=3) * size
+    box = OBB(center, rotation.T, half)  # rows of axes = the rotated frame's axes
+    s = rng.choice([-1.1, -0.9, -0.5, 0.0, 0.5, 0.9, 1.1], size=(60, 3))  # box coordinates, in half extents
+    pts = center + (s * half) @ box.axes
+    assert np.array_equal(box.contains(pts), (np.abs(s) <= 1.0).all(axis=1))
+    corners = box.corners()
+    local = (corners - center) @ box.axes.T
+    assert np.allclose(np.abs(local), half, rtol=1e-12)
+    assert len({tuple(np.sign(r)) for r in np.round(local, 9)}) == 8

@@ -224,6 +224,27 @@ def test_sphere_overlap_matches_distance_and_batches_match(seed, n, dim):
         assert overlap_aabb_aabb(lo_a[i], hi_a[i], lo_b[i], hi_b[i]) == boxes[i]
 
 
+
+@given(seeds, st.integers(1, 20), st.sampled_from([2, 3]), st.sampled_from([-560, -520, 495]))
+def test_sphere_overlap_does_not_depend_on_the_scale(seed, n, dim, power):
+    """Scaling every centre and radius by 2^power (exact in binary) keeps the answers. At 2^-520 and below the
+    squared distances underflow to subnormals or 0, at 2^495 the differences of centres exceed 1e150: the test is
+    then made on values divided by their largest magnitude. That division rounds, so exact ties (touching
+    spheres, |c_a - c_b|^2 = (r_a + r_b)^2 in integers) are left out; every other case has a relative margin of
+    at least 1 / 1200 on these integer inputs, far beyond rounding."""
+    rng = np.random.default_rng(seed)
+    ca, cb = rng.integers(-9, 10, size=(2, n, dim)).astype(float)
+    ra, rb = rng.integers(0, 10, size=(2, n)).astype(float)
+    d2, s2 = ((ca - cb) ** 2).sum(axis=1), (ra + rb) ** 2  # exact: small integers
+    keep = d2 != s2
+    assume(keep.any())
+    expected = (d2 < s2)[keep]
+    scale = 2.0 ** power
+    got = overlap_spheres(ca * scale, ra * scale, cb * scale, rb * scale)
+    assert np.array_equal(got[keep], expected)
+    for i in np.flatnonzero(keep):
+        assert overlap_sphere_sphere(ca[i] * scale, ra[i] * scale, cb[i] * scale, rb[i] * scale) == (d2[i] < s2[i])
+
 def test_touching_volumes_overlap():
     assert overlap_aabb_aabb([0, 0, 0], [1, 1, 1], [1, 0, 0], [2, 1, 1])
     assert not overlap_aabb_aabb([0, 0, 0], [1, 1, 1], [1 + 1e-12, 0, 0], [2, 1, 1])

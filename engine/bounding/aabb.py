@@ -72,9 +72,9 @@ def check_ordered(lo: np.ndarray, hi: np.ndarray, names: tuple[str, str] = ("lo"
     bad = lo > hi
     if bad.any():
         index = tuple(int(i) for i in np.argwhere(bad)[0])
-        where = index[0] if len(index) == 1 else index
-        raise ValueError(f"{lo_name} must be <= {hi_name}: {lo_name}[{where}] = {lo[index]!r} > "
-                         f"{hi_name}[{where}] = {hi[index]!r}")
+        where = ", ".join(str(i) for i in index)
+        raise ValueError(f"{lo_name} must be <= {hi_name}: {lo_name}[{where}] = {float(lo[index])!r} > "
+                         f"{hi_name}[{where}] = {float(hi[index])!r}")
 
 
 def as_rotation(rotation: ArrayLike, translation: ArrayLike, d: int) -> tuple[np.ndarray, np.ndarray]:

@@ -1,9 +1,9 @@
 """Mutation testing of the engine's kernels with mutmut 3 (``tox -e mutation``; method in properties/MUTATION.md).
 
-    python3 properties/mutation/run_mutmut.py [AREA ...] [--max-children N] [--workdir DIR] [--keep]
+    python3 properties/mutation/run_mutmut.py [AREA ...] [--sample K] [--max-children N] [--workdir DIR] [--keep]
 
-AREA is one of properties/mutation/areas.py (dynamics, broadphase, gas, narrowphase, bounding; default: the
-first four, the issue's scope). For each area the driver
+AREA is one of properties/mutation/areas.py (dynamics, broadphase, gas, narrowphase, bounding, world; default:
+all six, each on its own default sample, ``areas.py``'s ``sample``). For each area the driver
 
 1. copies ``engine/``, ``properties/`` and ``pyproject.toml`` to a scratch directory outside the repository
    (``--workdir``, default ``$TMPDIR/engine-mutation``), so that mutmut's ``mutants/`` never lands in the repo;
@@ -15,8 +15,9 @@ first four, the issue's scope). For each area the driver
      trampoline unchanged, so a kernel that calls another kernel goes through its trampoline like plain Python;
    - ``raise`` statements are not mutated (their message strings are text, not behaviour; the condition that
      guards a raise is still mutated);
-   With ``--sample K`` only a deterministic 1-in-K sample of the mutants is run (chosen by a hash of the mutant's
-   name, so the sample is the same in every run and unbiased with respect to cost or module);
+   Only a deterministic 1-in-K sample of the mutants is run (K: ``--sample K``, else the area's default; chosen
+   by a hash of the mutant's name, so the sample is the same in every run and unbiased with respect to cost or
+   module); ``--sample 1`` runs every mutant;
 3. prints killed / total per area and the survivors, and writes them as JSON (``--json``).
 
 ``--inner`` is the mode the driver runs itself in (inside the scratch copy): it patches mutmut and hands the
@@ -37,7 +38,7 @@ import tempfile
 import time
 from pathlib import Path
 
-DEFAULT_AREAS = ["dynamics", "broadphase", "gas", "narrowphase"]
+DEFAULT_AREAS = ["dynamics", "broadphase", "bounding", "gas", "narrowphase", "world"]
 REPO = Path(__file__).resolve().parents[2]
 
 
@@ -54,6 +55,7 @@ def _patch_mutmut(spec: dict) -> None:
         cfg.source_paths = [Path("engine")]
         cfg.resolved_mutated_source_paths = [Path.cwd().resolve() / "mutants" / "engine"]
         cfg.only_mutate = list(spec["mutate"])
+        cfg.do_not_mutate = list(spec.get("skip", []))
         cfg.also_copy = [*cfg.also_copy, Path("properties")]
         cfg.pytest_add_cli_args = ["-p", "properties.mutation.pytest_plugin", "-p", "no:cacheprovider",
                                    "-m", "not large"] + [a for node in spec["deselect"] for a in ("--deselect", node)]
@@ -144,15 +146,18 @@ def run_area(area: str, spec: dict, workdir: Path, max_children: int, keep: bool
     wall = time.monotonic() - start
     out = subprocess.run([*me, "results", "--all", "true"], cwd=dest, env=env, check=True,
                          capture_output=True, text=True).stdout
-    statuses = {}
+    statuses, mutants = {}, 0
     for line in out.splitlines():
         match = STATUS.match(line)
-        if match and match.group(1).startswith("engine.") and match.group(2) != "not checked":
-            statuses[match.group(1)] = match.group(2)
+        if match and match.group(1).startswith("engine."):
+            mutants += 1
+            if match.group(2) != "not checked":
+                statuses[match.group(1)] = match.group(2)
     # a mutant that makes a test hang is detected too (mutmut stops it at its CPU-time limit: "timeout")
     killed = sorted(k for k, s in statuses.items() if s in ("killed", "timeout"))
     result = {
         "area": area,
+        "mutants": mutants,  # every mutant of the area, sampled or not
         "total": len(statuses),
         "killed": len(killed),
         "wall_seconds": round(wall),
@@ -174,21 +179,25 @@ def main() -> None:
     parser.add_argument("--workdir", type=Path, default=Path(tempfile.gettempdir()) / "engine-mutation")
     parser.add_argument("--keep", action="store_true", help="keep the scratch copy (mutmut show/browse there)")
     parser.add_argument("--json", type=Path, help="write the results here")
-    parser.add_argument("--sample", type=int, default=1, metavar="K",
-                        help="run a deterministic 1-in-K sample of the mutants (by a hash of their names)")
+    parser.add_argument("--sample", type=int, default=None, metavar="K",
+                        help="run a deterministic 1-in-K sample of the mutants (by a hash of their names); "
+                             "default: each area's own (areas.py); 1: every mutant")
     args = parser.parse_args()
+    if args.sample is not None and args.sample < 1:
+        parser.error("--sample must be >= 1")
 
     results = []
     for area in args.areas or DEFAULT_AREAS:
-        spec = {**all_areas[area], "deselect": sorted(deselect), "sample": args.sample}
+        sample = args.sample if args.sample is not None else all_areas[area].get("sample", 1)
+        spec = {**all_areas[area], "deselect": sorted(deselect), "sample": sample}
         spec["tests"] = [t for t in spec["tests"] if (REPO / t).exists()]
-        results.append(run_area(area, spec, args.workdir, args.max_children, args.keep))
-    if args.sample > 1:
-        print(f"\n(a deterministic 1-in-{args.sample} sample of the mutants)")
-    print("\narea         killed / total   score   wall   (killed includes timeouts)")
+        result = run_area(area, spec, args.workdir, args.max_children, args.keep)
+        results.append({**result, "sample": sample})
+    print("\narea         killed / total   score   wall   sample   (killed includes timeouts)")
     for r in results:
         score = 100.0 * r["killed"] / r["total"] if r["total"] else float("nan")
-        print(f"{r['area']:<12} {r['killed']:>6} / {r['total']:<6} {score:6.1f}%  {r['wall_seconds']:>5} s")
+        print(f"{r['area']:<12} {r['killed']:>6} / {r['total']:<6} {score:6.1f}%  {r['wall_seconds']:>5} s  "
+              f"1 in {r['sample']}")
         for status, names in r["by_status"].items():
             if status not in ("killed", "timeout"):
                 print(f"  {status}: {len(names)}")
