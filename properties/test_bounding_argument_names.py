@@ -254,3 +254,21 @@ def test_bad_arguments_are_named(call, names, culprit):
     plain = re.match(r"[A-Za-z_0-9]+", culprit).group()
     assert re.match("|".join(_word(n) for n in names), message), message
     assert re.search(rf"(?<![A-Za-z0-9_]){culprit}", message) and re.search(_word(plain), message), message
+    assert "np." not in message and "float64(" not in message, message  # values as plain numbers, no numpy repr
+
+
+@pytest.mark.parametrize("call, message", [
+    (lambda: overlap_spheres(P3[:3], [1.0, -1.0, 1.0], P3[3:], np.ones(3)), "radii_a must be >= 0: radii_a[1] = -1.0"),
+    (lambda: overlap_spheres(P3[:3], np.ones(3), P3[3:], np.array([1.0, 1.0, -2.5])),
+     "radii_b must be >= 0: radii_b[2] = -2.5"),
+    (lambda: OBB.from_aabb([0, 0, 1], [1, 1, 0]), "lo must be <= hi: lo[2] = 1.0 > hi[2] = 0.0"),
+    (lambda: OBB.from_aabb(np.array([0.0, 3.5, 0.0]), np.array([1.0, -1.0, 1.0])),
+     "lo must be <= hi: lo[1] = 3.5 > hi[1] = -1.0"),
+    (lambda: OBB(np.zeros(3), np.eye(3), [1.0, -1.0, 1.0]), "half_extents must be >= 0: half_extents[1] = -1.0"),
+])
+def test_offending_values_are_printed_as_plain_numbers(call, message):
+    """The whole message: the argument, the first bad index, and the value as Python prints a float (not numpy's
+    ``np.float64(-1.0)``)."""
+    with pytest.raises(ValueError) as info:
+        call()
+    assert str(info.value) == message

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from hypothesis import assume, given, settings
+from hypothesis import assume, example, given, settings
 from hypothesis import strategies as st
 
 from engine.broadphase import (
@@ -111,6 +111,22 @@ def test_sap_any_sweep_axis(scene, axis):
 def test_grid_any_cell_size(scene, cell):
     lo, hi = scene
     np.testing.assert_array_equal(grid_pairs(lo, hi, cell_size=cell), find_pairs(lo, hi, "brute"))
+
+
+@settings(max_examples=40)
+@example(scene=(np.zeros((2, 3)), np.ones((2, 3))), tiny=70, span=0, axis=2, default_size=False)
+@given(scene=box_scenes(d=3, min_n=2, max_n=12, integer=True), tiny=st.integers(20, 1070),
+       span=st.integers(-8, 8), axis=st.integers(0, 2), default_size=st.booleans())
+def test_grid_cells_far_finer_than_the_scene(scene, tiny, span, axis, default_size):
+    """A cluster of boxes scaled by 2^-tiny (down to the denormals) and a point 2^span away: the scene spans
+    2^(span + tiny) cells (or up to 2^1078), far more than any int64 counts, and the grid must coarsen its cells
+    without the count overflowing. Integers scaled by 2^-tiny (tiny <= 1070) are exact, denormals included."""
+    lo, hi = (np.ldexp(v, -tiny) for v in scene)
+    far = np.zeros((1, 3))
+    far[0, axis] = 2.0 ** span
+    lo, hi = np.vstack([lo, far]), np.vstack([hi, far])
+    size = None if default_size else 2.0 ** -tiny
+    np.testing.assert_array_equal(grid_pairs(lo, hi, cell_size=size), numpy_pairs(lo, hi))
 
 
 @settings(max_examples=40)

@@ -9,7 +9,19 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from engine.broadphase import BROAD_PHASES, IncrementalSAP, find_pairs, grid_pairs, octree_pairs, sap_pairs, tree_pairs
+from engine.broadphase import (
+    BROAD_PHASES,
+    DynamicAABBTree,
+    IncrementalSAP,
+    find_pairs,
+    grid_pairs,
+    octree_pairs,
+    sap_pairs,
+    sphere_pairs,
+    sweep_intervals,
+    tree_pairs,
+)
+from engine.broadphase.kinematic import cull_separating_sphere_pairs
 from engine.broadphase.pairs import canonical_pairs
 
 
@@ -98,3 +110,23 @@ def test_incremental_sap_in_one_and_two_dimensions_equals_brute_force(seed, n, d
         assert new_id in gone
         live_lo[new_id], live_hi[new_id] = lo[i] + 0.5, hi[i] + 0.5
     np.testing.assert_array_equal(sap.pairs(), brute_box_pairs(live_lo, live_hi))
+
+
+@pytest.mark.parametrize("call, message", [
+    (lambda: find_pairs(np.array([[0.0, 3.5]]), np.array([[1.0, -1.0]]), "brute"),
+     "lo must not exceed hi: lo[0, 1] = 3.5 > hi[0, 1] = -1.0"),
+    (lambda: sweep_intervals([0.0, 2.0], [1.0, 1.5]), "begin must not exceed end: begin[1] = 2.0 > end[1] = 1.5"),
+    (lambda: IncrementalSAP(np.zeros((1, 3)), np.ones((1, 3))).add([0.0, 2.0, 0.0], [1.0, 1.0, 1.0]),
+     "lo_i must not exceed hi_i: lo_i[1] = 2.0 > hi_i[1] = 1.0"),
+    (lambda: DynamicAABBTree().insert([0.0, 2.0, 0.0], [1.0, 1.0, 1.0]),
+     "lo_i must not exceed hi_i: lo_i[1] = 2.0 > hi_i[1] = 1.0"),
+    (lambda: sphere_pairs(np.zeros((3, 3)), [1.0, -1.0, 1.0]), "radii must be >= 0: radii[1] = -1.0"),
+    (lambda: cull_separating_sphere_pairs([[0, 1]], np.zeros((2, 3)), [1.0, -0.5], np.zeros((2, 3))),
+     "radii must be >= 0: radii[1] = -0.5"),
+])
+def test_offending_values_are_printed_as_plain_numbers(call, message):
+    """The whole message: the argument, the first bad index, and the value as Python prints a float (not numpy's
+    ``np.float64(-1.0)``)."""
+    with pytest.raises(ValueError) as info:
+        call()
+    assert str(info.value) == message

@@ -11,6 +11,7 @@ from numpy.typing import ArrayLike
 
 from .._config import njit
 from .._validate import as_float_array
+from .aabb import check_ordered
 
 #: how far ``axes @ axes.T`` may be from the identity before the axes are rejected as not orthonormal
 ORTHONORMAL_TOL = 1e-9
@@ -67,7 +68,7 @@ class OBB:
         half_extents = as_float_array(half_extents, "half_extents", shape=(3,))
         if (half_extents < 0).any():
             k = int(np.argmax(half_extents < 0))
-            raise ValueError(f"half_extents must be >= 0: half_extents[{k}] = {half_extents[k]!r}")
+            raise ValueError(f"half_extents must be >= 0: half_extents[{k}] = {float(half_extents[k])!r}")
         err = np.abs(axes @ axes.T - np.eye(3)).max()
         if err > ORTHONORMAL_TOL:
             raise ValueError(f"axes must be orthonormal rows (max |A A^T - I| = {err:.3g} > {ORTHONORMAL_TOL})")
@@ -99,9 +100,7 @@ class OBB:
         """
         lo = as_float_array(lo, "lo", shape=(3,))
         hi = as_float_array(hi, "hi", shape=(3,))
-        if (lo > hi).any():
-            k = int(np.argmax(lo > hi))
-            raise ValueError(f"lo must be <= hi: lo[{k}] = {lo[k]!r} > hi[{k}] = {hi[k]!r}")
+        check_ordered(lo, hi)
         return cls((lo + hi) / 2.0, np.eye(3), (hi - lo) / 2.0)
 
     def corners(self) -> np.ndarray:

@@ -454,7 +454,7 @@ def overlap_spheres(centers_a: ArrayLike, radii_a: ArrayLike, centers_b: ArrayLi
     for name, r in (("radii_a", ra), ("radii_b", rb)):
         if (r < 0).any():
             k = int(np.argmax(r < 0))
-            raise ValueError(f"{name} must be >= 0: {name}[{k}] = {r[k]!r}")
+            raise ValueError(f"{name} must be >= 0: {name}[{k}] = {float(r[k])!r}")
     out = np.empty(ca.shape[0], dtype=np.bool_)
     _overlap_spheres_kernel(ca, ra, cb, rb, out)
     return out

@@ -31,16 +31,21 @@ def cell_of(v, origin, inv_size, k):
 
 
 @njit
-def grid_dims(origin, top, cell_size, max_cells):
+def grid_dims(origin, top, cell_size, max_cells, max_per_axis):
     """(side, nx, ny, nz): cells of side ``cell_size`` over the box [origin, top] ((3,) float64 each), the side
     doubled until the grid has at most ``max_cells`` cells (a cap on memory: far-apart clusters then share
-    coarse cells)."""
+    coarse cells) and at most ``max_per_axis`` cells along each axis. The counts are compared as floats before
+    any conversion to int: a tiny side (a denormal one, from boxes near 1e-323) over a span of 1 gives counts
+    past 2^63, which no int64 holds."""
     size = cell_size
     while True:
         total = 1.0
+        widest = 1.0
         for k in range(3):
-            total *= np.floor((top[k] - origin[k]) / size) + 1.0
-        if total <= max_cells:
+            cells = np.floor((top[k] - origin[k]) / size) + 1.0
+            total *= cells
+            widest = max(widest, cells)
+        if total <= max_cells and widest <= max_per_axis:
             break
         size *= 2.0
     nx = int(np.floor((top[0] - origin[0]) / size)) + 1

@@ -112,7 +112,7 @@ def cull_separating_sphere_pairs(pairs: ArrayLike, centers: ArrayLike, radii: Ar
         r = as_float_array(radii, "radii", shape=(n,))
         bad = np.flatnonzero(r < 0.0)
         if bad.size:
-            raise ValueError(f"radii must be >= 0: radii[{bad[0]}] = {r[bad[0]]!r}")
+            raise ValueError(f"radii must be >= 0: radii[{bad[0]}] = {float(r[bad[0]])!r}")
     v = _velocities(velocities, n, d)
     p = canonical_pairs(pairs, n=n)
     return p[_sphere_keep_kernel(p, c, r, v)]

@@ -189,7 +189,8 @@ def as_boxes(lo: ArrayLike | None, hi: ArrayLike | None) -> tuple[np.ndarray, np
     inverted = lo_arr > hi_arr
     if inverted.any():
         i, k = (int(v) for v in np.argwhere(inverted)[0])
-        raise ValueError(f"lo must not exceed hi: lo[{i}, {k}] = {lo_arr[i, k]!r} > hi[{i}, {k}] = {hi_arr[i, k]!r}")
+        raise ValueError(f"lo must not exceed hi: lo[{i}, {k}] = {float(lo_arr[i, k])!r} > "
+                         f"hi[{i}, {k}] = {float(hi_arr[i, k])!r}")
     return lo_arr, hi_arr
 
 
@@ -203,8 +204,8 @@ def as_one_box(lo_i: ArrayLike, hi_i: ArrayLike, d: int,
     bad = np.flatnonzero(lo_arr > hi_arr)
     if bad.size:
         k = int(bad[0])
-        raise ValueError(f"{lo_name} must not exceed {hi_name}: {lo_name}[{k}] = {lo_arr[k]!r} > "
-                         f"{hi_name}[{k}] = {hi_arr[k]!r}")
+        raise ValueError(f"{lo_name} must not exceed {hi_name}: {lo_name}[{k}] = {float(lo_arr[k])!r} > "
+                         f"{hi_name}[{k}] = {float(hi_arr[k])!r}")
     return lo_arr, hi_arr
 
 

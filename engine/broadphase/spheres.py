@@ -171,7 +171,7 @@ def _as_spheres(centers: ArrayLike, radii: ArrayLike) -> tuple[np.ndarray, np.nd
         r = as_float_array(radii, "radii", shape=(n,))
         negative = np.flatnonzero(r < 0.0)
         if negative.size:
-            raise ValueError(f"radii must be >= 0: radii[{negative[0]}] = {r[negative[0]]!r}")
+            raise ValueError(f"radii must be >= 0: radii[{negative[0]}] = {float(r[negative[0]])!r}")
         equal = False
     if c.shape[1] < 3:
         c3 = np.zeros((n, 3))

@@ -103,7 +103,7 @@ def _as_intervals(begin: ArrayLike | None, end: ArrayLike | None) -> tuple[np.nd
     inverted = np.flatnonzero(b > e)
     if inverted.size:
         i = int(inverted[0])
-        raise ValueError(f"begin must not exceed end: begin[{i}] = {b[i]!r} > end[{i}] = {e[i]!r}")
+        raise ValueError(f"begin must not exceed end: begin[{i}] = {float(b[i])!r} > end[{i}] = {float(e[i])!r}")
     return b, e
 
 

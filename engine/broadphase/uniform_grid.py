@@ -60,11 +60,11 @@ def _grid_layout(lo, hi, cell_size):
     for k in range(3):
         origin[k] = lo[:, k].min()
         top[k] = hi[:, k].max()
-    size, nx, ny, nz = grid_dims(origin, top, cell_size, max(8.0 * lo.shape[0], 64.0))
+    max_cells = max(8.0 * lo.shape[0], 64.0)
+    size, nx, ny, nz = grid_dims(origin, top, cell_size, max_cells, max_cells)
     if size > cell_size:
-        sparse_size, sx, sy, sz = grid_dims(origin, top, cell_size, 2.0 ** 63)
-        while max(sx, sy, sz) > 1 << 21:
-            sparse_size, sx, sy, sz = grid_dims(origin, top, 2.0 * sparse_size, 2.0 ** 63)
+        # at most 2^21 cells per axis: the key (cx · ny + cy) · nz + cz stays below 2^63
+        sparse_size, sx, sy, sz = grid_dims(origin, top, cell_size, 2.0 ** 63, float(1 << 21))
         if sparse_size < size:
             return origin, 1.0 / sparse_size, np.array([sx, sy, sz]), False
     return origin, 1.0 / size, np.array([nx, ny, nz]), True
