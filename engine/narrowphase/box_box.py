@@ -51,12 +51,16 @@ from .sat import PARALLEL_EPS
 from .segment_segment import closest_segment_parameters
 from .sphere_box import box_feature_key
 
-__all__ = ["EDGE_AXIS_MIN", "TIE", "sat_box_box", "contact_box_box", "overlap_box_box", "contact_box_box_pair"]
+__all__ = ["EDGE_AXIS_MIN", "TIE", "FACE_SLOP", "sat_box_box", "contact_box_box", "overlap_box_box",
+           "contact_box_box_pair"]
 
 #: cross products of edges shorter than this (sin of the edges' angle) are not candidate contact normals
 EDGE_AXIS_MIN = 1e-7
 #: relative margin (× the sum of the half extents) by which a later SAT axis must be smaller to be chosen
 TIE = 1e-12
+#: relative round-off (× the magnitude of the boxes' coordinates: the largest |centre coordinate| of each box plus
+#: all half extents) within which a clipped point on the reference face's plane counts as below it
+FACE_SLOP = 1e-14
 
 
 @njit
@@ -245,9 +249,12 @@ def _face_contact(cr, Rr, er, i, nrx, nry, nrz, ci, Ri, ei, ref_is_a, rows, p, f
         if n == 0:
             break
     pts, deep, ids = scratch.pts, scratch.deep, scratch.ids
+    # below the reference face up to the round-off of the points' depths, relative to the coordinates' magnitude
+    slop = FACE_SLOP * (max(abs(cr[0]), abs(cr[1]), abs(cr[2])) + max(abs(ci[0]), abs(ci[1]), abs(ci[2]))
+                        + er[0] + er[1] + er[2] + ei[0] + ei[1] + ei[2])
     count = 0
     for v in range(n):  # the points below the reference face
-        if poly[v, 5] >= 0.0:
+        if poly[v, 5] >= -slop:
             pts[count, 0], pts[count, 1], pts[count, 2] = poly[v, 2], poly[v, 3], poly[v, 4]
             deep[count] = poly[v, 5]
             ids[count] = point_id(tags[v, 0], tags[v, 1]) if ref_is_a else point_id(tags[v, 1], tags[v, 0])
