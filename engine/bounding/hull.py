@@ -630,6 +630,7 @@ def is_convex(vertices, faces=None, *, tol: float = 1e-9) -> bool:
       ``faces`` must be None.
     - 3-D: ``vertices`` (n, 3) and ``faces`` (m, 3) int triangles, consistently oriented (all outward or all
       inward), e.g. a ``ConvexHull``'s ``points`` and ``faces``.
+
     The test: every vertex lies on the inner side of every face plane (edge line), to ``tol`` times the
     coordinate scale. Degenerate shapes (zero area / volume) are not convex.
     """

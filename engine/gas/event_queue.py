@@ -44,7 +44,8 @@ class EventCalendar(NamedTuple):
     win_key: np.ndarray
     win_sphere: np.ndarray
     head: np.ndarray
-    count: np.ndarray
+    # a public field name that shadows tuple.count (the method); the field is what the kernels read
+    count: np.ndarray  # type: ignore[assignment]
     width: float
     nbuckets: int
 

@@ -354,7 +354,7 @@ class EventDrivenGas(EventTally):
 
     ``run(t_stop)`` processes every event up to ``t_stop`` and brings all spheres to that time; the counters
     (``collisions``, ``events``, ``wall_hits``, ``crossings``, ``stale``) and the sums ``wall_impulse``
-    (Σ 2 m |v⊥|) and ``virial`` (Σ m_i Δv_i · r_ij) accumulate until ``reset_sums()``. Positions are wrapped
+    (``Σ 2 m |v⊥|``) and ``virial`` (``Σ m_i Δv_i · r_ij``) accumulate until ``reset_sums()``. Positions are wrapped
     into [−L/2, L/2) when periodic. The constructor validates its arguments (``check_gas_state``).
 
     Internally the spheres are renumbered in cell order (``order``) and packed into ``EventGasState``;

@@ -118,7 +118,7 @@ def kinetic_temperature(velocities, masses=1.0) -> float:
 
 
 def scaled_speeds(velocities, masses=1.0, temperature=1.0) -> np.ndarray:
-    """|v_i| sqrt(m_i/kT), (n,): Maxwell-distributed with unit scale in equilibrium, whatever the masses."""
+    """``|v_i| sqrt(m_i/kT)``, (n,): Maxwell-distributed with unit scale in equilibrium, whatever the masses."""
     v = as_float_array(velocities, "velocities", shape=(None, 3), min_rows=1)
     m = _masses(masses, v.shape[0])
     kt = as_positive(temperature, "temperature")

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import NamedTuple
 
@@ -42,10 +43,10 @@ GAS_BOUNDARIES = ("walls", "periodic")
 class GasResult:
     """What ``simulate_gas`` measured (after equilibration, over ``t_measure``) and the final state.
 
-    z_* are compressibilities Z = PV'/(NkT) with their standard errors (*_err, over the blocks); z_wall is NaN
+    ``z_*`` are compressibilities Z = PV'/(NkT) with their standard errors (``*_err``, over the blocks); z_wall is NaN
     for periodic boxes (there is no wall). z_collision_rate = 1 + Γσ sqrt(πm/kT)/6. energy_drift is
-    max |E(t) − E0|/E0 over the block ends (E0 at t = 0, equilibration included). momentum: total m v (3,).
-    scaled_speeds: |v| sqrt(m/kT) of every sphere at every block end ((blocks·n,)), for the Maxwell test.
+    ``max |E(t) − E0| / E0`` over the block ends (E0 at t = 0, equilibration included). momentum: total m v (3,).
+    scaled_speeds: ``|v| sqrt(m/kT)`` of every sphere at every block end ((blocks·n,)), for the Maxwell test.
     events: events processed in the window (event-driven: collisions, wall hits, cell crossings, stale events)
     or frames (stepped). seconds: wall-clock time of the measurement window; collisions_per_second from it.
     """
@@ -98,7 +99,7 @@ class _Request(NamedTuple):
     seed: int
     blocks: int
     max_events: int
-    progress: object
+    progress: Callable[[float], object] | None
 
     @property
     def periodic(self) -> bool:

@@ -201,7 +201,7 @@ class SteppedGas(GasTally):
     """The chapter's fixed-step gas: positions/velocities (n, 3), radii/masses (n,), box side L, Δt.
 
     ``run(steps)`` advances ``steps`` frames of ``dt``; counters ``collisions``, ``wall_hits`` and the sums
-    ``wall_impulse`` (Σ 2 m |v⊥|), ``virial`` (Σ m_i Δv_i · r_ij at contact) accumulate until ``reset_sums()``.
+    ``wall_impulse`` (``Σ 2 m |v⊥|``), ``virial`` (``Σ m_i Δv_i · r_ij`` at contact) accumulate until ``reset_sums()``.
     ``broad_phase`` is a name of ``BROAD_PHASES``; "sap" uses ``IncrementalSAP`` (sorted order kept between
     frames). The constructor validates its arguments (``check_gas_state``, dt, broad_phase).
     """

@@ -242,6 +242,7 @@ class ContactBatch:
     - ``radius_a``, ``radius_b`` (k,): the radii of the two shapes of every pair;
     - ``exact_fallback`` (k,) bool: pairs whose depth came from Qhull on the Minkowski difference (EPA broke
       down on round-off; see ``engine.narrowphase.epa``).
+
     ``len(batch)`` is k and ``batch[p]`` the ``Contact`` of pair p.
     """
 

@@ -267,6 +267,7 @@ class ContactSet:
 
     def ids_of(self, p: int) -> np.ndarray:
         """The point ids (m,) of pair p."""
+        assert self.point_ids is not None, "this ContactSet carries no point ids"
         return self.point_ids[self.point_offsets[p]:self.point_offsets[p + 1]]
 
     @staticmethod

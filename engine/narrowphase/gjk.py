@@ -336,7 +336,7 @@ def gjk_distance(points_a, points_b, *, max_iterations: int = MAX_ITERATIONS):
     """Distance between the convex hulls of ``points_a`` (n, 3) and ``points_b`` (m, 3), n, m >= 1.
 
     Returns ``(distance, closest_a, closest_b)``: a float >= 0 (0.0 when the hulls overlap or touch) and the two
-    closest points (3,), one on each hull, with |closest_a − closest_b| = distance. When the hulls overlap, both
+    closest points (3,), one on each hull, with ``|closest_a − closest_b| = distance``. When the hulls overlap, both
     points are the same point common to the two hulls. Raises ``GJKNotConverged`` after ``max_iterations``.
     """
     pa = as_float_array(points_a, "points_a", shape=(None, 3), min_rows=1)

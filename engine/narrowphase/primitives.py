@@ -197,7 +197,7 @@ def _obbs(centers, axes, half_extents):
 # ---------------------------------------------------------------------------------------------------------------
 
 def overlap_sphere_sphere_batch(centers_a, radii_a, centers_b, radii_b, index_a=None, index_b=None):
-    """Spheres (n, 3) with radii (n,) or a scalar against spheres (m, 3); bool (k,): |c_a − c_b| <= r_a + r_b."""
+    """Spheres (n, 3) with radii (n,) or a scalar against spheres (m, 3); bool (k,): ``|c_a − c_b| <= r_a + r_b``."""
     ca = as_float_array(centers_a, "centers_a", shape=(None, 3))
     cb = as_float_array(centers_b, "centers_b", shape=(None, 3))
     ra = as_radii(radii_a, "radii_a", ca.shape[0])
@@ -592,7 +592,7 @@ def overlap_aabb_curve(lo, hi, f, *, samples: int = 64):
 
 
 def min_distance_to_curve(points, f, half_width, *, samples: int = 64):
-    """Smallest Euclidean distance from points (n, 2) to the graph of f restricted to |x − p_x| <= half_width
+    """Smallest Euclidean distance from points (n, 2) to the graph of f restricted to ``|x − p_x| <= half_width``
     ((n,) or scalar). Returns ``(distance (n,), x_closest (n,))``; sampling + golden-section refinement, every
     point at once (see ``max_on_intervals``)."""
     p = as_float_array(points, "points", shape=(None, 2))
@@ -611,7 +611,7 @@ def min_distance_to_curve(points, f, half_width, *, samples: int = 64):
 def overlap_circle_curve(centers, radii, f, *, samples: int = 64):
     """Exact test of circles (n, 2), radii (n,) or scalar, against the solid region y <= f(x), f continuous:
     contact iff the centre is under the curve, or the curve passes within the radius (its closest point then has
-    |x − c_x| <= r, so the minimum of the true distance over that window decides). bool (n,)."""
+    ``|x − c_x| <= r``, so the minimum of the true distance over that window decides). bool (n,)."""
     c = as_float_array(centers, "centers", shape=(None, 2))
     r = as_radii(radii, "radii", c.shape[0])
     samples = _check_samples(samples)

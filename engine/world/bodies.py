@@ -52,6 +52,22 @@ _FIELDS = {"kind": ((), np.int8, -1), "center": ((3,), np.float64, 0.0), "rotati
 class BodyStore:
     """Structure-of-arrays state of the bodies (see the module docstring); ids are reused after ``remove``."""
 
+    # the state arrays, set by _alloc from _FIELDS (+ local, points); shapes and dtypes in the module docstring
+    kind: np.ndarray
+    center: np.ndarray
+    rotation: np.ndarray
+    velocity: np.ndarray
+    radius: np.ndarray
+    half: np.ndarray
+    count: np.ndarray
+    local: np.ndarray
+    points: np.ndarray
+    lo: np.ndarray
+    hi: np.ndarray
+    fat_lo: np.ndarray
+    fat_hi: np.ndarray
+    escaped: np.ndarray
+
     def __init__(self, capacity: int = 16, max_points: int = 1):
         self.n_ids = 0
         self.free: list[int] = []

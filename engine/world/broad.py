@@ -150,9 +150,11 @@ class TreeBroadPhase:
     def _requery(self, store, escaped) -> None:
         """Move (or insert) the leaves of the escaped bodies and replace their cached pairs by what the tree now
         finds."""
+        cached = self.cached
+        assert cached is not None  # candidates() rebuilds instead when nothing is cached
         moved = np.zeros(store.capacity, np.bool_)
         moved[escaped] = True
-        keep = ~(moved[self.cached[:, 0]] | moved[self.cached[:, 1]])
+        keep = ~(moved[cached[:, 0]] | moved[cached[:, 1]])
         for body in escaped.tolist():  # a few leaves: Box2D's move buffer
             if body in self.leaf_of:
                 self.tree.move(self.leaf_of[body], store.fat_lo[body], store.fat_hi[body])
@@ -168,7 +170,7 @@ class TreeBroadPhase:
             others = others[others != body]
             found.append(np.stack([np.minimum(others, body), np.maximum(others, body)], axis=1))
         # the kept rows involve no escaped body, the found ones all do: only the found ones can repeat
-        self.cached = np.concatenate([self.cached[keep], _canonical(np.concatenate(found))])
+        self.cached = np.concatenate([cached[keep], _canonical(np.concatenate(found))])
 
     def candidates(self, store, bodies: np.ndarray) -> np.ndarray:
         if self.removed:

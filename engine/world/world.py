@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field
+from typing import cast
 
 import numpy as np
 
@@ -55,7 +56,7 @@ from .dispatch import (
     overlapping_boxes,
     table_array,
 )
-from .shapes import BOX, KIND_NAMES, PLANE, Shape, as_rotation
+from .shapes import BOX, KIND_NAMES, PLANE, Box, Shape, as_rotation
 
 __all__ = ["World", "ContactSet", "ImpactSet", "WorldStats", "FEATURE_NAMES"]
 
@@ -116,6 +117,7 @@ class World:
     - ``pairs()`` -> canonical (k, 2) int64 ids of overlapping shapes; ``contacts()`` -> ``ContactSet``;
       ``time_of_impact(dt)`` -> ``ImpactSet`` (bodies move with their constant velocities; grounds are fixed);
     - ``stats`` (``WorldStats``): the work of each stage in the last query; ``bodies()``: the body store.
+
     Ids are ints, reused after ``remove``. Grounds (``Plane``, ``HeightCurve``) take ids too but cannot move.
     """
 
@@ -163,7 +165,7 @@ class World:
             return body
         m = shape.local.shape[0]
         st.radius[body] = shape.radius
-        st.half[body] = shape.half_extents if shape.kind == BOX else 0.0
+        st.half[body] = cast(Box, shape).half_extents if shape.kind == BOX else 0.0
         st.count[body] = m
         st.local[body, :m] = shape.local
         st.local[body, m:] = shape.local[0]
@@ -325,13 +327,15 @@ class World:
         radius = self._store.radius[cand]
         out = contact_set_from_rows(rows, cand, radius[:, 0], radius[:, 1], keep=_touching_in_order(cand, rows))
         prev_pairs, prev_ids = self._previous
-        mark_persisting(prev_pairs, prev_ids, out.pairs, out.point_offsets, out.point_ids, out.persists)
+        point_ids, persists = out.point_ids, out.persists
+        assert point_ids is not None and persists is not None  # contact_set_from_rows always sets both
+        mark_persisting(prev_pairs, prev_ids, out.pairs, out.point_offsets, point_ids, persists)
         owner = np.repeat(out.pairs, np.diff(out.point_offsets), axis=0)
-        order = np.lexsort((out.point_ids, owner[:, 1], owner[:, 0]))
-        self._previous = (np.ascontiguousarray(owner[order]), out.point_ids[order])
+        order = np.lexsort((point_ids, owner[:, 1], owner[:, 0]))
+        self._previous = (np.ascontiguousarray(owner[order]), point_ids[order])
         stats.seconds["contacts"] = time.perf_counter() - t0
         stats.query, stats.overlapping = "contacts", len(out)
-        stats.contacts, stats.persisting = int(out.points.shape[0]), int(out.persists.sum())
+        stats.contacts, stats.persisting = int(out.points.shape[0]), int(persists.sum())
         self.stats = stats
         return out
 
