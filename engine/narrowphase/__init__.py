@@ -22,7 +22,7 @@ module: kernels                   what they compute (shapes)
 ``support``: ``support_index``,   the support mapping s(d) of points (n, 3); of coordinate rows S[row:row + 3]
 ``support_index_rows``,           (x, y, z rows of n points); of M = A − B: (ia, ib, w)
 ``support_minkowski``
-``rescale``: ``rescale_unit``,    the power of two that brings a tiny or huge pair into [2^-200, 2^200]
+``rescale``: ``rescale_unit``,    the power of two that brings a tiny or huge pair into [2^-160, 2^160]
 ``largest_coordinate``
 ``simplex``: ``closest_on_*``     GJK's sub-algorithm: closest point of a segment / triangle / tetrahedron to the
                                   origin (scalars in: the vertices; out: supporting vertices and weights)

@@ -175,6 +175,13 @@ def _face_sides(px, py, pz, qx, qy, qz, rx, ry, rz, lx, ly, lz):
 
 
 @njit(inline="always")
+def _opposite_signs(u, v):
+    """u and v are non-zero with opposite signs. (Not ``u * v < 0``: the product of two signed volumes is of degree
+    6 in the coordinates and underflows to 0 for coordinates near 2^-170, long before either volume does.)"""
+    return (u < 0.0 and v > 0.0) or (u > 0.0 and v < 0.0)
+
+
+@njit(inline="always")
 def _pick4(s, a, b, c, d):
     """Component ``s`` (0, 1, 2, 3) of (a, b, c, d)."""
     if s == 0:
@@ -210,10 +217,10 @@ def closest_on_tetrahedron(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz):
     so1, sl1 = _face_sides(ax, ay, az, bx, by, bz, dx, dy, dz, cx, cy, cz)
     so2, sl2 = _face_sides(ax, ay, az, cx, cy, cz, dx, dy, dz, bx, by, bz)
     so3, sl3 = _face_sides(bx, by, bz, cx, cy, cz, dx, dy, dz, ax, ay, az)
-    out0 = flat or so0 * sl0 < 0.0
-    out1 = flat or so1 * sl1 < 0.0
-    out2 = flat or so2 * sl2 < 0.0
-    out3 = flat or so3 * sl3 < 0.0
+    out0 = flat or _opposite_signs(so0, sl0)
+    out1 = flat or _opposite_signs(so1, sl1)
+    out2 = flat or _opposite_signs(so2, sl2)
+    out3 = flat or _opposite_signs(so3, sl3)
     if not (out0 or out1 or out2 or out3):
         # the weight of vertex l is the origin's volume over l's against the face opposite l
         return 4, 0, 1, 2, so3 / sl3, so2 / sl2, so1 / sl1, so0 / sl0
