@@ -30,6 +30,7 @@ import numpy as np
 from .._config import njit
 from .._validate import as_float_array, as_nonnegative, as_positive, as_radii, check_offsets, check_pairs
 from .clipping import clip_polygon, clip_segment, closest_segments_2d, drop_flat_vertices
+from .contacts import PairFeatureNames, feature_name
 from .features import feature_polygon, plane_basis, support_set
 from .gjk import MAX_ITERATIONS
 from .penetration import ONE_PAIR, penetration_pairs
@@ -42,8 +43,6 @@ __all__ = ["Contact", "ContactBatch", "contact_feature", "contact_feature_pairs"
 #: relative tolerance (× the size of the shapes) of the support-plane test that groups vertices into a feature
 FEATURE_TOL = 1e-7
 
-_NAMES = {1: "vertex", 2: "edge", 3: "face"}
-_ROUND_NAMES = {1: "sphere", 2: "cylinder", 3: "face"}
 
 
 @dataclass(frozen=True)
@@ -229,7 +228,7 @@ def contact_points_pairs(points, offsets, pairs, radii, ftol, normal, closest_a,
 # ---------------------------------------------------------------------------------------------------------------
 
 @dataclass(frozen=True)
-class ContactBatch:
+class ContactBatch(PairFeatureNames):
     """``contact_feature`` over k pairs, as arrays (see ``contact_feature_pairs``).
 
     - ``separation`` (k,): signed distance (> 0 apart, 0 touching, < 0 penetration depth);
@@ -261,24 +260,6 @@ class ContactBatch:
     def __len__(self) -> int:
         return int(self.separation.shape[0])
 
-    @staticmethod
-    def _names(codes, radii) -> list:
-        return [(_ROUND_NAMES if r > 0 else _NAMES)[int(c)] for c, r in zip(codes, radii)]
-
-    @property
-    def names_a(self) -> list:
-        """A's feature of every pair: "vertex", "edge", "face" (rounded: "sphere", "cylinder", "face")."""
-        return self._names(self.feature_a, self.radius_a)
-
-    @property
-    def names_b(self) -> list:
-        return self._names(self.feature_b, self.radius_b)
-
-    @property
-    def kind(self) -> list:
-        """"vertex-face", "edge-edge" ... for every pair (A's feature first)."""
-        return [f"{a}-{b}" for a, b in zip(self.names_a, self.names_b)]
-
     def __getitem__(self, p) -> Contact:
         if isinstance(p, bool) or not isinstance(p, int | np.integer):
             raise TypeError(f"p must be an int, got {type(p).__name__}")
@@ -286,8 +267,8 @@ class ContactBatch:
         if not -k <= p < k:
             raise IndexError(f"pair {p} outside a batch of {k}")
         p = int(p) % k
-        fa = (_ROUND_NAMES if self.radius_a[p] > 0 else _NAMES)[int(self.feature_a[p])]
-        fb = (_ROUND_NAMES if self.radius_b[p] > 0 else _NAMES)[int(self.feature_b[p])]
+        fa = feature_name(self.feature_a[p], self.radius_a[p])
+        fb = feature_name(self.feature_b[p], self.radius_b[p])
         return Contact(separation=float(self.separation[p]), normal=self.normal[p].copy(), feature_a=fa,
                        feature_b=fb, kind=f"{fa}-{fb}",
                        points=self.points[self.point_offsets[p]:self.point_offsets[p + 1]].copy(),

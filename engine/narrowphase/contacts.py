@@ -38,7 +38,8 @@ import numpy as np
 
 from .._config import njit
 
-__all__ = ["ContactSet", "FEATURE_NAMES", "ROUND_FEATURE_NAMES", "VERTEX", "EDGE", "FACE", "MAX_POINTS",
+__all__ = ["ContactSet", "PairFeatureNames", "feature_name", "FEATURE_NAMES", "ROUND_FEATURE_NAMES", "VERTEX", "EDGE",
+           "FACE", "MAX_POINTS",
            "feature_key", "point_id", "describe_point_id", "reduce_manifold", "mark_persisting", "empty_contacts",
            "ContactRows", "contact_rows", "APART", "TOUCHING", "DEFERRED", "write_pair", "write_point",
            "key_kind", "contact_set_from_rows", "swap_point_id", "unit_vector",
@@ -238,8 +239,39 @@ def mark_persisting(prev_pairs, prev_ids, pairs, offsets, ids, persists):
                            and prev_ids[lo] == ids[q])
 
 
+def feature_name(code, radius) -> str:
+    """The name of feature ``code`` (VERTEX, EDGE, FACE) of a shape swept by ``radius``: "vertex", "edge",
+    "face", or on a rounded shape (radius > 0) "sphere", "cylinder", "face"."""
+    return (ROUND_FEATURE_NAMES if radius > 0 else FEATURE_NAMES)[int(code)]
+
+
+class PairFeatureNames:
+    """Feature names, computed on demand, of a record of k pairs with feature codes ``feature_a``, ``feature_b``
+    (k,) and radii ``radius_a``, ``radius_b`` (k,)."""
+
+    feature_a: np.ndarray
+    feature_b: np.ndarray
+    radius_a: np.ndarray
+    radius_b: np.ndarray
+
+    @property
+    def names_a(self) -> list:
+        """The first shape's feature of every pair: "vertex", "edge", "face" (rounded: "sphere", "cylinder")."""
+        return [feature_name(c, r) for c, r in zip(self.feature_a, self.radius_a)]
+
+    @property
+    def names_b(self) -> list:
+        """The second shape's feature of every pair, as ``names_a``."""
+        return [feature_name(c, r) for c, r in zip(self.feature_b, self.radius_b)]
+
+    @property
+    def kind(self) -> list:
+        """"vertex-face", "edge-edge" ... for every pair (the first shape's feature first)."""
+        return [f"{a}-{b}" for a, b in zip(self.names_a, self.names_b)]
+
+
 @dataclass(frozen=True)
-class ContactSet:
+class ContactSet(PairFeatureNames):
     """Contacts of k pairs (see the module docstring for every field)."""
 
     pairs: np.ndarray
@@ -270,23 +302,6 @@ class ContactSet:
         assert self.point_ids is not None, "this ContactSet carries no point ids"
         return self.point_ids[self.point_offsets[p]:self.point_offsets[p + 1]]
 
-    @staticmethod
-    def _names(codes, radii) -> list:
-        return [(ROUND_FEATURE_NAMES if r > 0 else FEATURE_NAMES)[int(c)] for c, r in zip(codes, radii)]
-
-    @property
-    def names_a(self) -> list:
-        """The first shape's feature of every pair: "vertex", "edge", "face" (rounded: "sphere", "cylinder")."""
-        return self._names(self.feature_a, self.radius_a)
-
-    @property
-    def names_b(self) -> list:
-        return self._names(self.feature_b, self.radius_b)
-
-    @property
-    def kind(self) -> list:
-        """"vertex-face", "edge-edge" ... for every pair (the first shape's feature first)."""
-        return [f"{a}-{b}" for a, b in zip(self.names_a, self.names_b)]
 
 
 def contact_set_from_rows(rows: ContactRows, pairs, radius_a, radius_b, *, keep=None,
