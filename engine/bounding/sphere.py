@@ -155,16 +155,43 @@ def _holds(q, c, r2):
 
 
 @njit
+def _best_conditioned_corner(pts):
+    """The corner i of the tetrahedron pts (4, 3) with the smallest product of its three edge lengths.
+
+    The volume u.(v x w) is the same from every corner; dividing by the product |u||v||w| of the edges that
+    leave the chosen corner, the circumcentre formula of _ball4 is best conditioned from the corner whose
+    edges are shortest (an apex far above a tiny triangle: one of the triangle's corners, not the apex).
+    """
+    best = 0
+    best_product = np.inf
+    for i in range(4):
+        product = 1.0
+        for j in range(4):
+            if j != i:
+                product *= math.sqrt(_dist2(pts[j], pts[i]))
+        if product < best_product:
+            best_product = product
+            best = i
+    return best
+
+
+@njit
 def _ball4(a, b, p, q, c):
     """Smallest ball with a, b, p, q on its boundary: the tetrahedron's circumsphere.
 
-    Relative to a, with u = b - a, v = p - a, w = q - a:
-    x = (|u|^2 (v x w) + |v|^2 (w x u) + |w|^2 (u x v)) / (2 u.(v x w)). For a (near-)coplanar quadruple
+    Relative to the best-conditioned corner o, with u, v, w the edges to the other three:
+    x = o + (|u|^2 (v x w) + |v|^2 (w x u) + |w|^2 (u x v)) / (2 u.(v x w)). For a (near-)coplanar quadruple
     the circumsphere does not exist: return the smallest of the 2- and 3-point balls that holds all four.
     """
-    u = b - a
-    v = p - a
-    w = q - a
+    pts = np.empty((4, 3))
+    pts[0] = a
+    pts[1] = b
+    pts[2] = p
+    pts[3] = q
+    o = _best_conditioned_corner(pts)
+    u = pts[(o + 1) % 4] - pts[o]
+    v = pts[(o + 2) % 4] - pts[o]
+    w = pts[(o + 3) % 4] - pts[o]
     vw = _cross(v, w)
     det = u[0] * vw[0] + u[1] * vw[1] + u[2] * vw[2]
     lu = math.sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2])
@@ -174,14 +201,9 @@ def _ball4(a, b, p, q, c):
         wu = _cross(w, u)
         uv = _cross(u, v)
         for m in range(3):
-            c[m] = a[m] + (lu * lu * vw[m] + lv * lv * wu[m] + lw * lw * uv[m]) / (2.0 * det)
+            c[m] = pts[o, m] + (lu * lu * vw[m] + lv * lv * wu[m] + lw * lw * uv[m]) / (2.0 * det)
         return max(_dist2(a, c), _dist2(b, c), _dist2(p, c), _dist2(q, c))
     # degenerate: try every ball on 2 or 3 of the points, keep the smallest holding all four
-    pts = np.empty((4, 3))
-    pts[0] = a
-    pts[1] = b
-    pts[2] = p
-    pts[3] = q
     tmp = np.empty(3)
     best = np.inf
     for i in range(4):
