@@ -314,37 +314,42 @@ def _initial_tetrahedron(points, simplex, m, nxt, eps):
         m.alive[f] = True
     link_neighbours(m.fv, 4, m.fadj)
     first_faces = np.arange(4)
+    fn, fd, head, far, far_d = m.fn, m.fd, m.head, m.far, m.far_d  # locals: see _hand_over_points
     for i in range(points.shape[0]):
         if i == simplex[0] or i == simplex[1] or i == simplex[2] or i == simplex[3]:
             continue
-        _assign_outside_point(points, i, first_faces, 4, m.fn, m.fd, eps, m.head, nxt, m.far, m.far_d)
+        _assign_outside_point(points, i, first_faces, 4, fn, fd, eps, head, nxt, far, far_d)
 
 
 @njit
 def _cone_planes(points, m, first, count, apex):
     """Planes of the new faces ``first .. first + count - 1`` (a, b, apex), alive, with empty conflict lists."""
+    fv, fn, fd, alive, head, far, far_d = m.fv, m.fn, m.fd, m.alive, m.head, m.far, m.far_d  # see _hand_over_points
     for nf in range(first, first + count):
-        m.fd[nf] = _plane(points, m.fv[nf, 0], m.fv[nf, 1], apex, m.fn[nf])
-        m.alive[nf] = True
-        m.head[nf] = -1
-        m.far[nf] = -1
-        m.far_d[nf] = 0.0
+        fd[nf] = _plane(points, fv[nf, 0], fv[nf, 1], apex, fn[nf])
+        alive[nf] = True
+        head[nf] = -1
+        far[nf] = -1
+        far_d[nf] = 0.0
 
 
 @njit
 def _hand_over_points(points, apex, n_visible, n_new, m, nxt, eps):
     """The visible faces die; their outside points (but the apex) move to the new face they lie farthest outside
     of, or are dropped when they are inside the new hull."""
+    # the mesh's arrays as locals: reading a field of ``m`` in the loop costs a reference-count round trip
+    visible, alive, head, new_faces = m.visible, m.alive, m.head, m.new_faces
+    fn, fd, far, far_d = m.fn, m.fd, m.far, m.far_d
     for v in range(n_visible):
-        g = m.visible[v]
-        m.alive[g] = False
-        i = m.head[g]
+        g = visible[v]
+        alive[g] = False
+        i = head[g]
         while i != -1:
             following = nxt[i]
             if i != apex:
-                _assign_outside_point(points, i, m.new_faces, n_new, m.fn, m.fd, eps, m.head, nxt, m.far, m.far_d)
+                _assign_outside_point(points, i, new_faces, n_new, fn, fd, eps, head, nxt, far, far_d)
             i = following
-        m.head[g] = -1
+        head[g] = -1
 
 
 @njit
@@ -501,12 +506,34 @@ def _volume_from_a_vertex(pts: np.ndarray, faces: np.ndarray) -> float:
     its short edge. Summed from the vertex centroid instead, a sliver pyramid 1.4e6 from its apex lost 1.3e-9 of
     its volume (its condition number is 8.8e5)."""
     r = int(np.bincount(faces.ravel()).argmax())
-    turns = [np.roll(faces, -k, axis=1) for k in range(3)]
-    cost = np.stack([np.linalg.norm(pts[t[:, 0]] - pts[r], axis=1) * np.linalg.norm(pts[t[:, 1]] - pts[t[:, 0]], axis=1)
-                     * np.linalg.norm(pts[t[:, 2]] - pts[t[:, 0]], axis=1) for t in turns])
-    best = np.choose(np.argmin(cost, axis=0)[:, None], turns)  # the first least cost: deterministic
-    a, b, c = pts[best[:, 0]], pts[best[:, 1]], pts[best[:, 2]]
-    return float(np.einsum("ij,ij->i", a - pts[r], np.cross(b - a, c - a)).sum() / 6.0)
+    return float(_volume_terms_kernel(pts, faces, r).sum() / 6.0)  # numpy's pairwise sum of the F terms
+
+
+@njit
+def _volume_terms_kernel(pts, faces, r):
+    """The F terms (a − r) · ((b − a) × (c − a)) of _volume_from_a_vertex, each face started at the corner a
+    (first of the least) that makes |a − r| |b − a| |c − a| least."""
+    terms = np.empty(faces.shape[0])
+    for f in range(faces.shape[0]):
+        best = 0
+        best_cost = np.inf
+        for k in range(3):
+            a, b, c = faces[f, k], faces[f, (k + 1) % 3], faces[f, (k + 2) % 3]
+            cost = math.sqrt(_dist2(pts, a, r)) * math.sqrt(_dist2(pts, b, a)) * math.sqrt(_dist2(pts, c, a))
+            if cost < best_cost:
+                best_cost = cost
+                best = k
+        a, b, c = faces[f, best], faces[f, (best + 1) % 3], faces[f, (best + 2) % 3]
+        ux, uy, uz = pts[b, 0] - pts[a, 0], pts[b, 1] - pts[a, 1], pts[b, 2] - pts[a, 2]
+        vx, vy, vz = pts[c, 0] - pts[a, 0], pts[c, 1] - pts[a, 1], pts[c, 2] - pts[a, 2]
+        terms[f] = ((pts[a, 0] - pts[r, 0]) * (uy * vz - uz * vy) + (pts[a, 1] - pts[r, 1]) * (uz * vx - ux * vz)
+                    + (pts[a, 2] - pts[r, 2]) * (ux * vy - uy * vx))
+    return terms
+
+
+@njit
+def _dist2(pts, i, j):
+    return (pts[i, 0] - pts[j, 0]) ** 2 + (pts[i, 1] - pts[j, 1]) ** 2 + (pts[i, 2] - pts[j, 2]) ** 2
 
 
 def _hull_3d(pts: np.ndarray) -> ConvexHull:
