@@ -19,6 +19,9 @@ from engine.narrowphase import (
     time_of_impact,
     time_of_impact_pairs,
 )
+from engine.narrowphase.plane import contact_points_plane_pair
+from engine.narrowphase.segment_segment import contact_segments_pair
+from engine.narrowphase.sphere_box import contact_sphere_box_pair
 
 CUBE = np.array([[x, y, z] for x in (0.0, 1.0) for y in (0.0, 1.0) for z in (0.0, 1.0)])
 ORIGIN = np.zeros(3)
@@ -98,3 +101,29 @@ def test_batched_time_of_impact_refuses_points_that_are_not_3d(bad):
     """``time_of_impact_pairs``' packed points must be (N, 3): (16, 2) would have the kernel read a third
     coordinate past each row."""
     check_names(lambda: time_of_impact_pairs(bad, [0, 8, 16], np.zeros((2, 3)), [[0, 1]]), "points")
+
+
+def _segments_call(bad_name):
+    args = {"a0": ORIGIN, "a1": UNIT_X, "radius_a": 0.5, "b0": ORIGIN + 3.0, "b1": UNIT_X + 3.0, "radius_b": 0.5}
+    args[bad_name] = -1.0 if bad_name.startswith("radius") else np.zeros(2)
+    return lambda: contact_segments_pair(**args)
+
+
+def _sphere_box_call(bad_name):
+    args = {"center": ORIGIN + 3.0, "radius": 0.5, "box_center": ORIGIN, "box_rotation": np.eye(3),
+            "half_extents": np.ones(3)}
+    args[bad_name] = {"radius": 0.0, "half_extents": np.array([1.0, 0.0, 1.0]), "box_rotation": np.ones((2, 2))}.get(
+        bad_name, np.zeros(2))
+    return lambda: contact_sphere_box_pair(**args)
+
+
+@pytest.mark.parametrize("call, pattern", [
+    *[(_segments_call(name), name) for name in ("a0", "a1", "radius_a", "b0", "b1", "radius_b")],
+    *[(_sphere_box_call(name), name) for name in ("center", "radius", "box_center", "box_rotation")],
+    (_sphere_box_call("half_extents"), r"half_extents\[1\]"),
+    (lambda: contact_points_plane_pair(np.zeros((2, 2)), 0.0, 0.0), "points"),
+    (lambda: contact_points_plane_pair(np.zeros((2, 3)), -1.0, 0.0), "radius"),
+])
+def test_closed_form_contact_pairs_name_the_bad_argument(call, pattern):
+    """The single-pair forms of the closed-form contact kernels World calls (segment cores, sphere-box, plane)."""
+    check_names(call, pattern)
