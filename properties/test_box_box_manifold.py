@@ -9,7 +9,7 @@
 - More than four candidate points are reduced to four by ``contacts.reduce_manifold``: the deepest, the farthest
   from it, the largest triangle on either side of that segment (its docstring). The rule is written out here in
   numpy and compared on candidates about a contact plane of any orientation.
-- A cube resting exactly (depth 0) on a long bar touches at its four bottom corners.
+- A cube resting exactly (depth 0) on a long bar touches at its four bottom corners; boxes apart have no point.
 """
 from __future__ import annotations
 
@@ -130,3 +130,16 @@ def test_a_cube_resting_exactly_on_a_long_bar_touches_at_its_four_bottom_corners
     bottom = cb + (SIGNS[SIGNS[:, 1] < 0] * hb) @ turn.T
     assert cs.depth[0] == 0.0 and cs.kind == ["face-face"], (cs.depth, cs.kind)
     assert _same_points(cs.points_of(0), bottom, 1e-15), (cs.points_of(0), bottom)
+
+
+@given(rotations, rotations, st.floats(0.01, 3.0), rotations)
+def test_boxes_apart_report_no_contact_points(ra, rb, gap, q):
+    """Boxes apart (B beyond A's bounding sphere plus B's by ``gap`` along a random direction): separation > 0
+    (a lower bound of the distance, from the separating axis) and no contact point, no touching feature — the
+    kernel computes none for a separated pair, so any point reported would be made up."""
+    ha, hb = np.array([1.0, 0.5, 0.25]), np.array([0.3, 0.6, 0.9])
+    direction = q[:, 0]
+    cb = direction * (np.linalg.norm(ha) + np.linalg.norm(hb) + gap)
+    cs = contact_box_box_pair(np.zeros(3), ra, ha, cb, rb, hb)
+    assert cs.separation[0] > 0.0 and cs.depth[0] == 0.0
+    assert cs.points_of(0).shape == (0, 3) and cs.feature_a[0] == 0 and cs.feature_b[0] == 0

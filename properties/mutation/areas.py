@@ -93,6 +93,7 @@ AREAS: dict[str, dict[str, list[str]]] = {
             "properties/test_narrowphase_argument_names.py",
             "properties/test_epa_outputs_at_every_scale.py",
             "properties/test_box_box_manifold.py",
+            "properties/test_plane_contact_features.py",
         ],
         "sample": 64,
     },
