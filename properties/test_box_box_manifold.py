@@ -143,3 +143,23 @@ def test_boxes_apart_report_no_contact_points(ra, rb, gap, q):
     cs = contact_box_box_pair(np.zeros(3), ra, ha, cb, rb, hb)
     assert cs.separation[0] > 0.0 and cs.depth[0] == 0.0
     assert cs.points_of(0).shape == (0, 3) and cs.feature_a[0] == 0 and cs.feature_b[0] == 0
+
+
+@given(st.integers(5, 8), st.integers(0, 2**32 - 1), rotations)
+def test_manifold_reduction_of_points_all_on_one_side(count, seed, q):
+    """The same rule when every other candidate lies on one side of the segment from the deepest point (−1, 0, 0)
+    to the farthest from it (1, 0, 0) — the others inside the half-disc between them: the other side contributes
+    nothing, so three points are kept."""
+    rng = np.random.default_rng(seed)
+    radius, angle = rng.uniform(0.1, 0.9, count - 2), rng.uniform(0.1, np.pi - 0.1, count - 2)
+    others = np.column_stack([radius * np.cos(angle), np.zeros(count - 2), radius * np.sin(angle)])
+    local = np.vstack([[[-1.0, 0.0, 0.0], [1.0, 0.0, 0.0]], others])
+    points = local @ q.T
+    normal = q[:, 1]
+    depths = np.concatenate([[1.0], rng.uniform(0.0, 0.5, count - 1)])
+    ids = np.arange(count, dtype=np.int64) << 8
+    expected = _reduced_by_the_rule(points, depths, normal)
+    assert expected[:2] == [0, 1] and len(expected) == 3
+    work_p, work_d, work_i = points.copy(), depths.copy(), ids.copy()
+    kept = reduce_manifold(work_p, work_d, work_i, count, normal[0], normal[1], normal[2], kernel_scratch(count))
+    assert kept == 3 and work_i[:kept].tolist() == ids[expected].tolist()
