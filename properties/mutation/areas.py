@@ -94,6 +94,7 @@ AREAS: dict[str, dict[str, list[str]]] = {
             "properties/test_epa_outputs_at_every_scale.py",
             "properties/test_box_box_manifold.py",
             "properties/test_plane_contact_features.py",
+            "properties/test_round_core_contacts.py",
         ],
         "sample": 64,
     },
