@@ -10,6 +10,7 @@
   from it, the largest triangle on either side of that segment (its docstring). The rule is written out here in
   numpy and compared on candidates about a contact plane of any orientation.
 - A cube resting exactly (depth 0) on a long bar touches at its four bottom corners; boxes apart have no point.
+- ``contact_feature`` of boxes apart whose nearest edges are parallel: the two ends of the edges' common stretch.
 """
 from __future__ import annotations
 
@@ -163,3 +164,22 @@ def test_manifold_reduction_of_points_all_on_one_side(count, seed, q):
     work_p, work_d, work_i = points.copy(), depths.copy(), ids.copy()
     kept = reduce_manifold(work_p, work_d, work_i, count, normal[0], normal[1], normal[2], kernel_scratch(count))
     assert kept == 3 and work_i[:kept].tolist() == ids[expected].tolist()
+
+
+@given(st.floats(0.05, 1.0), st.floats(-1.5, 1.5), rotations)
+def test_parallel_edges_apart_touch_over_the_overlap_of_their_lengths(gap, shift, q):
+    """``contact_feature`` (GJK, then the features' clipping) of two boxes turned 45° about z, one above the
+    other by ``gap`` and shifted along z by ``shift``: their nearest edges are parallel (along z), so the contact
+    points are the two ends of the edges' common stretch, halfway across the gap."""
+    from engine import contact_feature
+
+    half = np.array([0.5, 0.5, 1.0])
+    turn = Rotation.from_euler("z", 45, degrees=True).as_matrix()
+    top = np.sqrt(0.5)
+    a = (SIGNS * half) @ turn.T
+    b = a + [0.0, 2 * top + gap, shift]
+    c = contact_feature(a @ q.T, b @ q.T)
+    assert c.kind == "edge-edge", c.kind
+    y = top + 0.5 * gap
+    expected = np.array([[0.0, y, max(-1.0, shift - 1.0)], [0.0, y, min(1.0, shift + 1.0)]])
+    assert _same_points(c.points @ q, expected, 1e-9), (c.points @ q, expected)
