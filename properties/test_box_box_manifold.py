@@ -10,7 +10,8 @@
   from it, the largest triangle on either side of that segment (its docstring). The rule is written out here in
   numpy and compared on candidates about a contact plane of any orientation.
 - A cube resting exactly (depth 0) on a long bar touches at its four bottom corners; boxes apart have no point.
-- ``contact_feature`` of boxes apart whose nearest edges are parallel: the two ends of the edges' common stretch.
+- ``contact_feature`` of boxes apart whose nearest edges are parallel: the two ends of the edges' common stretch;
+  of an edge above a face: the ends of the part of the edge over the face.
 """
 from __future__ import annotations
 
@@ -200,4 +201,22 @@ def test_parallel_edges_apart_touch_over_the_overlap_of_their_lengths(gap, shift
     assert c.kind == "edge-edge", c.kind
     y = top + 0.5 * gap
     expected = np.array([[0.0, y, max(-1.0, shift - 1.0)], [0.0, y, min(1.0, shift + 1.0)]])
+    assert _same_points(c.points @ q, expected, 1e-9), (c.points @ q, expected)
+
+
+@given(st.floats(0.05, 1.0), st.floats(-1.4, 1.4), rotations)
+def test_an_edge_above_a_face_touches_over_the_part_inside_the_face(gap, shift, q):
+    """``contact_feature`` of a large box (top face [−1, 1] × [−1, 1] at y = 0.5) and a cube turned 45° about x
+    resting on its bottom edge (along x, ``gap`` above the face, shifted by ``shift`` along x): the contact
+    points are the ends of the part of that edge over the face, halfway across the gap."""
+    from engine import contact_feature
+
+    a = SIGNS * [1.0, 0.5, 1.0]
+    turn = Rotation.from_euler("x", 45, degrees=True).as_matrix()
+    low = np.sqrt(2.0) * 0.5  # the turned cube's (half 0.5) bottom edge is this far below its centre
+    b = (SIGNS * 0.5) @ turn.T + [shift, 0.5 + gap + low, 0.0]
+    c = contact_feature(a @ q.T, b @ q.T)
+    assert c.kind == "face-edge", c.kind
+    y = 0.5 + 0.5 * gap
+    expected = np.array([[max(-1.0, shift - 0.5), y, 0.0], [min(1.0, shift + 0.5), y, 0.0]])
     assert _same_points(c.points @ q, expected, 1e-9), (c.points @ q, expected)
