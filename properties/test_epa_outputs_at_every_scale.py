@@ -38,3 +38,18 @@ def test_witnesses_scale_with_the_shapes(seed, k, apart):
         d1, _, _ = gjk_distance(a, b)
         assert np.abs((pb_s - pa_s) / s - d1 * n_s).max() <= 1e-9 * scale
 
+
+
+@given(st.integers(0, 2**32 - 1), st.sampled_from([-1000, -400, -170, 170, 400, 480]), st.booleans())
+def test_contact_closest_points_scale_with_the_shapes(seed, k, apart):
+    """``contact_feature``'s closest (or deepest) points of a pair scaled by 2^k are 2^k times the unscaled ones."""
+    from engine import contact_feature
+
+    rng = np.random.default_rng(seed)
+    a = rng.normal(size=(int(rng.integers(4, 9)), 3))
+    b = rng.normal(size=(int(rng.integers(4, 9)), 3)) + (rng.normal(size=3) * 4.0 if apart else 0.3)
+    s = 2.0**k
+    c1, c_s = contact_feature(a, b), contact_feature(a * s, b * s)
+    scale = max(np.abs(a).max(), np.abs(b).max())
+    assert np.abs(c_s.closest_a / s - c1.closest_a).max() <= 1e-9 * scale, (c_s.closest_a / s, c1.closest_a)
+    assert np.abs(c_s.closest_b / s - c1.closest_b).max() <= 1e-9 * scale, (c_s.closest_b / s, c1.closest_b)
