@@ -75,3 +75,13 @@ def test_wrong_length_vectors_are_refused_by_name(kind, field, bad):
     assert load_shape(GOOD[kind]).kind == kind
     with pytest.raises(ValueError, match=field):
         load_shape(spec)
+
+
+@pytest.mark.parametrize("kind", sorted(GOOD))
+@given(t=st.floats(0.0, 5.0))
+def test_omitted_motion_fields_mean_a_shape_at_rest(kind, t):
+    """"velocity" and "angular_velocity" are optional, default 0 (the format's own words): a shape that gives
+    neither has zero velocities and the same vertices at every t."""
+    shape = load_shape(GOOD[kind])
+    assert np.array_equal(shape.velocity, np.zeros(3)) and np.array_equal(shape.angular_velocity, np.zeros(3))
+    assert np.array_equal(shape.at(t), shape.at(0.0)) and np.array_equal(shape.at(0.0), shape.core)

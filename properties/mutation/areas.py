@@ -85,6 +85,16 @@ AREAS: dict[str, dict[str, list[str]]] = {
             "properties/test_curve_jitted_errors.py",
             "properties/test_epa_vertex_touching.py",
             "properties/test_contact_axis_sharing_boxes.py",
+            # EPA witnesses on their boxes when faces of A - B share the closest plane (issue 18, part 1)
+            "properties/test_epa_witness_on_hull.py",
+            # the closed-form contact kernels World's frame calls (plane, segment-segment, sphere-box), tested directly
+            "properties/test_world_kernels.py",
+            # written against the survivors of the narrowphase run on 25efdba (properties/MUTATION.md)
+            "properties/test_narrowphase_argument_names.py",
+            "properties/test_epa_outputs_at_every_scale.py",
+            "properties/test_box_box_manifold.py",
+            "properties/test_plane_contact_features.py",
+            "properties/test_round_core_contacts.py",
         ],
         "sample": 64,
     },
@@ -135,4 +145,13 @@ DESELECT: dict[str, str] = {
         "N = 1000 for t = 5 (> 15,000 collisions): minutes interpreted",
     "properties/test_gas_simulation.py::test_dense_fluid_from_a_lattice_up_to_eta_045":
         "N = 500 at eta = 0.45 for t = 1 (thousands of collisions): minutes interpreted",
+    "properties/test_adversarial.py::test_gas_event_loop_cap_raises_a_clear_error":
+        "a gas test in the narrowphase area's file: interpreted, the gas cell list's records are numpy.void rows, "
+        "which have no attribute access (`links[i].cell`), so it fails on the unmutated engine and mutmut's stats "
+        "run stops; compiled it passes",
+    **{f"properties/test_fuzz_public_api.py::{test}[{name}]":
+       "the gas event and stepped runs in the fuzz file: interpreted, the cell list's numpy.void records have no "
+       "attribute access (as above); the gas functions are not the narrow phase's, and compiled they pass"
+       for test in ("test_valid_arguments_give_a_result_without_nan", "test_hostile_arguments_get_a_clean_answer")
+       for name in ("simulate_gas", "EventDrivenGas", "SteppedGas")},
 }
