@@ -220,3 +220,22 @@ def test_an_edge_above_a_face_touches_over_the_part_inside_the_face(gap, shift, 
     y = 0.5 + 0.5 * gap
     expected = np.array([[max(-1.0, shift - 0.5), y, 0.0], [min(1.0, shift + 0.5), y, 0.0]])
     assert _same_points(c.points @ q, expected, 1e-9), (c.points @ q, expected)
+
+
+@given(rotations, rotations, st.floats(0.2, 3.0), rotations)
+def test_boxes_apart_get_a_unit_separating_normal(ra, rb, distance, q):
+    """For a pair the kernel calls apart (separation > 0), the normal it reports is a certificate: a unit vector
+    along which A's corners all lie at least ``separation`` below B's (up to round-off). Centres at 0.2 to 3 apart,
+    so that face axes of either box and edge–edge axes both separate some pairs; an overlapping pair can have no
+    such certificate."""
+    ha, hb = np.array([1.0, 0.5, 0.25]), np.array([0.3, 0.6, 0.9])
+    cb = q[:, 0] * distance
+    cs = contact_box_box_pair(np.zeros(3), ra, ha, cb, rb, hb)
+    if cs.separation[0] <= 0.0:
+        return
+    n = cs.normal[0]
+    assert abs(np.linalg.norm(n) - 1.0) <= 1e-12, n
+    corners_a = (SIGNS * ha) @ ra.T
+    corners_b = cb + (SIGNS * hb) @ rb.T
+    gap = (corners_b @ n).min() - (corners_a @ n).max()
+    assert gap >= cs.separation[0] - 1e-12 * (1.0 + distance), (gap, cs.separation[0], n)

@@ -64,12 +64,20 @@ FACE_SLOP = 1e-14
 
 
 @njit
+def _cross_columns(Ra, a, Rb, b, scale):
+    """scale × (column a of Ra) × (column b of Rb): the edge axis A_a × B_b in world coordinates."""
+    return (scale * (Ra[1, a] * Rb[2, b] - Ra[2, a] * Rb[1, b]), scale * (Ra[2, a] * Rb[0, b] - Ra[0, a] * Rb[2, b]),
+            scale * (Ra[0, a] * Rb[1, b] - Ra[1, a] * Rb[0, b]))
+
+
+@njit
 def sat_box_box(centers, rotations, halves, i, j, R, t):
     """Ericson 4.4.1 with depths: box i against box j of the arrays ``centers`` (n, 3), ``rotations`` (n, 3, 3)
     (columns = the box axes), ``halves`` (n, 3); R (3, 3), t (>= 3,) scratch. Returns (overlap, axis,
     penetration, nx, ny, nz): axis 0-2 a face of i, 3-5 of j, 6 + 3 a + b the edge pair A_a × B_b; n the unit
-    axis from i towards j (world); penetration >= 0 when they overlap, else minus the gap along the separating
-    axis found (a lower bound of their distance)."""
+    axis from i towards j (world): the least-overlap axis, or for a separated pair the first separating axis
+    found; penetration >= 0 when they overlap, else minus the gap along that unit axis (a lower bound of their
+    distance)."""
     Ra, Rb, ea, eb = rotations[i], rotations[j], halves[i], halves[j]
     for a in range(3):
         for b in range(3):
@@ -85,7 +93,8 @@ def sat_box_box(centers, rotations, halves, i, j, R, t):
         tl = t[a]
         overlap = ea[a] + eb[0] * abs(R[a, 0]) + eb[1] * abs(R[a, 1]) + eb[2] * abs(R[a, 2]) - abs(tl)
         if overlap < 0.0:
-            return False, a, overlap, 0.0, 0.0, 0.0
+            s = 1.0 if tl >= 0.0 else -1.0
+            return False, a, overlap, s * Ra[0, a], s * Ra[1, a], s * Ra[2, a]
         if overlap < best - tie:
             best, axis = overlap, a
             s = 1.0 if tl >= 0.0 else -1.0
@@ -94,7 +103,8 @@ def sat_box_box(centers, rotations, halves, i, j, R, t):
         tl = t[0] * R[0, b] + t[1] * R[1, b] + t[2] * R[2, b]
         overlap = ea[0] * abs(R[0, b]) + ea[1] * abs(R[1, b]) + ea[2] * abs(R[2, b]) + eb[b] - abs(tl)
         if overlap < 0.0:
-            return False, 3 + b, overlap, 0.0, 0.0, 0.0
+            s = 1.0 if tl >= 0.0 else -1.0
+            return False, 3 + b, overlap, s * Rb[0, b], s * Rb[1, b], s * Rb[2, b]
         if overlap < best - tie:
             best, axis = overlap, 3 + b
             s = 1.0 if tl >= 0.0 else -1.0
@@ -107,9 +117,10 @@ def sat_box_box(centers, rotations, halves, i, j, R, t):
             reach = (ea[a1] * abs(R[a2, b]) + ea[a2] * abs(R[a1, b]) + eb[b1] * abs(R[a, b2])
                      + eb[b2] * abs(R[a, b1]))
             slack = PARALLEL_EPS * (ea[a1] + ea[a2] + eb[b1] + eb[b2])
-            if abs(tl) > reach + slack:
-                return False, 6 + 3 * a + b, reach - abs(tl), 0.0, 0.0, 0.0
             length = math.sqrt(R[a1, b] * R[a1, b] + R[a2, b] * R[a2, b])
+            if abs(tl) > reach + slack:  # then length > 0: tl and reach both vanish with it
+                nx, ny, nz = _cross_columns(Ra, a, Rb, b, (1.0 if tl >= 0.0 else -1.0) / length)
+                return False, 6 + 3 * a + b, (reach - abs(tl)) / length, nx, ny, nz
             if length > EDGE_AXIS_MIN:
                 overlap = max(reach - abs(tl), 0.0) / length
                 if overlap < best - tie:
