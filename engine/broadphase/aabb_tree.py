@@ -823,29 +823,15 @@ def tree_pairs(lo: ArrayLike, hi: ArrayLike, *, return_tests: bool = False,
                threads: int = 1) -> np.ndarray | tuple[np.ndarray, int]:
     """All pairs of overlapping closed boxes with an AABB tree built in batch: ``find_pairs(method="tree")``.
 
-    The tree is built top-down over the exact boxes (no margin), then every object descends it.
-
-    Parameters
-    ----------
-    lo, hi : array_like, shape (n, d)
-        The boxes' corners, d = 1, 2 or 3, ``lo <= hi``, finite (converted to float64).
-    return_tests : bool, optional
-        Also return the number of box–box tests of the traversal: an object's box against each node box
-        visited (a leaf's box is its object's box).
-    threads : int, optional
-        How many threads may share the queries, 1 to 256 (the same answer, bit for bit).
+    The tree is built top-down over the exact boxes (no margin), then every object descends it; the threads
+    share these queries. ``lo``, ``hi``, ``return_tests``, ``threads``, the result and the errors are those of
+    every box method (:ref:`broadphase-boxes`, :ref:`broadphase-options`).
 
     Returns
     -------
     pairs : numpy.ndarray, shape (k, 2), int64
-        Canonical pairs: ``i < j`` in every row, rows sorted, no duplicate.
-    tests : int
-        Only with ``return_tests=True``.
-
-    Raises
-    ------
-    ValueError, TypeError
-        For invalid boxes or ``threads``, as :func:`find_pairs`.
+        :ref:`broadphase-pairs`; ``(pairs, tests)`` with ``return_tests=True``, ``tests`` counting the box–box
+        tests of the traversal: an object's box against each node box visited (a leaf's box is its object's box).
     """
     threads = as_threads(threads)
     lo3, hi3 = as_boxes_3d(lo, hi)

@@ -509,33 +509,27 @@ def sap_pairs(lo: ArrayLike, hi: ArrayLike, axis: int | None = None, *, return_t
     """All pairs of overlapping closed boxes by sweep-and-prune: ``find_pairs(method="sap")``.
 
     The boxes are sorted once on the sweep axis and swept per column of a coarse grid over the two other axes
-    (box pruning, see the module's description).
+    (box pruning, see the module's description); the threads share the sweep. ``lo``, ``hi``, ``return_tests``,
+    ``threads`` and the result are those of every box method (:ref:`broadphase-boxes`,
+    :ref:`broadphase-options`).
 
     Parameters
     ----------
-    lo, hi : array_like, shape (n, d)
-        The boxes' corners, d = 1, 2 or 3, ``lo <= hi``, finite (converted to float64).
     axis : int, optional
         The sweep axis, in [0, d). Default: the axis along which the box centres spread most (largest variance).
-    return_tests : bool, optional
-        Also return the number of box tests made: the pairs of entries of a column whose intervals overlap on
-        the sweep axis.
-    threads : int, optional
-        How many threads may share the sweep, 1 to 256 (the same answer, bit for bit).
 
     Returns
     -------
     pairs : numpy.ndarray, shape (k, 2), int64
-        Canonical pairs: ``i < j`` in every row, rows sorted, no duplicate.
-    tests : int
-        Only with ``return_tests=True``.
+        :ref:`broadphase-pairs`; ``(pairs, tests)`` with ``return_tests=True``, ``tests`` counting the box tests
+        made: the pairs of entries of a column whose intervals overlap on the sweep axis.
 
     Raises
     ------
     ValueError
-        For invalid boxes or ``threads`` (as :func:`find_pairs`), or ``axis`` outside [0, d).
+        When ``axis`` is outside [0, d) (and for invalid boxes or ``threads``, as every box method).
     TypeError
-        For non-numeric boxes, or an ``axis`` that is not an int.
+        When ``axis`` is not an int (and for non-numeric boxes).
     """
     threads = as_threads(threads)
     lo3, hi3 = as_boxes_3d(lo, hi)

@@ -29,11 +29,10 @@ from .._validate import (
     as_float_array,
     as_nonnegative,
     as_radii,
-    check_orthonormal_rows,
     pair_indices,
 )
 from ..bounding.aabb import aabbs_touch, overlap_aabb_aabb
-from ..bounding.obb import OBB, ORTHONORMAL_TOL
+from ..bounding.obb import OBB, as_obbs
 from ..bounding.sphere import overlap_sphere_sphere, spheres_touch
 
 __all__ = [
@@ -181,17 +180,6 @@ def _one(value, name, d=None):
     return arr[None, :]
 
 
-def _obbs(centers, axes, half_extents):
-    c = as_float_array(centers, "box_centers", shape=(None, 3))
-    r = as_float_array(axes, "box_axes", shape=(c.shape[0], 3, 3))
-    e = as_float_array(half_extents, "box_half_extents", shape=(c.shape[0], 3))
-    if (e < 0).any():
-        i, k = (int(x) for x in np.argwhere(e < 0)[0])
-        raise ValueError(f"box_half_extents must be >= 0: box_half_extents[{i}, {k}] = {e[i, k]!r}")
-    check_orthonormal_rows(r, "box_axes", ORTHONORMAL_TOL)
-    return c, r, e
-
-
 # ---------------------------------------------------------------------------------------------------------------
 # sphere–sphere, AABB–AABB, sphere–AABB, sphere–OBB
 # ---------------------------------------------------------------------------------------------------------------
@@ -244,7 +232,7 @@ def overlap_sphere_obb_batch(centers, radii, box_centers, box_axes, box_half_ext
     unit axes), half extents (m, 3). Returns bool (k,)."""
     c = as_float_array(centers, "centers", shape=(None, 3))
     r = as_radii(radii, "radii", c.shape[0])
-    bc, ba, be = _obbs(box_centers, box_axes, box_half_extents)
+    bc, ba, be = as_obbs(box_centers, box_axes, box_half_extents, ("box_centers", "box_axes", "box_half_extents"))
     ia, ib = pair_indices(c.shape[0], bc.shape[0], index_a, index_b)
     out = np.empty(ia.shape[0], np.bool_)
     _overlap_sphere_obb_batch(c, r, bc, ba, be, ia, ib, out)

@@ -26,8 +26,8 @@ import math
 import numpy as np
 
 from .._config import njit
-from .._validate import as_float_array, check_offsets, check_orthonormal_rows, check_pairs, pair_indices
-from ..bounding.obb import OBB, ORTHONORMAL_TOL
+from .._validate import as_float_array, check_offsets, check_pairs, pair_indices
+from ..bounding.obb import OBB, as_obbs
 
 __all__ = ["PARALLEL_EPS", "obb_overlap", "overlap_obb_obb_batch", "overlap_convex_sat", "overlap_convex_sat_pairs",
            "convex_axes"]
@@ -145,17 +145,6 @@ def obb_overlap(a: OBB, b: OBB) -> bool:
                                  np.empty((3, 3)), np.empty((3, 3))))
 
 
-def _check_boxes(centers, axes, half_extents, side: str):
-    c = as_float_array(centers, f"centers_{side}", shape=(None, 3))
-    r = as_float_array(axes, f"axes_{side}", shape=(c.shape[0], 3, 3))
-    e = as_float_array(half_extents, f"half_extents_{side}", shape=(c.shape[0], 3))
-    if (e < 0).any():
-        i, k = (int(x) for x in np.argwhere(e < 0)[0])
-        raise ValueError(f"half_extents_{side} must be >= 0: half_extents_{side}[{i}, {k}] = {e[i, k]!r}")
-    check_orthonormal_rows(r, f"axes_{side}", ORTHONORMAL_TOL)
-    return c, r, e
-
-
 def overlap_obb_obb_batch(centers_a, axes_a, half_extents_a, centers_b, axes_b, half_extents_b,
                           index_a=None, index_b=None) -> np.ndarray:
     """SAT on many box pairs in one compiled call.
@@ -164,8 +153,8 @@ def overlap_obb_obb_batch(centers_a, axes_a, half_extents_a, centers_b, axes_b, 
     Without index arrays, pair p is box p of A against box p of B; with ``index_a``, ``index_b`` (k,) int,
     pair p is box ``index_a[p]`` of A against box ``index_b[p]`` of B. Returns bool (k,).
     """
-    ca, ra, ea = _check_boxes(centers_a, axes_a, half_extents_a, "a")
-    cb, rb, eb = _check_boxes(centers_b, axes_b, half_extents_b, "b")
+    ca, ra, ea = as_obbs(centers_a, axes_a, half_extents_a, ("centers_a", "axes_a", "half_extents_a"))
+    cb, rb, eb = as_obbs(centers_b, axes_b, half_extents_b, ("centers_b", "axes_b", "half_extents_b"))
     ia, ib = pair_indices(ca.shape[0], cb.shape[0], index_a, index_b)
     out = np.empty(ia.shape[0], np.bool_)
     if out.shape[0]:
