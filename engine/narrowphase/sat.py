@@ -66,36 +66,23 @@ def _overlap_obb_obb(ca, Aa, ea, cb, Ab, eb, R, AbsR):
         rb = eb[j]
         if abs(t0 * R[0, j] + t1 * R[1, j] + t2 * R[2, j]) > ra + rb:
             return False
-    # L = A0 x B0, A0 x B1, A0 x B2
-    if abs(t2 * R[1, 0] - t1 * R[2, 0]) > ea[1] * AbsR[2, 0] + ea[2] * AbsR[1, 0] \
-            + eb[1] * AbsR[0, 2] + eb[2] * AbsR[0, 1]:
-        return False
-    if abs(t2 * R[1, 1] - t1 * R[2, 1]) > ea[1] * AbsR[2, 1] + ea[2] * AbsR[1, 1] \
-            + eb[0] * AbsR[0, 2] + eb[2] * AbsR[0, 0]:
-        return False
-    if abs(t2 * R[1, 2] - t1 * R[2, 2]) > ea[1] * AbsR[2, 2] + ea[2] * AbsR[1, 2] \
-            + eb[0] * AbsR[0, 1] + eb[1] * AbsR[0, 0]:
-        return False
-    # L = A1 x B0, A1 x B1, A1 x B2
-    if abs(t0 * R[2, 0] - t2 * R[0, 0]) > ea[0] * AbsR[2, 0] + ea[2] * AbsR[0, 0] \
-            + eb[1] * AbsR[1, 2] + eb[2] * AbsR[1, 1]:
-        return False
-    if abs(t0 * R[2, 1] - t2 * R[0, 1]) > ea[0] * AbsR[2, 1] + ea[2] * AbsR[0, 1] \
-            + eb[0] * AbsR[1, 2] + eb[2] * AbsR[1, 0]:
-        return False
-    if abs(t0 * R[2, 2] - t2 * R[0, 2]) > ea[0] * AbsR[2, 2] + ea[2] * AbsR[0, 2] \
-            + eb[0] * AbsR[1, 1] + eb[1] * AbsR[1, 0]:
-        return False
-    # L = A2 x B0, A2 x B1, A2 x B2
-    if abs(t1 * R[0, 0] - t0 * R[1, 0]) > ea[0] * AbsR[1, 0] + ea[1] * AbsR[0, 0] \
-            + eb[1] * AbsR[2, 2] + eb[2] * AbsR[2, 1]:
-        return False
-    if abs(t1 * R[0, 1] - t0 * R[1, 1]) > ea[0] * AbsR[1, 1] + ea[1] * AbsR[0, 1] \
-            + eb[0] * AbsR[2, 2] + eb[2] * AbsR[2, 0]:
-        return False
-    if abs(t1 * R[0, 2] - t0 * R[1, 2]) > ea[0] * AbsR[1, 2] + ea[1] * AbsR[0, 2] \
-            + eb[0] * AbsR[2, 1] + eb[1] * AbsR[2, 0]:
-        return False
+    # L = A_i x B_j (Ericson's nine cross-product tests, one per (i, j)): with i1, i2 = i+1, i+2 and j1, j2 = j+1,
+    # j+2 (mod 3), |t·L| = |t[i2] R[i1][j] − t[i1] R[i2][j]|, r_A = e_A[i1] |R[i2][j]| + e_A[i2] |R[i1][j]|,
+    # r_B = e_B[j1] |R[i][j2]| + e_B[j2] |R[i][j1]|. The sums run over the lower index first, as the book's
+    # unrolled lines do, so the rounding is the same as in those lines.
+    for i in range(3):
+        i1 = (i + 1) % 3
+        i2 = (i + 2) % 3
+        ilo = min(i1, i2)
+        ihi = max(i1, i2)
+        for j in range(3):
+            j1 = (j + 1) % 3
+            j2 = (j + 2) % 3
+            jlo = min(j1, j2)
+            jhi = max(j1, j2)
+            if abs(t[i2] * R[i1, j] - t[i1] * R[i2, j]) > ea[ilo] * AbsR[ihi, j] + ea[ihi] * AbsR[ilo, j] \
+                    + eb[jlo] * AbsR[i, jhi] + eb[jhi] * AbsR[i, jlo]:
+                return False
     # no separating axis: the boxes overlap
     return True
 
