@@ -238,13 +238,6 @@ def fit_obb(points: ArrayLike) -> OBB:
     -------
     OBB
         Right-handed axes, largest spread first.
-
-    Raises
-    ------
-    ValueError
-        For NaN, ±inf, no point, or a shape other than (n, 3).
-    TypeError
-        For non-numeric points.
     """
     pts = as_float_array(points, "points", shape=(None, 3), min_rows=1)
     mean = pts.mean(axis=0)

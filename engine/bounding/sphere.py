@@ -310,23 +310,12 @@ def ritter_sphere(points: ArrayLike) -> tuple[np.ndarray, float]:
     Parameters
     ----------
     points : array_like, shape (n, d)
-        n >= 1 points, d = 2 (a circle) or 3, finite.
+        The cloud, d = 2 (a circle) or 3, see :ref:`bounding-arguments`.
 
     Returns
     -------
     center : numpy.ndarray, shape (d,), float64
     radius : float
-
-    Raises
-    ------
-    ValueError
-        For NaN, ±inf or magnitudes above 1e150, no point, or d not 2 or 3.
-    TypeError
-        For non-numeric points.
-
-    See Also
-    --------
-    min_bounding_sphere : the exact smallest sphere (Welzl).
     """
     pts = as_points(points)
     center = np.empty(pts.shape[1])
@@ -340,19 +329,12 @@ def ritter_spheres(clouds: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
     Parameters
     ----------
     clouds : array_like, shape (m, n, d)
-        m clouds of n >= 1 points, d = 2 or 3, finite.
+        See :ref:`bounding-arguments`.
 
     Returns
     -------
     centers : numpy.ndarray, shape (m, d), float64
     radii : numpy.ndarray, shape (m,), float64
-
-    Raises
-    ------
-    ValueError
-        For NaN or ±inf, a rank other than 3, n = 0, or d not 2 or 3.
-    TypeError
-        For non-numeric clouds.
     """
     arr = as_float_array(clouds, "clouds", ndim=3)
     if arr.shape[1] < 1 or arr.shape[2] not in (2, 3):
@@ -373,7 +355,7 @@ def min_bounding_sphere(points: ArrayLike, *, seed: int = 0) -> tuple[np.ndarray
     Parameters
     ----------
     points : array_like, shape (n, d)
-        n >= 1 points, d = 2 or 3, finite.
+        The cloud, see :ref:`bounding-arguments`.
     seed : int, optional
         Seeds the random visiting order; fixed by default, so results are deterministic.
 
@@ -384,10 +366,8 @@ def min_bounding_sphere(points: ArrayLike, *, seed: int = 0) -> tuple[np.ndarray
 
     Raises
     ------
-    ValueError
-        For NaN, ±inf or magnitudes above 1e150, no point, or d not 2 or 3.
     TypeError
-        For non-numeric points, or a ``seed`` that is not an int.
+        For a ``seed`` that is not an int.
 
     Examples
     --------
@@ -434,13 +414,6 @@ def overlap_spheres(centers_a: ArrayLike, radii_a: ArrayLike, centers_b: ArrayLi
     Returns
     -------
     numpy.ndarray, shape (n,), bool
-
-    Raises
-    ------
-    ValueError
-        For NaN or ±inf, mismatched shapes, or a negative radius (named with its index).
-    TypeError
-        For non-numeric arrays.
     """
     if _is_plain_spheres(centers_a, radii_a, centers_b, radii_b):
         # fast path: checked in a compiled loop and read without a copy (the kernel never writes its inputs)
@@ -484,25 +457,12 @@ def overlap_sphere_sphere(center_a: ArrayLike, radius_a: float, center_b: ArrayL
 
     Parameters
     ----------
-    center_a : array_like, shape (d,)
-        The centre of sphere a, finite.
-    radius_a : float
-        Its radius, >= 0.
-    center_b : array_like, shape (d,)
-        The centre of sphere b, of the shape of ``center_a``.
-    radius_b : float
-        Its radius, >= 0.
+    center_a, radius_a, center_b, radius_b : array_like, float
+        Spheres a and b, see :ref:`bounding-arguments`.
 
     Returns
     -------
     bool
-
-    Raises
-    ------
-    ValueError
-        For NaN or ±inf, mismatched shapes, or a negative radius.
-    TypeError
-        For non-numeric values.
     """
     ca = as_float_array(center_a, "center_a", ndim=1)
     cb = as_float_array(center_b, "center_b", shape=ca.shape)
@@ -519,27 +479,14 @@ def merge_spheres(center_a: ArrayLike, radius_a: float, center_b: ArrayLike,
 
     Parameters
     ----------
-    center_a : array_like, shape (d,)
-        The centre of sphere a, finite.
-    radius_a : float
-        Its radius, >= 0.
-    center_b : array_like, shape (d,)
-        The centre of sphere b, of the shape of ``center_a``.
-    radius_b : float
-        Its radius, >= 0.
+    center_a, radius_a, center_b, radius_b : array_like, float
+        Spheres a and b, see :ref:`bounding-arguments`.
 
     Returns
     -------
     center : numpy.ndarray, shape (d,), float64
     radius : float
         Widened by round-off if needed, so that it holds both spheres.
-
-    Raises
-    ------
-    ValueError
-        For NaN or ±inf, mismatched shapes, or a negative radius.
-    TypeError
-        For non-numeric values.
     """
     ca = as_float_array(center_a, "center_a", ndim=1)
     cb = as_float_array(center_b, "center_b", shape=ca.shape)
@@ -563,23 +510,14 @@ def sphere_contains(center: ArrayLike, radius: float, points: ArrayLike) -> np.n
 
     Parameters
     ----------
-    center : array_like, shape (d,)
-        The centre, finite.
-    radius : float
-        >= 0.
+    center, radius : array_like, float
+        The sphere, see :ref:`bounding-arguments`.
     points : array_like, shape (n, d)
         The points (n may be 0), finite.
 
     Returns
     -------
     numpy.ndarray, shape (n,), bool
-
-    Raises
-    ------
-    ValueError
-        For NaN or ±inf, a negative radius, or points that are not (n, d).
-    TypeError
-        For non-numeric values.
     """
     c = as_float_array(center, "center", ndim=1)
     r = as_nonnegative(radius, "radius")
@@ -593,14 +531,10 @@ def transform_sphere(center: ArrayLike, radius: float, rotation: ArrayLike,
 
     Parameters
     ----------
-    center : array_like, shape (d,)
-        The centre, finite.
-    radius : float
-        >= 0.
-    rotation : array_like, shape (d, d)
-        Orthonormal: ``R Rᵀ = I`` to 1e-9.
-    translation : array_like, shape (d,)
-        The translation t.
+    center, radius : array_like, float
+        The sphere, see :ref:`bounding-arguments`.
+    rotation, translation : array_like, shapes (d, d) and (d,)
+        The motion x -> R x + t, see :ref:`bounding-arguments`.
 
     Returns
     -------
@@ -608,13 +542,6 @@ def transform_sphere(center: ArrayLike, radius: float, rotation: ArrayLike,
         ``rotation @ center + translation``.
     radius : float
         Unchanged.
-
-    Raises
-    ------
-    ValueError
-        For NaN or ±inf, wrong shapes, a negative radius, or a rotation that is not orthonormal.
-    TypeError
-        For non-numeric values.
     """
     c = as_float_array(center, "center", ndim=1)
     r = as_nonnegative(radius, "radius")
