@@ -51,6 +51,15 @@ def as_points(points: ArrayLike, name: str = "points", *, min_rows: int = 1,
     return arr
 
 
+def as_clouds(clouds: ArrayLike) -> np.ndarray:
+    """A finite (m, n, d) float64 copy of m point clouds of n >= 1 points each, d in (2, 3): the batched fits'
+    argument check."""
+    arr = as_float_array(clouds, "clouds", ndim=3)
+    if arr.shape[1] < 1 or arr.shape[2] not in (2, 3):
+        raise ValueError(f"clouds must have shape (m, n, d) with n >= 1 and d in (2, 3), got {arr.shape}")
+    return arr
+
+
 def as_box(lo: ArrayLike, hi: ArrayLike, *, names: tuple[str, str] = ("lo", "hi"),
            dims: Sequence[int] = (2, 3)) -> tuple[np.ndarray, np.ndarray]:
     """Checked (lo, hi) boxes of shape (d,) or batched (n, d); ValueError naming the first row with lo > hi."""
@@ -262,21 +271,15 @@ def fit_aabb(points: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
 
 
 def fit_aabbs(clouds: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
-    """Batched :func:`fit_aabb`: one box per cloud, in one compiled call.
-
-    Parameters
-    ----------
-    clouds : array_like, shape (m, n, d)
-        See :ref:`bounding-arguments`.
+    """Batched :func:`fit_aabb`: one box per cloud of ``clouds`` (m, n, d) (see :ref:`bounding-arguments`), in
+    one compiled call.
 
     Returns
     -------
     lo, hi : numpy.ndarray, shape (m, d), float64
         Row c is the box of cloud c.
     """
-    arr = as_float_array(clouds, "clouds", ndim=3)
-    if arr.shape[1] < 1 or arr.shape[2] not in (2, 3):
-        raise ValueError(f"clouds must have shape (m, n, d) with n >= 1 and d in (2, 3), got {arr.shape}")
+    arr = as_clouds(clouds)
     lo = np.empty((arr.shape[0], arr.shape[2]))
     hi = np.empty((arr.shape[0], arr.shape[2]))
     _fit_aabbs_kernel(arr, lo, hi)
@@ -321,16 +324,12 @@ def overlap_aabb_aabb(lo_a: ArrayLike, hi_a: ArrayLike, lo_b: ArrayLike, hi_b: A
     Parameters
     ----------
     lo_a, hi_a, lo_b, hi_b : array_like, shape (d,)
-        The corners of boxes a and b, d = 1, 2 or 3, ``lo <= hi``, finite.
+        The corners of boxes a and b, d = 1, 2 or 3, ``lo <= hi``, finite; one box each (a batch is a
+        ValueError: use :func:`overlap_aabbs`).
 
     Returns
     -------
     bool
-
-    Raises
-    ------
-    ValueError
-        For a batch of boxes: use :func:`overlap_aabbs`.
     """
     lo_a, hi_a = as_box(lo_a, hi_a, names=("lo_a", "hi_a"), dims=(1, 2, 3))
     if lo_a.ndim != 1:

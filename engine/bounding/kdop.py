@@ -267,18 +267,14 @@ def overlap_kdop_kdop(lo_a: ArrayLike, hi_a: ArrayLike, lo_b: ArrayLike, hi_b: A
     Parameters
     ----------
     lo_a, hi_a, lo_b, hi_b : array_like, shape (k/2,)
-        The slab bounds of DOPs a and b, ``lo <= hi``, finite.
+        The slab bounds of DOPs a and b, ``lo <= hi``, finite; one DOP each (a batch is a ValueError: use
+        :func:`overlap_kdops`).
     k : int
         8 (2-D), 14, 18 or 26 (3-D).
 
     Returns
     -------
     bool
-
-    Raises
-    ------
-    ValueError
-        For a batch: use :func:`overlap_kdops`.
     """
     k = _check_k(k)
     lo_a, hi_a = _as_kdop(lo_a, hi_a, k, ("lo_a", "hi_a"))

@@ -22,7 +22,7 @@ from numpy.typing import ArrayLike
 
 from .._config import njit
 from .._validate import as_float_array, as_nonnegative
-from .aabb import as_points, as_rotation
+from .aabb import as_clouds, as_points, as_rotation
 
 __all__ = [
     "ritter_sphere",
@@ -324,21 +324,16 @@ def ritter_sphere(points: ArrayLike) -> tuple[np.ndarray, float]:
 
 
 def ritter_spheres(clouds: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
-    """Batched :func:`ritter_sphere`: one sphere per cloud, in one compiled call.
+    """Batched :func:`ritter_sphere`: one sphere per cloud of ``clouds`` (m, n, d), in one compiled call.
 
-    Parameters
-    ----------
-    clouds : array_like, shape (m, n, d)
-        See :ref:`bounding-arguments`.
+    ``clouds`` as in :ref:`bounding-arguments`.
 
     Returns
     -------
     centers : numpy.ndarray, shape (m, d), float64
     radii : numpy.ndarray, shape (m,), float64
     """
-    arr = as_float_array(clouds, "clouds", ndim=3)
-    if arr.shape[1] < 1 or arr.shape[2] not in (2, 3):
-        raise ValueError(f"clouds must have shape (m, n, d) with n >= 1 and d in (2, 3), got {arr.shape}")
+    arr = as_clouds(clouds)
     centers = np.empty((arr.shape[0], arr.shape[2]))
     radii = np.empty(arr.shape[0])
     _ritter_batch_kernel(arr, centers, radii)
@@ -452,22 +447,24 @@ def _is_plain_spheres(ca: Any, ra: Any, cb: Any, rb: Any) -> bool:
             and rb.shape == ra.shape and _spheres_valid_kernel(ca, ra) and _spheres_valid_kernel(cb, rb))
 
 
-def overlap_sphere_sphere(center_a: ArrayLike, radius_a: float, center_b: ArrayLike, radius_b: float) -> bool:
-    """Whether two closed spheres overlap (touching counts), as :func:`overlap_spheres`.
+def _two_spheres(center_a: ArrayLike, radius_a: float, center_b: ArrayLike,
+                 radius_b: float) -> tuple[np.ndarray, float, np.ndarray, float]:
+    """The checked spheres a and b of the two-sphere functions (centres (d,) of one shape, radii >= 0)."""
+    ca = as_float_array(center_a, "center_a", ndim=1)
+    cb = as_float_array(center_b, "center_b", shape=ca.shape)
+    return ca, as_nonnegative(radius_a, "radius_a"), cb, as_nonnegative(radius_b, "radius_b")
 
-    Parameters
-    ----------
-    center_a, radius_a, center_b, radius_b : array_like, float
-        Spheres a and b, see :ref:`bounding-arguments`.
+
+def overlap_sphere_sphere(center_a: ArrayLike, radius_a: float, center_b: ArrayLike, radius_b: float) -> bool:
+    """Whether two closed spheres a and b overlap (touching counts), as :func:`overlap_spheres`.
+
+    The spheres' arguments are those of every two-sphere function: :ref:`bounding-arguments`.
 
     Returns
     -------
     bool
     """
-    ca = as_float_array(center_a, "center_a", ndim=1)
-    cb = as_float_array(center_b, "center_b", shape=ca.shape)
-    ra = as_nonnegative(radius_a, "radius_a")
-    rb = as_nonnegative(radius_b, "radius_b")
+    ca, ra, cb, rb = _two_spheres(center_a, radius_a, center_b, radius_b)
     out = np.empty(1, dtype=np.bool_)
     _overlap_spheres_kernel(ca[None], np.array([ra]), cb[None], np.array([rb]), out)
     return bool(out[0])
@@ -475,12 +472,9 @@ def overlap_sphere_sphere(center_a: ArrayLike, radius_a: float, center_b: ArrayL
 
 def merge_spheres(center_a: ArrayLike, radius_a: float, center_b: ArrayLike,
                   radius_b: float) -> tuple[np.ndarray, float]:
-    """The smallest sphere holding two spheres (Ericson 6.5.2); one of them when it holds the other.
+    """The smallest sphere holding spheres a and b (Ericson 6.5.2); one of them when it holds the other.
 
-    Parameters
-    ----------
-    center_a, radius_a, center_b, radius_b : array_like, float
-        Spheres a and b, see :ref:`bounding-arguments`.
+    ``center_a, radius_a, center_b, radius_b`` as in :ref:`bounding-arguments`.
 
     Returns
     -------
@@ -488,10 +482,7 @@ def merge_spheres(center_a: ArrayLike, radius_a: float, center_b: ArrayLike,
     radius : float
         Widened by round-off if needed, so that it holds both spheres.
     """
-    ca = as_float_array(center_a, "center_a", ndim=1)
-    cb = as_float_array(center_b, "center_b", shape=ca.shape)
-    ra = as_nonnegative(radius_a, "radius_a")
-    rb = as_nonnegative(radius_b, "radius_b")
+    ca, ra, cb, rb = _two_spheres(center_a, radius_a, center_b, radius_b)
     delta = cb - ca
     dist = float(np.sqrt(delta @ delta))
     if dist + rb <= ra:  # b inside a
