@@ -25,6 +25,7 @@ __all__ = [
     "as_count",
     "as_max_iterations",
     "as_radii",
+    "as_half_extents",
     "check_offsets",
     "check_pairs",
     "check_index",
@@ -154,7 +155,20 @@ def as_radii(value, name: str, n: int, *, scalar: bool = True) -> np.ndarray:
     arr = as_float_array(value, name, shape=(n,))
     if (arr < 0).any():
         i = int(np.argmax(arr < 0))
-        raise ValueError(f"{name} must be >= 0: {name}[{i}] = {arr[i]!r}")
+        raise ValueError(f"{name} must be >= 0: {name}[{i}] = {float(arr[i])!r}")
+    return arr
+
+
+def as_half_extents(value, name: str, shape: tuple = (3,), *, zero: bool = False) -> np.ndarray:
+    """Box half extents of the given ``shape`` ((3,) for one box, ``(n, 3)`` for n boxes; ``None`` for any
+    length) as a fresh float64 array, every entry > 0, or >= 0 with ``zero=True`` (a flat box);
+    the ValueError names the first offending entry in row-major order, e.g. ``half_extents[1] = -0.5``."""
+    arr = as_float_array(value, name, shape=shape)
+    bad = arr < 0 if zero else arr <= 0
+    if bad.any():
+        at = tuple(int(i) for i in np.unravel_index(int(np.argmax(bad)), arr.shape))
+        raise ValueError(f"{name} must be {'>=' if zero else '>'} 0: {name}[{', '.join(map(str, at))}] = "
+                         f"{float(arr[at])!r}")
     return arr
 
 

@@ -23,6 +23,10 @@ The big-level scenes, where a grid whose cell count is capped would coarsen unti
 - ``huge_among_small_boxes(n, huge)`` — the boxes of W2 spheres plus ``huge`` boxes each as large as half the
   scene;
 - ``planar_spheres(n, area_fraction)`` — equal spheres whose centres all lie on one plane (z = 0).
+
+Shared arguments: ``seed`` (an int) seeds numpy's ``default_rng`` (``SEED`` by default for the W1/W2 family);
+the sphere generators take ``radius`` (0.5 by default) and return ``(centres, radius)`` — centres (n, 3)
+float64 and the ``radius`` given.
 """
 from __future__ import annotations
 
@@ -47,8 +51,6 @@ def w1_boxes(n: int, seed: int = SEED) -> tuple[np.ndarray, np.ndarray]:
     ----------
     n : int
         The number of boxes.
-    seed : int, optional
-        The seed of the random generator.
 
     Returns
     -------
@@ -70,17 +72,11 @@ def w2_spheres(n: int, eta: float, seed: int = SEED, radius: float = 0.5) -> tup
         The number of spheres.
     eta : float
         The packing fraction, > 0: the spheres' volume over the cube's.
-    seed : int, optional
-        The seed of the random generator.
-    radius : float, optional
-        The spheres' radius.
 
     Returns
     -------
     centres : numpy.ndarray, shape (n, 3), float64
         Uniform in the cube [0, side)³.
-    radius : float
-        The ``radius`` given.
     """
     side = (n * math.pi * (2 * radius) ** 3 / (6 * eta)) ** (1 / 3)
     return np.random.default_rng(seed).uniform(0.0, side, size=(n, 3)), radius
@@ -143,8 +139,6 @@ def random_steps(centers: ArrayLike, rounds: int, step: float = 0.02, seed: int 
         The number of frames.
     step : float, optional
         The standard deviation of each coordinate's step.
-    seed : int, optional
-        The seed of the random generator.
 
     Returns
     -------
@@ -176,17 +170,11 @@ def clustered_spheres(n: int, eta: float = 0.2, clusters: int = 2, separation: f
         The number of clusters, >= 1.
     separation : float, optional
         The shift between consecutive clusters along every axis.
-    seed : int, optional
-        The seed of the random generator.
-    radius : float, optional
-        The spheres' radius.
 
     Returns
     -------
     centres : numpy.ndarray, shape (n, 3), float64
         Cluster by cluster.
-    radius : float
-        The ``radius`` given.
     """
     rng = np.random.default_rng(seed)
     sizes = [n // clusters + (1 if k < n % clusters else 0) for k in range(clusters)]
@@ -209,8 +197,6 @@ def huge_among_small_boxes(n: int, huge: int = 8, eta: float = 0.05, seed: int =
         place in it.
     eta : float, optional
         The packing fraction of the small spheres (radius 0.5), > 0.
-    seed : int, optional
-        The seed of the random generator.
 
     Returns
     -------
@@ -237,17 +223,11 @@ def planar_spheres(n: int, area_fraction: float = 0.3, seed: int = SEED,
         The number of spheres.
     area_fraction : float, optional
         The fraction of the square the spheres' discs cover, > 0.
-    seed : int, optional
-        The seed of the random generator.
-    radius : float, optional
-        The spheres' radius.
 
     Returns
     -------
     centres : numpy.ndarray, shape (n, 3), float64
         Uniform in the square, z = 0.
-    radius : float
-        The ``radius`` given.
     """
     side = math.sqrt(n * math.pi * radius ** 2 / area_fraction)
     centres = np.zeros((n, 3))
@@ -270,8 +250,6 @@ def big_level_boxes(scene: str, n: int, seed: int = SEED) -> tuple[np.ndarray, n
         ``planar_spheres`` (area fraction 0.3).
     n : int
         The number of boxes.
-    seed : int, optional
-        The seed of the random generator.
 
     Returns
     -------
@@ -443,8 +421,6 @@ def frame_scene(name: str, n: int, seed: int = SEED) -> FrameScene:
         One of ``FRAME_SCENES``: "mixed", "pile", "hulls" (described in this module's summary).
     n : int
         The number of bodies.
-    seed : int, optional
-        The seed of the random generator.
 
     Returns
     -------
@@ -474,8 +450,6 @@ def frame_motion(scene: FrameScene, rounds: int, seed: int = 9) -> list[tuple[np
         The scene; its arrays are never modified.
     rounds : int
         The number of frames.
-    seed : int, optional
-        The seed of the random generator.
 
     Returns
     -------

@@ -51,6 +51,15 @@ def as_points(points: ArrayLike, name: str = "points", *, min_rows: int = 1,
     return arr
 
 
+def as_clouds(clouds: ArrayLike) -> np.ndarray:
+    """A finite (m, n, d) float64 copy of m point clouds of n >= 1 points each, d in (2, 3): the batched fits'
+    argument check."""
+    arr = as_float_array(clouds, "clouds", ndim=3)
+    if arr.shape[1] < 1 or arr.shape[2] not in (2, 3):
+        raise ValueError(f"clouds must have shape (m, n, d) with n >= 1 and d in (2, 3), got {arr.shape}")
+    return arr
+
+
 def as_box(lo: ArrayLike, hi: ArrayLike, *, names: tuple[str, str] = ("lo", "hi"),
            dims: Sequence[int] = (2, 3)) -> tuple[np.ndarray, np.ndarray]:
     """Checked (lo, hi) boxes of shape (d,) or batched (n, d); ValueError naming the first row with lo > hi."""
@@ -247,19 +256,12 @@ def fit_aabb(points: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
     Parameters
     ----------
     points : array_like, shape (n, d)
-        n >= 1 points, d = 2 or 3, finite.
+        The cloud, see :ref:`bounding-arguments`.
 
     Returns
     -------
     lo, hi : numpy.ndarray, shape (d,), float64
         The box's corners.
-
-    Raises
-    ------
-    ValueError
-        For NaN, ±inf or magnitudes above 1e150, no point, or d not 2 or 3.
-    TypeError
-        For non-numeric points.
     """
     pts = as_points(points)
     lo = np.empty(pts.shape[1])
@@ -269,28 +271,15 @@ def fit_aabb(points: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
 
 
 def fit_aabbs(clouds: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
-    """Batched :func:`fit_aabb`: one box per cloud, in one compiled call.
-
-    Parameters
-    ----------
-    clouds : array_like, shape (m, n, d)
-        m clouds of n >= 1 points each, d = 2 or 3, finite.
+    """Batched :func:`fit_aabb`: one box per cloud of ``clouds`` (m, n, d) (see :ref:`bounding-arguments`), in
+    one compiled call.
 
     Returns
     -------
     lo, hi : numpy.ndarray, shape (m, d), float64
         Row c is the box of cloud c.
-
-    Raises
-    ------
-    ValueError
-        For NaN or ±inf, a rank other than 3, n = 0, or d not 2 or 3.
-    TypeError
-        For non-numeric clouds.
     """
-    arr = as_float_array(clouds, "clouds", ndim=3)
-    if arr.shape[1] < 1 or arr.shape[2] not in (2, 3):
-        raise ValueError(f"clouds must have shape (m, n, d) with n >= 1 and d in (2, 3), got {arr.shape}")
+    arr = as_clouds(clouds)
     lo = np.empty((arr.shape[0], arr.shape[2]))
     hi = np.empty((arr.shape[0], arr.shape[2]))
     _fit_aabbs_kernel(arr, lo, hi)
@@ -312,14 +301,6 @@ def overlap_aabbs(lo_a: ArrayLike, hi_a: ArrayLike, lo_b: ArrayLike, hi_b: Array
     -------
     numpy.ndarray, shape (n,), bool
         Shape (1,) for (d,) inputs.
-
-    Raises
-    ------
-    ValueError
-        For NaN or ±inf, mismatched shapes, d not 1, 2 or 3, or ``lo > hi`` (the message names the first such
-        entry).
-    TypeError
-        For non-numeric arrays.
     """
     if _is_plain_batch(lo_a, hi_a, lo_b, hi_b) and _boxes_valid_kernel(lo_a, hi_a) \
             and _boxes_valid_kernel(lo_b, hi_b):
@@ -343,18 +324,12 @@ def overlap_aabb_aabb(lo_a: ArrayLike, hi_a: ArrayLike, lo_b: ArrayLike, hi_b: A
     Parameters
     ----------
     lo_a, hi_a, lo_b, hi_b : array_like, shape (d,)
-        The corners of boxes a and b, d = 1, 2 or 3, ``lo <= hi``, finite.
+        The corners of boxes a and b, d = 1, 2 or 3, ``lo <= hi``, finite; one box each (a batch is a
+        ValueError: use :func:`overlap_aabbs`).
 
     Returns
     -------
     bool
-
-    Raises
-    ------
-    ValueError
-        For NaN or ±inf, shapes other than one (d,), or ``lo > hi``; use :func:`overlap_aabbs` for batches.
-    TypeError
-        For non-numeric arrays.
     """
     lo_a, hi_a = as_box(lo_a, hi_a, names=("lo_a", "hi_a"), dims=(1, 2, 3))
     if lo_a.ndim != 1:
@@ -374,13 +349,6 @@ def merge_aabb(lo_a: ArrayLike, hi_a: ArrayLike, lo_b: ArrayLike, hi_b: ArrayLik
     -------
     lo, hi : numpy.ndarray, float64
         Of the inputs' shape.
-
-    Raises
-    ------
-    ValueError
-        For NaN or ±inf, mismatched shapes, d not 2 or 3, or ``lo > hi``.
-    TypeError
-        For non-numeric arrays.
     """
     lo_a, hi_a = as_box(lo_a, hi_a, names=("lo_a", "hi_a"))
     lo_b, hi_b = as_box(lo_b, hi_b, names=("lo_b", "hi_b"))
@@ -402,13 +370,6 @@ def aabb_contains(lo: ArrayLike, hi: ArrayLike, points: ArrayLike) -> np.ndarray
     Returns
     -------
     numpy.ndarray, shape (n,), bool
-
-    Raises
-    ------
-    ValueError
-        For NaN or ±inf, a box that is not (d,) with d = 2 or 3, ``lo > hi``, or points that are not (n, d).
-    TypeError
-        For non-numeric arrays.
     """
     lo, hi = as_box(lo, hi)
     if lo.ndim != 1:
@@ -431,23 +392,13 @@ def transform_aabbs(lo: ArrayLike, hi: ArrayLike, rotation: ArrayLike,
     ----------
     lo, hi : array_like, shape (n, d) or (d,)
         The boxes, d = 2 or 3, ``lo <= hi``, finite.
-    rotation : array_like, shape (d, d)
-        Orthonormal: ``R Rᵀ = I`` to 1e-9.
-    translation : array_like, shape (d,)
-        The translation t.
+    rotation, translation : array_like, shapes (d, d) and (d,)
+        The motion x -> R x + t, see :ref:`bounding-arguments`.
 
     Returns
     -------
     lo, hi : numpy.ndarray, float64
         The moved boxes' AABBs, of the inputs' shape.
-
-    Raises
-    ------
-    ValueError
-        For invalid boxes (as :func:`merge_aabb`), a rotation that is not (d, d) and orthonormal, or a
-        translation that is not (d,); all finite.
-    TypeError
-        For non-numeric arrays.
     """
     lo, hi = as_box(lo, hi)
     d = lo.shape[-1]
@@ -467,10 +418,8 @@ def transform_aabb(lo: ArrayLike, hi: ArrayLike, rotation: ArrayLike,
     ----------
     lo, hi : array_like, shape (d,)
         The box, d = 2 or 3, ``lo <= hi``, finite.
-    rotation : array_like, shape (d, d)
-        Orthonormal: ``R Rᵀ = I`` to 1e-9.
-    translation : array_like, shape (d,)
-        The translation t.
+    rotation, translation : array_like, shapes (d, d) and (d,)
+        The motion x -> R x + t, see :ref:`bounding-arguments`.
 
     Returns
     -------
@@ -479,9 +428,7 @@ def transform_aabb(lo: ArrayLike, hi: ArrayLike, rotation: ArrayLike,
     Raises
     ------
     ValueError
-        As :func:`transform_aabbs`, and for a batch of boxes (use :func:`transform_aabbs`).
-    TypeError
-        For non-numeric arrays.
+        For a batch of boxes: use :func:`transform_aabbs`.
     """
     lo, hi = as_box(lo, hi)
     if lo.ndim != 1:

@@ -221,7 +221,7 @@ def decompose_polygon(polygon: ArrayLike) -> list[np.ndarray]:
     Parameters
     ----------
     polygon : array_like, shape (n, 2)
-        The vertices in boundary order (either orientation), n >= 3, finite.
+        As for :func:`triangulate_polygon`.
 
     Returns
     -------
@@ -232,11 +232,8 @@ def decompose_polygon(polygon: ArrayLike) -> list[np.ndarray]:
 
     Raises
     ------
-    ValueError
-        When the polygon has fewer than 3 vertices, is not (n, 2), holds NaN or ±inf, is not simple (the
-        message names the first edge that meets another edge, folds back or has zero length), or has zero area.
-    TypeError
-        For a non-numeric polygon.
+    ValueError, TypeError
+        As :func:`triangulate_polygon`.
 
     Examples
     --------

@@ -186,7 +186,7 @@ def fit_kdop(points: ArrayLike, k: int) -> tuple[np.ndarray, np.ndarray]:
     Parameters
     ----------
     points : array_like, shape (n, d)
-        n >= 1 points, finite; d = 2 for k = 8, d = 3 for k = 14, 18, 26.
+        The cloud, see :ref:`bounding-arguments`.
     k : int
         8 (2-D), 14, 18 or 26 (3-D).
 
@@ -194,13 +194,6 @@ def fit_kdop(points: ArrayLike, k: int) -> tuple[np.ndarray, np.ndarray]:
     -------
     lo, hi : numpy.ndarray, shape (k/2,), float64
         The slab bounds along ``kdop_directions(k)``; ``(lo[:d], hi[:d])`` is the AABB.
-
-    Raises
-    ------
-    ValueError
-        For NaN or ±inf, no point, a d that does not match k, or a k not in ``KDOP_SIZES``.
-    TypeError
-        For non-numeric arrays, or a k that is not an int.
     """
     k = _check_k(k)
     pts = as_points(points, dims=(KDOP_SIZES[k],))
@@ -217,20 +210,13 @@ def fit_kdops(clouds: ArrayLike, k: int) -> tuple[np.ndarray, np.ndarray]:
     Parameters
     ----------
     clouds : array_like, shape (m, n, d)
-        m clouds of n >= 1 points, finite; d = 2 for k = 8, d = 3 for k = 14, 18, 26.
+        See :ref:`bounding-arguments`.
     k : int
         8 (2-D), 14, 18 or 26 (3-D).
 
     Returns
     -------
     lo, hi : numpy.ndarray, shape (m, k/2), float64
-
-    Raises
-    ------
-    ValueError
-        For NaN or ±inf, a rank other than 3, n = 0, a d that does not match k, or a k not in ``KDOP_SIZES``.
-    TypeError
-        For non-numeric arrays, or a k that is not an int.
     """
     k = _check_k(k)
     arr = as_float_array(clouds, "clouds", ndim=3)
@@ -260,13 +246,6 @@ def overlap_kdops(lo_a: ArrayLike, hi_a: ArrayLike, lo_b: ArrayLike, hi_b: Array
     -------
     numpy.ndarray, shape (n,), bool
         Shape (1,) for (k/2,) inputs.
-
-    Raises
-    ------
-    ValueError
-        For NaN or ±inf, shapes that do not match k or each other, ``lo > hi``, or a k not in ``KDOP_SIZES``.
-    TypeError
-        For non-numeric arrays, or a k that is not an int.
     """
     k = _check_k(k)
     lo_a, hi_a = _as_kdop(lo_a, hi_a, k, ("lo_a", "hi_a"))
@@ -288,20 +267,14 @@ def overlap_kdop_kdop(lo_a: ArrayLike, hi_a: ArrayLike, lo_b: ArrayLike, hi_b: A
     Parameters
     ----------
     lo_a, hi_a, lo_b, hi_b : array_like, shape (k/2,)
-        The slab bounds of DOPs a and b, ``lo <= hi``, finite.
+        The slab bounds of DOPs a and b, ``lo <= hi``, finite; one DOP each (a batch is a ValueError: use
+        :func:`overlap_kdops`).
     k : int
         8 (2-D), 14, 18 or 26 (3-D).
 
     Returns
     -------
     bool
-
-    Raises
-    ------
-    ValueError
-        As :func:`overlap_kdops`, and for a batch (use :func:`overlap_kdops`).
-    TypeError
-        For non-numeric arrays, or a k that is not an int.
     """
     k = _check_k(k)
     lo_a, hi_a = _as_kdop(lo_a, hi_a, k, ("lo_a", "hi_a"))
@@ -325,13 +298,6 @@ def merge_kdop(lo_a: ArrayLike, hi_a: ArrayLike, lo_b: ArrayLike, hi_b: ArrayLik
     -------
     lo, hi : numpy.ndarray, float64
         Of the inputs' shape.
-
-    Raises
-    ------
-    ValueError
-        As :func:`overlap_kdops`.
-    TypeError
-        For non-numeric arrays, or a k that is not an int.
     """
     k = _check_k(k)
     lo_a, hi_a = _as_kdop(lo_a, hi_a, k, ("lo_a", "hi_a"))
@@ -356,13 +322,6 @@ def kdop_contains(lo: ArrayLike, hi: ArrayLike, points: ArrayLike, k: int) -> np
     Returns
     -------
     numpy.ndarray, shape (n,), bool
-
-    Raises
-    ------
-    ValueError
-        For NaN or ±inf, shapes that do not match k, ``lo > hi``, or a k not in ``KDOP_SIZES``.
-    TypeError
-        For non-numeric arrays, or a k that is not an int.
     """
     k = _check_k(k)
     lo, hi = _as_kdop(lo, hi, k)
@@ -386,22 +345,13 @@ def update_kdop(points: ArrayLike, k: int, rotation: ArrayLike,
         The object's points in its rest pose, n >= 1; d = 2 for k = 8, d = 3 otherwise.
     k : int
         8 (2-D), 14, 18 or 26 (3-D).
-    rotation : array_like, shape (d, d)
-        Orthonormal: ``R Rᵀ = I`` to 1e-9.
-    translation : array_like, shape (d,)
-        The translation t.
+    rotation, translation : array_like, shapes (d, d) and (d,)
+        The motion x -> R x + t, see :ref:`bounding-arguments`.
 
     Returns
     -------
     lo, hi : numpy.ndarray, shape (k/2,), float64
         Equal to ``fit_kdop(points @ rotation.T + translation, k)`` up to round-off.
-
-    Raises
-    ------
-    ValueError
-        For NaN or ±inf, wrong shapes, a rotation that is not orthonormal, or a k not in ``KDOP_SIZES``.
-    TypeError
-        For non-numeric arrays, or a k that is not an int.
     """
     k = _check_k(k)
     d = KDOP_SIZES[k]
@@ -427,23 +377,13 @@ def transform_kdop(lo: ArrayLike, hi: ArrayLike, k: int, rotation: ArrayLike,
         The DOP's slab bounds, ``lo <= hi``, finite.
     k : int
         8 (2-D), 14, 18 or 26 (3-D).
-    rotation : array_like, shape (d, d)
-        Orthonormal: ``R Rᵀ = I`` to 1e-9.
-    translation : array_like, shape (d,)
-        The translation t.
+    rotation, translation : array_like, shapes (d, d) and (d,)
+        The motion x -> R x + t, see :ref:`bounding-arguments`.
 
     Returns
     -------
     lo, hi : numpy.ndarray, shape (k/2,), float64
         A DOP holding the moved object; looser than the re-fit.
-
-    Raises
-    ------
-    ValueError
-        For NaN or ±inf, shapes that do not match k, ``lo > hi``, a rotation that is not orthonormal, or a k
-        not in ``KDOP_SIZES``.
-    TypeError
-        For non-numeric arrays, or a k that is not an int.
     """
     k = _check_k(k)
     d = KDOP_SIZES[k]

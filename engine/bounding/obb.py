@@ -10,7 +10,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .._config import njit
-from .._validate import as_float_array
+from .._validate import as_float_array, as_half_extents, check_orthonormal_rows
 from .aabb import check_ordered
 
 #: how far ``axes @ axes.T`` may be from the identity before the axes are rejected as not orthonormal
@@ -65,10 +65,7 @@ class OBB:
     def __init__(self, center: ArrayLike, axes: ArrayLike, half_extents: ArrayLike):
         center = as_float_array(center, "center", shape=(3,))
         axes = as_float_array(axes, "axes", shape=(3, 3))
-        half_extents = as_float_array(half_extents, "half_extents", shape=(3,))
-        if (half_extents < 0).any():
-            k = int(np.argmax(half_extents < 0))
-            raise ValueError(f"half_extents must be >= 0: half_extents[{k}] = {float(half_extents[k])!r}")
+        half_extents = as_half_extents(half_extents, "half_extents", zero=True)
         err = np.abs(axes @ axes.T - np.eye(3)).max()
         if err > ORTHONORMAL_TOL:
             raise ValueError(f"axes must be orthonormal rows (max |A A^T - I| = {err:.3g} > {ORTHONORMAL_TOL})")
@@ -174,6 +171,41 @@ class OBB:
 # ---------------------------------------------------------------------------------------------------------
 # fit, merge, update (Ericson 4.4.3: OBB from the covariance of the points, i.e. principal component analysis)
 # ---------------------------------------------------------------------------------------------------------
+def as_obbs(centers: ArrayLike, axes: ArrayLike, half_extents: ArrayLike,
+            names: tuple[str, str, str] = ("centers", "axes", "half_extents")) -> tuple[np.ndarray, ...]:
+    """n oriented boxes as stacked arrays, checked as :class:`OBB` checks one: the batched boxes' argument check.
+
+    Parameters
+    ----------
+    centers : array_like, shape (n, 3)
+        The boxes' centres, finite.
+    axes : array_like, shape (n, 3, 3)
+        Each box's unit axes as ROWS, orthonormal to ``ORTHONORMAL_TOL``.
+    half_extents : array_like, shape (n, 3)
+        The half widths, >= 0.
+    names : tuple of 3 str, optional
+        The argument names the errors quote, in the order above.
+
+    Returns
+    -------
+    centers, axes, half_extents : numpy.ndarray, float64
+        Fresh C-contiguous copies, shapes (n, 3), (n, 3, 3), (n, 3).
+
+    Raises
+    ------
+    ValueError
+        For a wrong shape, NaN or ±inf, a negative half extent (naming its index [i, k]), or the first box whose
+        axes are not orthonormal.
+    TypeError
+        For non-numeric arrays.
+    """
+    c = as_float_array(centers, names[0], shape=(None, 3))
+    r = as_float_array(axes, names[1], shape=(c.shape[0], 3, 3))
+    e = as_half_extents(half_extents, names[2], shape=(c.shape[0], 3), zero=True)
+    check_orthonormal_rows(r, names[1], ORTHONORMAL_TOL)
+    return c, r, e
+
+
 @njit
 def _extents_kernel(points, axes, lo, hi):
     # project every point on the three axes; the box spans [lo, hi] along each (Ericson 4.4.3, last step)
@@ -206,13 +238,6 @@ def fit_obb(points: ArrayLike) -> OBB:
     -------
     OBB
         Right-handed axes, largest spread first.
-
-    Raises
-    ------
-    ValueError
-        For NaN, ±inf, no point, or a shape other than (n, 3).
-    TypeError
-        For non-numeric points.
     """
     pts = as_float_array(points, "points", shape=(None, 3), min_rows=1)
     mean = pts.mean(axis=0)

@@ -22,7 +22,7 @@ from numpy.typing import ArrayLike
 
 from .._config import njit
 from .._validate import as_float_array, as_nonnegative
-from .aabb import as_points, as_rotation
+from .aabb import as_clouds, as_points, as_rotation
 
 __all__ = [
     "ritter_sphere",
@@ -332,23 +332,12 @@ def ritter_sphere(points: ArrayLike) -> tuple[np.ndarray, float]:
     Parameters
     ----------
     points : array_like, shape (n, d)
-        n >= 1 points, d = 2 (a circle) or 3, finite.
+        The cloud, d = 2 (a circle) or 3, see :ref:`bounding-arguments`.
 
     Returns
     -------
     center : numpy.ndarray, shape (d,), float64
     radius : float
-
-    Raises
-    ------
-    ValueError
-        For NaN, ±inf or magnitudes above 1e150, no point, or d not 2 or 3.
-    TypeError
-        For non-numeric points.
-
-    See Also
-    --------
-    min_bounding_sphere : the exact smallest sphere (Welzl).
     """
     pts = as_points(points)
     center = np.empty(pts.shape[1])
@@ -357,28 +346,16 @@ def ritter_sphere(points: ArrayLike) -> tuple[np.ndarray, float]:
 
 
 def ritter_spheres(clouds: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
-    """Batched :func:`ritter_sphere`: one sphere per cloud, in one compiled call.
+    """Batched :func:`ritter_sphere`: one sphere per cloud of ``clouds`` (m, n, d), in one compiled call.
 
-    Parameters
-    ----------
-    clouds : array_like, shape (m, n, d)
-        m clouds of n >= 1 points, d = 2 or 3, finite.
+    ``clouds`` as in :ref:`bounding-arguments`.
 
     Returns
     -------
     centers : numpy.ndarray, shape (m, d), float64
     radii : numpy.ndarray, shape (m,), float64
-
-    Raises
-    ------
-    ValueError
-        For NaN or ±inf, a rank other than 3, n = 0, or d not 2 or 3.
-    TypeError
-        For non-numeric clouds.
     """
-    arr = as_float_array(clouds, "clouds", ndim=3)
-    if arr.shape[1] < 1 or arr.shape[2] not in (2, 3):
-        raise ValueError(f"clouds must have shape (m, n, d) with n >= 1 and d in (2, 3), got {arr.shape}")
+    arr = as_clouds(clouds)
     centers = np.empty((arr.shape[0], arr.shape[2]))
     radii = np.empty(arr.shape[0])
     _ritter_batch_kernel(arr, centers, radii)
@@ -395,7 +372,7 @@ def min_bounding_sphere(points: ArrayLike, *, seed: int = 0) -> tuple[np.ndarray
     Parameters
     ----------
     points : array_like, shape (n, d)
-        n >= 1 points, d = 2 or 3, finite.
+        The cloud, see :ref:`bounding-arguments`.
     seed : int, optional
         Seeds the random visiting order; fixed by default, so results are deterministic.
 
@@ -406,10 +383,8 @@ def min_bounding_sphere(points: ArrayLike, *, seed: int = 0) -> tuple[np.ndarray
 
     Raises
     ------
-    ValueError
-        For NaN, ±inf or magnitudes above 1e150, no point, or d not 2 or 3.
     TypeError
-        For non-numeric points, or a ``seed`` that is not an int.
+        For a ``seed`` that is not an int.
 
     Examples
     --------
@@ -456,13 +431,6 @@ def overlap_spheres(centers_a: ArrayLike, radii_a: ArrayLike, centers_b: ArrayLi
     Returns
     -------
     numpy.ndarray, shape (n,), bool
-
-    Raises
-    ------
-    ValueError
-        For NaN or ±inf, mismatched shapes, or a negative radius (named with its index).
-    TypeError
-        For non-numeric arrays.
     """
     if _is_plain_spheres(centers_a, radii_a, centers_b, radii_b):
         # fast path: checked in a compiled loop and read without a copy (the kernel never writes its inputs)
@@ -501,35 +469,24 @@ def _is_plain_spheres(ca: Any, ra: Any, cb: Any, rb: Any) -> bool:
             and rb.shape == ra.shape and _spheres_valid_kernel(ca, ra) and _spheres_valid_kernel(cb, rb))
 
 
-def overlap_sphere_sphere(center_a: ArrayLike, radius_a: float, center_b: ArrayLike, radius_b: float) -> bool:
-    """Whether two closed spheres overlap (touching counts), as :func:`overlap_spheres`.
+def _two_spheres(center_a: ArrayLike, radius_a: float, center_b: ArrayLike,
+                 radius_b: float) -> tuple[np.ndarray, float, np.ndarray, float]:
+    """The checked spheres a and b of the two-sphere functions (centres (d,) of one shape, radii >= 0)."""
+    ca = as_float_array(center_a, "center_a", ndim=1)
+    cb = as_float_array(center_b, "center_b", shape=ca.shape)
+    return ca, as_nonnegative(radius_a, "radius_a"), cb, as_nonnegative(radius_b, "radius_b")
 
-    Parameters
-    ----------
-    center_a : array_like, shape (d,)
-        The centre of sphere a, finite.
-    radius_a : float
-        Its radius, >= 0.
-    center_b : array_like, shape (d,)
-        The centre of sphere b, of the shape of ``center_a``.
-    radius_b : float
-        Its radius, >= 0.
+
+def overlap_sphere_sphere(center_a: ArrayLike, radius_a: float, center_b: ArrayLike, radius_b: float) -> bool:
+    """Whether two closed spheres a and b overlap (touching counts), as :func:`overlap_spheres`.
+
+    The spheres' arguments are those of every two-sphere function: :ref:`bounding-arguments`.
 
     Returns
     -------
     bool
-
-    Raises
-    ------
-    ValueError
-        For NaN or ±inf, mismatched shapes, or a negative radius.
-    TypeError
-        For non-numeric values.
     """
-    ca = as_float_array(center_a, "center_a", ndim=1)
-    cb = as_float_array(center_b, "center_b", shape=ca.shape)
-    ra = as_nonnegative(radius_a, "radius_a")
-    rb = as_nonnegative(radius_b, "radius_b")
+    ca, ra, cb, rb = _two_spheres(center_a, radius_a, center_b, radius_b)
     out = np.empty(1, dtype=np.bool_)
     _overlap_spheres_kernel(ca[None], np.array([ra]), cb[None], np.array([rb]), out)
     return bool(out[0])
@@ -537,36 +494,17 @@ def overlap_sphere_sphere(center_a: ArrayLike, radius_a: float, center_b: ArrayL
 
 def merge_spheres(center_a: ArrayLike, radius_a: float, center_b: ArrayLike,
                   radius_b: float) -> tuple[np.ndarray, float]:
-    """The smallest sphere holding two spheres (Ericson 6.5.2); one of them when it holds the other.
+    """The smallest sphere holding spheres a and b (Ericson 6.5.2); one of them when it holds the other.
 
-    Parameters
-    ----------
-    center_a : array_like, shape (d,)
-        The centre of sphere a, finite.
-    radius_a : float
-        Its radius, >= 0.
-    center_b : array_like, shape (d,)
-        The centre of sphere b, of the shape of ``center_a``.
-    radius_b : float
-        Its radius, >= 0.
+    ``center_a, radius_a, center_b, radius_b`` as in :ref:`bounding-arguments`.
 
     Returns
     -------
     center : numpy.ndarray, shape (d,), float64
     radius : float
         Widened by round-off if needed, so that it holds both spheres.
-
-    Raises
-    ------
-    ValueError
-        For NaN or ±inf, mismatched shapes, or a negative radius.
-    TypeError
-        For non-numeric values.
     """
-    ca = as_float_array(center_a, "center_a", ndim=1)
-    cb = as_float_array(center_b, "center_b", shape=ca.shape)
-    ra = as_nonnegative(radius_a, "radius_a")
-    rb = as_nonnegative(radius_b, "radius_b")
+    ca, ra, cb, rb = _two_spheres(center_a, radius_a, center_b, radius_b)
     delta = cb - ca
     dist = float(np.sqrt(delta @ delta))
     if dist + rb <= ra:  # b inside a
@@ -585,23 +523,14 @@ def sphere_contains(center: ArrayLike, radius: float, points: ArrayLike) -> np.n
 
     Parameters
     ----------
-    center : array_like, shape (d,)
-        The centre, finite.
-    radius : float
-        >= 0.
+    center, radius : array_like, float
+        The sphere, see :ref:`bounding-arguments`.
     points : array_like, shape (n, d)
         The points (n may be 0), finite.
 
     Returns
     -------
     numpy.ndarray, shape (n,), bool
-
-    Raises
-    ------
-    ValueError
-        For NaN or ±inf, a negative radius, or points that are not (n, d).
-    TypeError
-        For non-numeric values.
     """
     c = as_float_array(center, "center", ndim=1)
     r = as_nonnegative(radius, "radius")
@@ -615,14 +544,10 @@ def transform_sphere(center: ArrayLike, radius: float, rotation: ArrayLike,
 
     Parameters
     ----------
-    center : array_like, shape (d,)
-        The centre, finite.
-    radius : float
-        >= 0.
-    rotation : array_like, shape (d, d)
-        Orthonormal: ``R Rᵀ = I`` to 1e-9.
-    translation : array_like, shape (d,)
-        The translation t.
+    center, radius : array_like, float
+        The sphere, see :ref:`bounding-arguments`.
+    rotation, translation : array_like, shapes (d, d) and (d,)
+        The motion x -> R x + t, see :ref:`bounding-arguments`.
 
     Returns
     -------
@@ -630,13 +555,6 @@ def transform_sphere(center: ArrayLike, radius: float, rotation: ArrayLike,
         ``rotation @ center + translation``.
     radius : float
         Unchanged.
-
-    Raises
-    ------
-    ValueError
-        For NaN or ±inf, wrong shapes, a negative radius, or a rotation that is not orthonormal.
-    TypeError
-        For non-numeric values.
     """
     c = as_float_array(center, "center", ndim=1)
     r = as_nonnegative(radius, "radius")

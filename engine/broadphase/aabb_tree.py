@@ -26,10 +26,10 @@ import engine.broadphase.pairs as pair_buffer
 from engine._config import njit
 from engine._validate import as_nonnegative
 from engine.bounding.aabb import enclose_aabbs
+from engine.broadphase.incremental import IncrementalBroadPhase
 from engine.broadphase.pairs import (
     as_boxes,
     as_boxes_3d,
-    as_live_id,
     as_one_box,
     as_threads,
     boxes_overlap,
@@ -296,7 +296,7 @@ def _query_box_kernel(root, node_lo, node_hi, child1, child2, obj_of, obj_lo, ob
     return np.sort(found[:count])
 
 
-class DynamicAABBTree:
+class DynamicAABBTree(IncrementalBroadPhase):
     """A dynamic AABB tree over objects with ids, as Box2D, Bullet and FCL use (see the module's description).
 
     ``insert(lo_i, hi_i) -> id``; ``remove(id)``; ``move(id, lo_i, hi_i) -> bool`` (True when the leaf had to
@@ -400,8 +400,8 @@ class DynamicAABBTree:
         hi3[: self._d] = hi_d
         return lo3, hi3
 
-    def _check_id(self, obj_id: int) -> int:
-        return as_live_id(obj_id, lambda i: 0 <= i < self._n_ids and self._obj_node[i] >= 0)
+    def _is_live(self, obj_id: int) -> bool:
+        return 0 <= obj_id < self._n_ids and bool(self._obj_node[obj_id] >= 0)
 
     def _fat(self, lo3: np.ndarray, hi3: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         grow = np.zeros(3)  # along the tree's d axes only: the unused axes stay flat (cost = d-D perimeter)
@@ -434,20 +434,7 @@ class DynamicAABBTree:
         self._free_node(leaf)
         self._obj_node[obj_id] = -1
 
-    # -- public operations ----------------------------------------------------------------------------
-    @property
-    def dim(self) -> int:
-        """The dimension d of the boxes (1, 2 or 3)."""
-        return self._d
-
-    def __len__(self) -> int:
-        """The number of live objects.
-
-        Returns
-        -------
-        int
-        """
-        return int(np.count_nonzero(self._obj_node[: self._n_ids] >= 0))
+    # -- public operations (dim, len, ids, remove, update, pairs: documented by IncrementalBroadPhase) ------
 
     @property
     def height(self) -> int:
@@ -455,13 +442,6 @@ class DynamicAABBTree:
         return -1 if self._root == -1 else int(self._height[self._root])
 
     def ids(self) -> np.ndarray:
-        """The live ids.
-
-        Returns
-        -------
-        numpy.ndarray, shape (m,), int64
-            Ascending: the row order ``update`` expects.
-        """
         return np.flatnonzero(self._obj_node[: self._n_ids] >= 0).astype(np.int64)
 
     def fat_box(self, obj_id: int) -> tuple[np.ndarray, np.ndarray]:
@@ -474,19 +454,12 @@ class DynamicAABBTree:
         Parameters
         ----------
         obj_id : int
-            The id of a live object.
+            A live id (:ref:`broadphase-incremental`).
 
         Returns
         -------
         fat_lo, fat_hi : numpy.ndarray, shape (d,), float64
             Copies of the leaf's corners.
-
-        Raises
-        ------
-        TypeError
-            When ``obj_id`` is not an int.
-        ValueError
-            When ``obj_id`` is not the id of a live object.
         """
         leaf = self._obj_node[self._check_id(obj_id)]
         return self._node_lo[leaf, : self._d].copy(), self._node_hi[leaf, : self._d].copy()
@@ -542,25 +515,8 @@ class DynamicAABBTree:
                 self._child1[nodes] == -1)
 
     def insert(self, lo_i: ArrayLike, hi_i: ArrayLike) -> int:
-        """Insert a box: its fat leaf descends along the cheapest branch (Box2D's perimeter cost).
-
-        Parameters
-        ----------
-        lo_i, hi_i : array_like, shape (d,)
-            The box's corners, ``lo_i <= hi_i``, finite.
-
-        Returns
-        -------
-        int
-            The object's id: a freed id if there is one, else the next unused one.
-
-        Raises
-        ------
-        ValueError
-            When the corners do not have shape (d,), are not finite, or ``lo_i > hi_i`` on some axis.
-        TypeError
-            For non-numeric corners.
-        """
+        """Insert the box ``lo_i, hi_i`` and return its id (:ref:`broadphase-incremental`): its fat leaf descends
+        along the cheapest branch (Box2D's perimeter cost)."""
         lo3, hi3 = self._one_box(lo_i, hi_i)
         if self._free_ids:
             obj_id = self._free_ids.pop()
@@ -577,47 +533,15 @@ class DynamicAABBTree:
         self._insert_node(obj_id)
         return obj_id
 
-    def remove(self, obj_id: int) -> None:
-        """Delete an object; its leaf's sibling takes its parent's place, and its id may be reused.
-
-        Parameters
-        ----------
-        obj_id : int
-            The id of a live object.
-
-        Raises
-        ------
-        TypeError
-            When ``obj_id`` is not an int.
-        ValueError
-            When ``obj_id`` is not the id of a live object.
-        """
-        obj_id = self._check_id(obj_id)
+    def _remove_object(self, obj_id: int) -> None:
+        # the leaf's sibling takes its parent's place
         self._remove_node(obj_id)
         self._free_ids.append(obj_id)
 
     def move(self, obj_id: int, lo_i: ArrayLike, hi_i: ArrayLike) -> bool:
-        """Give an object a new box; its leaf is re-inserted only if the box left the leaf's fat box.
-
-        Parameters
-        ----------
-        obj_id : int
-            The id of a live object.
-        lo_i, hi_i : array_like, shape (d,)
-            The new corners, ``lo_i <= hi_i``, finite.
-
-        Returns
-        -------
-        bool
-            True when the leaf was re-inserted (with a new fat box), False when the tree did not change.
-
-        Raises
-        ------
-        TypeError
-            When ``obj_id`` is not an int, or the corners are not numeric.
-        ValueError
-            When ``obj_id`` is not live, or the box is invalid (as ``insert``).
-        """
+        """Give the live object ``obj_id`` the new box ``lo_i, hi_i`` (:ref:`broadphase-incremental`); its leaf
+        is re-inserted only if the box left the leaf's fat box, and then ``move`` returns True (False when the tree
+        did not change)."""
         obj_id = self._check_id(obj_id)
         lo3, hi3 = self._one_box(lo_i, hi_i)
         self._obj_lo[obj_id] = lo3
@@ -629,49 +553,19 @@ class DynamicAABBTree:
         self._insert_node(obj_id)
         return True
 
-    def update(self, lo: ArrayLike, hi: ArrayLike) -> np.ndarray:
-        """Move every live object (as ``move``), then return the pairs: one frame of a simulation.
-
-        Parameters
-        ----------
-        lo, hi : array_like, shape (m, d)
-            One row per live object, in ascending id order (the order of ``ids()``), ``lo <= hi``.
-
-        Returns
-        -------
-        numpy.ndarray, shape (k, 2), int64
-            ``pairs()`` after the moves.
-
-        Raises
-        ------
-        ValueError
-            For invalid boxes (as :func:`find_pairs`), or a shape other than (m, d). Nothing is moved then.
-        TypeError
-            For non-numeric boxes.
-        """
-        lo_d, hi_d = as_boxes(lo, hi)
-        ids = self.ids()
-        if lo_d.shape != (ids.shape[0], self._d):
-            raise ValueError(f"lo and hi must have shape ({ids.shape[0]}, {self._d}), got {lo_d.shape}")
+    def _set_boxes(self, ids: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> None:
+        # as ``move`` for every live object: a leaf is re-inserted only if its box left the fat box
         for row, obj_id in enumerate(ids.tolist()):
-            self._obj_lo[obj_id, : self._d] = lo_d[row]
-            self._obj_hi[obj_id, : self._d] = hi_d[row]
+            self._obj_lo[obj_id, : self._d] = lo[row]
+            self._obj_hi[obj_id, : self._d] = hi[row]
             leaf = self._obj_node[obj_id]
             if not (np.all(self._node_lo[leaf] <= self._obj_lo[obj_id])
                     and np.all(self._obj_hi[obj_id] <= self._node_hi[leaf])):
                 self._remove_node(obj_id)
                 self._insert_node(obj_id)
-        return self.pairs()
 
     def pairs(self) -> np.ndarray:
-        """The pairs of objects whose boxes overlap: each object descends the nodes its box overlaps.
-
-        Returns
-        -------
-        numpy.ndarray, shape (k, 2), int64
-            Canonical pairs of ids (``i < j`` in every row, rows sorted, no duplicate) whose exact closed boxes
-            overlap.
-        """
+        # each object descends the nodes its box overlaps; at a leaf the exact boxes are compared
         if self._root == -1:
             return empty_pairs()
         return tree_leaf_pairs(self._root, self._node_lo, self._node_hi, self._child1, self._child2,
@@ -823,29 +717,15 @@ def tree_pairs(lo: ArrayLike, hi: ArrayLike, *, return_tests: bool = False,
                threads: int = 1) -> np.ndarray | tuple[np.ndarray, int]:
     """All pairs of overlapping closed boxes with an AABB tree built in batch: ``find_pairs(method="tree")``.
 
-    The tree is built top-down over the exact boxes (no margin), then every object descends it.
-
-    Parameters
-    ----------
-    lo, hi : array_like, shape (n, d)
-        The boxes' corners, d = 1, 2 or 3, ``lo <= hi``, finite (converted to float64).
-    return_tests : bool, optional
-        Also return the number of box–box tests of the traversal: an object's box against each node box
-        visited (a leaf's box is its object's box).
-    threads : int, optional
-        How many threads may share the queries, 1 to 256 (the same answer, bit for bit).
+    The tree is built top-down over the exact boxes (no margin), then every object descends it; the threads
+    share these queries. ``lo``, ``hi``, ``return_tests``, ``threads``, the result and the errors are those of
+    every box method (:ref:`broadphase-boxes`, :ref:`broadphase-options`).
 
     Returns
     -------
     pairs : numpy.ndarray, shape (k, 2), int64
-        Canonical pairs: ``i < j`` in every row, rows sorted, no duplicate.
-    tests : int
-        Only with ``return_tests=True``.
-
-    Raises
-    ------
-    ValueError, TypeError
-        For invalid boxes or ``threads``, as :func:`find_pairs`.
+        :ref:`broadphase-pairs`; ``(pairs, tests)`` with ``return_tests=True``, ``tests`` counting the box–box
+        tests of the traversal: an object's box against each node box visited (a leaf's box is its object's box).
     """
     threads = as_threads(threads)
     lo3, hi3 = as_boxes_3d(lo, hi)

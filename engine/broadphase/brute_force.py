@@ -57,26 +57,13 @@ def brute_force_pairs(lo: ArrayLike, hi: ArrayLike, *, return_tests: bool = Fals
                       threads: int = 1) -> np.ndarray | tuple[np.ndarray, int]:
     """All pairs of overlapping closed boxes by the exhaustive (n² − n)/2 tests: ``find_pairs(method="brute")``.
 
-    Parameters
-    ----------
-    lo, hi : array_like, shape (n, d)
-        The boxes' corners, d = 1, 2 or 3, ``lo <= hi``, finite (converted to float64).
-    return_tests : bool, optional
-        Also return the number of box–box tests made, always (n² − n)/2.
-    threads : int, optional
-        How many threads may share the rows, 1 to 256 (the same answer, bit for bit).
+    The threads share the rows i of the tests (i, j > i). ``lo``, ``hi``, ``return_tests``, ``threads``, the result
+    and the errors are those of every box method (:ref:`broadphase-boxes`, :ref:`broadphase-options`).
 
     Returns
     -------
     pairs : numpy.ndarray, shape (k, 2), int64
-        Canonical pairs: ``i < j`` in every row, rows sorted, no duplicate.
-    tests : int
-        Only with ``return_tests=True``.
-
-    Raises
-    ------
-    ValueError, TypeError
-        For invalid boxes or ``threads``, as :func:`find_pairs`.
+        :ref:`broadphase-pairs`; ``(pairs, tests)`` with ``return_tests=True``, ``tests`` always (n² − n)/2.
     """
     threads = as_threads(threads)
     lo3, hi3 = as_boxes_3d(lo, hi)

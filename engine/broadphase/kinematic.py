@@ -14,6 +14,11 @@ computation.
   whose outward normal n has n·v >= 0; faces with n·v < 0 are turned away and culled. The first contact point of
   a translating convex polyhedron always lies on a kept face: its normal cone contains a direction m with
   m·v > 0, and that cone is spanned by the normals of the faces around the point.
+
+The two culls share their ``pairs`` argument and their result: ``pairs`` (m, 2) are candidate pairs of indices
+in [0, n), integers in any order, put in canonical form first (a ``ValueError`` names an index outside [0, n), a
+``TypeError`` non-integers); the result is the int64 (k, 2) canonical pairs that are kept, a subset of
+``pairs``. The other arrays are finite (NaN, ±inf or a wrong shape is a ``ValueError`` naming the argument).
 """
 from __future__ import annotations
 
@@ -21,7 +26,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from engine._config import njit
-from engine._validate import as_float_array
+from engine._validate import as_float_array, as_radii
 from engine.broadphase.pairs import as_boxes_3d, canonical_pairs
 
 __all__ = ["cull_separating_sphere_pairs", "cull_separating_box_pairs", "front_faces"]
@@ -81,38 +86,22 @@ def cull_separating_sphere_pairs(pairs: ArrayLike, centers: ArrayLike, radii: Ar
     Parameters
     ----------
     pairs : array_like of int, shape (m, 2)
-        Candidate pairs of indices in [0, n), in any order (they are put in canonical form first).
+        Candidate pairs, see the module's description.
     centers : array_like, shape (n, d)
         The spheres' centres, finite.
     radii : float or array_like, shape (n,)
-        The radii, >= 0; a scalar for equal spheres.
+        The radii, >= 0 (a negative one is a ValueError naming its index); a scalar for equal spheres.
     velocities : array_like, shape (n, d)
-        The spheres' velocities, finite.
+        The spheres' velocities, constant over the step.
 
     Returns
     -------
     numpy.ndarray, shape (k, 2), int64
-        The canonical pairs that are kept: a subset of ``pairs``.
-
-    Raises
-    ------
-    ValueError
-        For NaN or ±inf, wrong shapes, a negative radius, or an index of ``pairs`` outside [0, n) (each
-        message names the argument and the first offending entry).
-    TypeError
-        For non-numeric arrays, or ``pairs`` that are not integers.
+        The canonical pairs kept, see the module's description.
     """
     c = as_float_array(centers, "centers", ndim=2)
     n, d = c.shape
-    if np.ndim(radii) == 0:
-        from engine._validate import as_nonnegative
-
-        r = np.full(n, as_nonnegative(radii, "radii"))
-    else:
-        r = as_float_array(radii, "radii", shape=(n,))
-        bad = np.flatnonzero(r < 0.0)
-        if bad.size:
-            raise ValueError(f"radii must be >= 0: radii[{bad[0]}] = {float(r[bad[0]])!r}")
+    r = as_radii(radii, "radii", n)
     v = _velocities(velocities, n, d)
     p = canonical_pairs(pairs, n=n)
     return p[_sphere_keep_kernel(p, c, r, v)]
@@ -127,24 +116,16 @@ def cull_separating_box_pairs(pairs: ArrayLike, lo: ArrayLike, hi: ArrayLike, ve
     Parameters
     ----------
     pairs : array_like of int, shape (m, 2)
-        Candidate pairs of indices in [0, n), in any order.
+        Candidate pairs, see the module's description.
     lo, hi : array_like, shape (n, d)
-        The boxes, d = 1, 2 or 3, ``lo <= hi``, finite.
+        The boxes, see :ref:`broadphase-boxes`.
     velocities : array_like, shape (n, d)
-        The boxes' velocities, finite.
+        The boxes' velocities.
 
     Returns
     -------
     numpy.ndarray, shape (k, 2), int64
-        The canonical pairs that are kept: a subset of ``pairs``.
-
-    Raises
-    ------
-    ValueError
-        For invalid boxes (as :func:`find_pairs`), wrong shapes, NaN or ±inf velocities, or an index of
-        ``pairs`` outside [0, n).
-    TypeError
-        For non-numeric arrays, or ``pairs`` that are not integers.
+        The canonical pairs kept, see the module's description.
     """
     lo3, hi3 = as_boxes_3d(lo, hi)
     n = lo3.shape[0]

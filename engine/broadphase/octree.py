@@ -193,33 +193,25 @@ def octree_pairs(lo: ArrayLike, hi: ArrayLike, leaf_size: int = 8, *, return_tes
     """All pairs of overlapping closed boxes with a loose octree: ``find_pairs(method="octree")``.
 
     Each object lives in the leaf of its centre and descends the nodes whose loose bounds overlap its box (see
-    the module's description).
+    the module's description); the threads share these queries. ``lo``, ``hi``, ``return_tests``, ``threads``
+    and the result are those of every box method (:ref:`broadphase-boxes`, :ref:`broadphase-options`).
 
     Parameters
     ----------
-    lo, hi : array_like, shape (n, d)
-        The boxes' corners, d = 1, 2 or 3, ``lo <= hi``, finite (converted to float64).
     leaf_size : int, optional
         Objects per leaf before a cut, >= 1.
-    return_tests : bool, optional
-        Also return the number of box–box tests of the traversal: the object against each node's loose bounds,
-        and against the objects of the leaves it reaches.
-    threads : int, optional
-        How many threads may share the queries, 1 to 256 (the same answer, bit for bit).
 
     Returns
     -------
     pairs : numpy.ndarray, shape (k, 2), int64
-        Canonical pairs: ``i < j`` in every row, rows sorted, no duplicate.
-    tests : int
-        Only with ``return_tests=True``.
+        :ref:`broadphase-pairs`; ``(pairs, tests)`` with ``return_tests=True``, ``tests`` counting the box–box
+        tests of the traversal: the object against each node's loose bounds, and against the objects of the
+        leaves it reaches.
 
     Raises
     ------
     ValueError
-        For invalid boxes or ``threads`` (as :func:`find_pairs`), or ``leaf_size`` < 1 or not an int.
-    TypeError
-        For non-numeric boxes.
+        When ``leaf_size`` is < 1 or not an int (and for invalid boxes or ``threads``, as every box method).
     """
     threads = as_threads(threads)
     if isinstance(leaf_size, bool) or not isinstance(leaf_size, int | np.integer) or leaf_size < 1:

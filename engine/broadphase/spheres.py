@@ -29,7 +29,7 @@ from numpy.typing import ArrayLike, DTypeLike
 
 import engine.broadphase.pairs as pair_buffer
 from engine._config import njit
-from engine._validate import MAX_MAGNITUDE, as_choice, as_float_array, as_nonnegative
+from engine._validate import MAX_MAGNITUDE, as_choice, as_float_array, as_radii
 from engine.bounding.sphere import spheres_touch
 from engine.broadphase.pairs import as_threads, canonical_pairs, empty_pairs
 from engine.broadphase.sphere_columns import column_layout, home_columns, sort_into_columns, sweep_columns
@@ -164,15 +164,8 @@ def _as_spheres(centers: ArrayLike, radii: ArrayLike) -> tuple[np.ndarray, np.nd
     if c.shape[1] not in (1, 2, 3):
         raise ValueError(f"centers must have shape (n, d) with d = 1, 2 or 3, got {c.shape}")
     n = c.shape[0]
-    if np.ndim(radii) == 0:
-        r = np.full(n, as_nonnegative(radii, "radii"))
-        equal = True
-    else:
-        r = as_float_array(radii, "radii", shape=(n,))
-        negative = np.flatnonzero(r < 0.0)
-        if negative.size:
-            raise ValueError(f"radii must be >= 0: radii[{negative[0]}] = {float(r[negative[0]])!r}")
-        equal = False
+    r = as_radii(radii, "radii", n)
+    equal = np.ndim(radii) == 0
     if c.shape[1] < 3:
         c3 = np.zeros((n, 3))
         c3[:, : c.shape[1]] = c

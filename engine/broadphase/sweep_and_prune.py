@@ -29,7 +29,8 @@ import engine.broadphase.pairs as pair_buffer
 from engine._config import njit
 from engine._validate import as_float_array
 from engine.broadphase.counting_sort import cell_of, radix_sort_pairs
-from engine.broadphase.pairs import as_boxes, as_boxes_3d, as_live_id, as_one_box, as_threads, empty_pairs, with_tests
+from engine.broadphase.incremental import IncrementalBroadPhase
+from engine.broadphase.pairs import as_boxes, as_boxes_3d, as_one_box, as_threads, empty_pairs, with_tests
 
 __all__ = ["sweep_intervals", "sap_pairs", "sap_example_trace", "IncrementalSAP", "SLIDE_EXAMPLE"]
 
@@ -509,33 +510,27 @@ def sap_pairs(lo: ArrayLike, hi: ArrayLike, axis: int | None = None, *, return_t
     """All pairs of overlapping closed boxes by sweep-and-prune: ``find_pairs(method="sap")``.
 
     The boxes are sorted once on the sweep axis and swept per column of a coarse grid over the two other axes
-    (box pruning, see the module's description).
+    (box pruning, see the module's description); the threads share the sweep. ``lo``, ``hi``, ``return_tests``,
+    ``threads`` and the result are those of every box method (:ref:`broadphase-boxes`,
+    :ref:`broadphase-options`).
 
     Parameters
     ----------
-    lo, hi : array_like, shape (n, d)
-        The boxes' corners, d = 1, 2 or 3, ``lo <= hi``, finite (converted to float64).
     axis : int, optional
         The sweep axis, in [0, d). Default: the axis along which the box centres spread most (largest variance).
-    return_tests : bool, optional
-        Also return the number of box tests made: the pairs of entries of a column whose intervals overlap on
-        the sweep axis.
-    threads : int, optional
-        How many threads may share the sweep, 1 to 256 (the same answer, bit for bit).
 
     Returns
     -------
     pairs : numpy.ndarray, shape (k, 2), int64
-        Canonical pairs: ``i < j`` in every row, rows sorted, no duplicate.
-    tests : int
-        Only with ``return_tests=True``.
+        :ref:`broadphase-pairs`; ``(pairs, tests)`` with ``return_tests=True``, ``tests`` counting the box tests
+        made: the pairs of entries of a column whose intervals overlap on the sweep axis.
 
     Raises
     ------
     ValueError
-        For invalid boxes or ``threads`` (as :func:`find_pairs`), or ``axis`` outside [0, d).
+        When ``axis`` is outside [0, d) (and for invalid boxes or ``threads``, as every box method).
     TypeError
-        For non-numeric boxes, or an ``axis`` that is not an int.
+        When ``axis`` is not an int (and for non-numeric boxes).
     """
     threads = as_threads(threads)
     lo3, hi3 = as_boxes_3d(lo, hi)
@@ -576,7 +571,7 @@ def _insertion_sort_order(order, lo, axis):
     return swaps
 
 
-class IncrementalSAP:
+class IncrementalSAP(IncrementalBroadPhase):
     """Sweep-and-prune that keeps its sorted order between frames (temporal coherence).
 
     Build it from arrays and update all boxes each frame::
@@ -663,55 +658,20 @@ class IncrementalSAP:
         self._order = np.argsort(self._lo[:n, self.axis], kind="stable").astype(np.int64)
         self.last_swaps = 0
 
-    # -- bookkeeping ------------------------------------------------------------------------------------
-    @property
-    def dim(self) -> int:
-        """The dimension d of the boxes (1, 2 or 3)."""
-        return self._d
-
+    # -- bookkeeping (documented by IncrementalBroadPhase) ----------------------------------------------
     def __len__(self) -> int:
-        """The number of live objects.
-
-        Returns
-        -------
-        int
-        """
         return int(self._order.shape[0])
 
     def ids(self) -> np.ndarray:
-        """The live ids.
-
-        Returns
-        -------
-        numpy.ndarray, shape (m,), int64
-            Ascending: the row order ``update`` expects.
-        """
         return np.flatnonzero(self._alive[: self._size]).astype(np.int64)
 
-    def _check_id(self, obj_id: int) -> int:
-        return as_live_id(obj_id, lambda i: 0 <= i < self._size and bool(self._alive[i]))
+    def _is_live(self, obj_id: int) -> bool:
+        return 0 <= obj_id < self._size and bool(self._alive[obj_id])
 
     # -- objects ----------------------------------------------------------------------------------------
     def add(self, lo_i: ArrayLike, hi_i: ArrayLike) -> int:
-        """Insert a box.
-
-        Parameters
-        ----------
-        lo_i, hi_i : array_like, shape (d,)
-            The box's corners, ``lo_i <= hi_i``, finite.
-
-        Returns
-        -------
-        int
-            The object's id: a freed id if there is one, else the next unused one.
-
-        Raises
-        ------
-        ValueError
-            When the corners do not have shape (d,), are not finite, or ``lo_i > hi_i`` on some axis.
-        TypeError
-            For non-numeric corners.
-        """
+        """Insert the box ``lo_i, hi_i`` at its place in the sorted order; returns its id
+        (:ref:`broadphase-incremental`)."""
         lo_i, hi_i = as_one_box(lo_i, hi_i, self._d)
         if self._free:
             obj_id = self._free.pop()
@@ -733,86 +693,25 @@ class IncrementalSAP:
         self._order = np.insert(self._order, at, obj_id)
         return obj_id
 
-    def remove(self, obj_id: int) -> None:
-        """Delete an object; its id may be reused by a later ``add``.
-
-        Parameters
-        ----------
-        obj_id : int
-            The id of a live object.
-
-        Raises
-        ------
-        TypeError
-            When ``obj_id`` is not an int.
-        ValueError
-            When ``obj_id`` is not the id of a live object.
-        """
-        obj_id = self._check_id(obj_id)
+    def _remove_object(self, obj_id: int) -> None:
         self._alive[obj_id] = False
         self._order = self._order[self._order != obj_id]
         self._free.append(obj_id)
 
     def move(self, obj_id: int, lo_i: ArrayLike, hi_i: ArrayLike) -> None:
-        """Give an object a new box; the sorted order is repaired at the next query.
-
-        Parameters
-        ----------
-        obj_id : int
-            The id of a live object.
-        lo_i, hi_i : array_like, shape (d,)
-            The new corners, ``lo_i <= hi_i``, finite.
-
-        Raises
-        ------
-        TypeError
-            When ``obj_id`` is not an int, or the corners are not numeric.
-        ValueError
-            When ``obj_id`` is not live, or the box is invalid (as ``add``).
-        """
+        """Give the live object ``obj_id`` the new box ``lo_i, hi_i`` (:ref:`broadphase-incremental`); the sorted
+        order is repaired at the next query."""
         obj_id = self._check_id(obj_id)
         lo_i, hi_i = as_one_box(lo_i, hi_i, self._d)
         self._lo[obj_id, : self._d] = lo_i
         self._hi[obj_id, : self._d] = hi_i
 
-    def update(self, lo: ArrayLike, hi: ArrayLike) -> np.ndarray:
-        """New boxes for every live object, then the pairs: one frame of a simulation.
-
-        Parameters
-        ----------
-        lo, hi : array_like, shape (m, d)
-            One row per live object, in ascending id order (the order of ``ids()``), ``lo <= hi``.
-
-        Returns
-        -------
-        numpy.ndarray, shape (k, 2), int64
-            ``pairs()`` after the move.
-
-        Raises
-        ------
-        ValueError
-            For invalid boxes (as :func:`find_pairs`), or a shape other than (m, d). Nothing is moved then.
-        TypeError
-            For non-numeric boxes.
-        """
-        lo_d, hi_d = as_boxes(lo, hi)
-        ids = self.ids()
-        if lo_d.shape != (ids.shape[0], self._d):
-            raise ValueError(f"lo and hi must have shape ({ids.shape[0]}, {self._d}) (one row per live object), "
-                             f"got {lo_d.shape}")
-        self._lo[ids, : self._d] = lo_d
-        self._hi[ids, : self._d] = hi_d
-        return self.pairs()
+    def _set_boxes(self, ids: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> None:
+        self._lo[ids, : self._d] = lo
+        self._hi[ids, : self._d] = hi
 
     def pairs(self) -> np.ndarray:
-        """Repair the sorted order by insertion sort, sweep, and return the overlapping pairs of ids.
-
-        Returns
-        -------
-        numpy.ndarray, shape (k, 2), int64
-            Canonical pairs of ids (``i < j`` in every row, rows sorted, no duplicate) whose closed boxes
-            overlap.
-        """
+        # repair the sorted order by insertion sort, then sweep
         if self._order.shape[0] < 2:
             return empty_pairs()
         self.last_swaps = int(_insertion_sort_order(self._order, self._lo, self.axis))

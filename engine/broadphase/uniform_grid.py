@@ -293,34 +293,28 @@ def grid_pairs(lo: ArrayLike, hi: ArrayLike, cell_size: float | None = None, *, 
 
     Each box enters every cell it covers and the boxes sharing a cell are tested; a pair is reported only in
     the cell of the lower corner of the two boxes' overlap, so once. Boxes covering more than 64 cells are
-    tested against every box instead.
+    tested against every box instead. The threads share the cells. ``lo``, ``hi``, ``return_tests``,
+    ``threads`` and the result are those of every box method (:ref:`broadphase-boxes`, :ref:`broadphase-options`).
 
     Parameters
     ----------
-    lo, hi : array_like, shape (n, d)
-        The boxes' corners, d = 1, 2 or 3, ``lo <= hi``, finite (converted to float64).
     cell_size : float, optional
         The cell side, > 0. Default: :func:`default_cell_size` (from the box sizes and the mean spacing). When a
         table of every cell would need more than max(8·n, 64) cells, only the occupied cells are stored (the
         cells keep their side, enlarged only past 2^21 cells per axis).
-    return_tests : bool, optional
-        Also return the number of box–box tests made: boxes sharing a cell, and the too-large boxes' tests.
-    threads : int, optional
-        How many threads may share the tests, 1 to 256 (the same answer, bit for bit).
 
     Returns
     -------
     pairs : numpy.ndarray, shape (k, 2), int64
-        Canonical pairs: ``i < j`` in every row, rows sorted, no duplicate.
-    tests : int
-        Only with ``return_tests=True``.
+        :ref:`broadphase-pairs`; ``(pairs, tests)`` with ``return_tests=True``, ``tests`` counting the box–box
+        tests made: boxes sharing a cell, and the too-large boxes' tests.
 
     Raises
     ------
     ValueError
-        For invalid boxes or ``threads`` (as :func:`find_pairs`), or a ``cell_size`` that is not > 0 and finite.
+        When ``cell_size`` is not > 0 and finite (and for invalid boxes or ``threads``, as every box method).
     TypeError
-        For non-numeric boxes, or a ``cell_size`` that is not a real number.
+        When ``cell_size`` is not a real number (and for non-numeric boxes).
     """
     threads = as_threads(threads)
     lo3, hi3 = as_boxes_3d(lo, hi)

@@ -332,8 +332,8 @@ def _cells_per_axis(n, box, rmax, periodic):
     ncell = max(1, min(int(math.floor(box / width)), 128))
     if periodic:
         if box < 3.0 * 2.0 * rmax * (1.0 + 1e-12):
-            raise ValueError(f"a periodic box must be at least 3 diameters wide: box = {box!r}, "
-                             f"largest diameter = {2.0 * rmax!r}")
+            raise ValueError(f"a periodic box must be at least 3 diameters wide: box = {float(box)!r}, "
+                             f"largest diameter = {float(2.0 * rmax)!r}")
         ncell = max(3, ncell)
     return ncell
 
@@ -395,7 +395,7 @@ class EventDrivenGas(EventTally):
         When ``max_events`` is reached first, the run stops there (spheres stay at their own local times)."""
         t_stop = as_float(t_stop, "t_stop")
         if t_stop < self.time:
-            raise ValueError(f"t_stop must be >= the gas time {self.time!r}, got {t_stop!r}")
+            raise ValueError(f"t_stop must be >= the gas time {float(self.time)!r}, got {t_stop!r}")
         max_events = as_count(max_events, "max_events", 1)
         done = _run_kernel(self.state, self.cells, self.queue, t_stop, max_events)
         self.processed += int(done)

@@ -41,7 +41,7 @@ def packing_fraction(radii, box: float, boundary: str = "walls") -> float:
         raise ValueError(f"radii must be a positive scalar or a non-empty (n,) array, got shape {np.shape(radii)}")
     bad = np.flatnonzero(r <= 0.0)
     if bad.size:
-        raise ValueError(f"radii must be > 0: radii[{bad[0]}] = {r[bad[0]]!r}")
+        raise ValueError(f"radii must be > 0: radii[{bad[0]}] = {float(r[bad[0]])!r}")
     side = reachable_side(box, float(r.mean()), boundary)
     if side <= 0.0:
         raise ValueError(f"radii too large for the box: the centres' reachable side L - 2 r = {side!r} <= 0")
@@ -222,7 +222,7 @@ def per_sphere(value, name, n):
     out = as_float_array(value, name, shape=(n,))
     bad = np.flatnonzero(out <= 0.0)
     if bad.size:
-        raise ValueError(f"{name} must be > 0: {name}[{bad[0]}] = {out[bad[0]]!r}")
+        raise ValueError(f"{name} must be > 0: {name}[{bad[0]}] = {float(out[bad[0]])!r}")
     return out
 
 
@@ -237,8 +237,8 @@ def check_start_positions(positions, radii, box, periodic):
         outside = (p < -half + radii[:, None]) | (p > half - radii[:, None])
         if outside.any():
             i, k = (int(x) for x in np.argwhere(outside)[0])
-            raise ValueError(f"positions[{i}] is outside the reachable box: coordinate {k} = {p[i, k]!r}, "
-                             f"limit ±{half - radii[i]!r}")
+            raise ValueError(f"positions[{i}] is outside the reachable box: coordinate {k} = {float(p[i, k])!r}, "
+                             f"limit ±{float(half - radii[i])!r}")
     else:
         p = p - box * np.floor((p + box / 2.0) / box)
     if periodic:
@@ -288,7 +288,7 @@ def check_gas_state(positions, velocities, radii, masses, box, periodic, *, allo
             outside = np.abs(p) > limit[:, None]
             if outside.any():
                 i, k = (int(x) for x in np.argwhere(outside)[0])
-                raise ValueError(f"positions[{i}] is outside the reachable box: coordinate {k} = {p[i, k]!r}, "
-                                 f"limit ±{limit[i]!r}")
+                raise ValueError(f"positions[{i}] is outside the reachable box: coordinate {k} = {float(p[i, k])!r}, "
+                                 f"limit ±{float(limit[i])!r}")
         return p, v, r, m, box, periodic
     return check_start_positions(p, r, box, periodic), v, r, m, box, periodic

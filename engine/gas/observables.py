@@ -106,7 +106,7 @@ def _masses(masses, n):
         m = as_float_array(masses, "masses", shape=(n,))
     bad = np.flatnonzero(m <= 0.0)
     if bad.size:
-        raise ValueError(f"masses must be > 0: masses[{bad[0]}] = {m[bad[0]]!r}")
+        raise ValueError(f"masses must be > 0: masses[{bad[0]}] = {float(m[bad[0]])!r}")
     return m
 
 
@@ -129,7 +129,7 @@ def _speeds(speeds) -> np.ndarray:
     u = as_float_array(speeds, "speeds", shape=(None,), min_rows=1)
     bad = np.flatnonzero(u < 0.0)
     if bad.size:
-        raise ValueError(f"speeds must be >= 0: speeds[{bad[0]}] = {u[bad[0]]!r}")
+        raise ValueError(f"speeds must be >= 0: speeds[{bad[0]}] = {float(u[bad[0]])!r}")
     return u
 
 

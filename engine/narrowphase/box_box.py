@@ -30,7 +30,7 @@ import math
 import numpy as np
 
 from .._config import njit
-from .._validate import as_float_array
+from .._validate import as_float_array, as_half_extents
 from ..bounding.aabb import as_rotation_matrix
 from .contacts import (
     EDGE,
@@ -367,10 +367,7 @@ def contact_box_box_pair(center_a, rotation_a, half_extents_a, center_b, rotatio
                                           ("b", center_b, rotation_b, half_extents_b))):
         centers[row] = as_float_array(c, f"center_{tag}", shape=(3,))
         rotations[row] = as_rotation_matrix(r, f"rotation_{tag}")
-        halves[row] = as_float_array(e, f"half_extents_{tag}", shape=(3,))
-        if (halves[row] <= 0).any():
-            k = int(np.argmax(halves[row] <= 0))
-            raise ValueError(f"half_extents_{tag} must be > 0: half_extents_{tag}[{k}] = {halves[row, k]!r}")
+        halves[row] = as_half_extents(e, f"half_extents_{tag}")
     rows = contact_rows(1)
     contact_box_box(centers, rotations, halves, 0, 1, rows, 0, False, kernel_scratch())
     return contact_set_from_rows(rows, np.array([[0, 1]], np.int64), np.zeros(1), np.zeros(1), keep_apart=True)

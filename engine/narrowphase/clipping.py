@@ -12,7 +12,7 @@ import math
 
 from .._config import njit
 
-__all__ = ["clip_polygon", "clip_segment", "closest_segments_2d", "drop_flat_vertices"]
+__all__ = ["clip_polygon", "clip_segment", "closest_segments_2d", "drop_flat_vertices", "points_along_line"]
 
 
 @njit
@@ -53,6 +53,16 @@ def clip_polygon(S, ns, C, nc, buf):
 
 
 @njit
+def points_along_line(px, py, dx, dy, s0, s1, out):
+    """The two points p + s0·d and p + s1·d of a 2-D line into out[0], out[1]; returns 2 (their count)."""
+    out[0, 0] = px + s0 * dx
+    out[0, 1] = py + s0 * dy
+    out[1, 0] = px + s1 * dx
+    out[1, 1] = py + s1 * dy
+    return 2
+
+
+@njit
 def clip_segment(px, py, qx, qy, C, nc, out):
     """Cyrus–Beck: the part of segment [p, q] inside the convex counter-clockwise polygon C[:nc] into out[:2];
     returns 2, or 0 when it is empty."""
@@ -78,11 +88,7 @@ def clip_segment(px, py, qx, qy, C, nc, out):
             t1 = min(t1, t)
         if t0 > t1:
             return 0
-    out[0, 0] = px + t0 * dx
-    out[0, 1] = py + t0 * dy
-    out[1, 0] = px + t1 * dx
-    out[1, 1] = py + t1 * dy
-    return 2
+    return points_along_line(px, py, dx, dy, t0, t1, out)
 
 
 @njit
@@ -122,11 +128,7 @@ def closest_segments_2d(A, B, tol, out):
         out[0, 0] = p1x + mid * ux
         out[0, 1] = p1y + mid * uy
         return 1
-    out[0, 0] = p1x + lo * ux
-    out[0, 1] = p1y + lo * uy
-    out[1, 0] = p1x + hi * ux
-    out[1, 1] = p1y + hi * uy
-    return 2
+    return points_along_line(p1x, p1y, ux, uy, lo, hi, out)
 
 
 @njit

@@ -29,11 +29,10 @@ from .._validate import (
     as_float_array,
     as_nonnegative,
     as_radii,
-    check_orthonormal_rows,
     pair_indices,
 )
 from ..bounding.aabb import aabbs_touch, overlap_aabb_aabb
-from ..bounding.obb import OBB, ORTHONORMAL_TOL
+from ..bounding.obb import OBB, as_obbs
 from ..bounding.sphere import overlap_sphere_sphere, spheres_touch
 
 __all__ = [
@@ -168,8 +167,8 @@ def _boxes(lo, hi, name_lo: str, name_hi: str, dims=(1, 2, 3)):
         raise ValueError(f"{name_lo} must have {' or '.join(map(str, dims))} columns, got shape {lo.shape}")
     if (lo > hi).any():
         i, k = (int(x) for x in np.argwhere(lo > hi)[0])
-        raise ValueError(f"{name_lo} must be <= {name_hi}: {name_lo}[{i}, {k}] = {lo[i, k]!r} > "
-                         f"{name_hi}[{i}, {k}] = {hi[i, k]!r}")
+        raise ValueError(f"{name_lo} must be <= {name_hi}: {name_lo}[{i}, {k}] = {float(lo[i, k])!r} > "
+                         f"{name_hi}[{i}, {k}] = {float(hi[i, k])!r}")
     return lo, hi
 
 
@@ -179,17 +178,6 @@ def _one(value, name, d=None):
     if d is not None and arr.shape[0] not in ((d,) if isinstance(d, int) else d):
         raise ValueError(f"{name} must have shape ({d},), got {arr.shape}")
     return arr[None, :]
-
-
-def _obbs(centers, axes, half_extents):
-    c = as_float_array(centers, "box_centers", shape=(None, 3))
-    r = as_float_array(axes, "box_axes", shape=(c.shape[0], 3, 3))
-    e = as_float_array(half_extents, "box_half_extents", shape=(c.shape[0], 3))
-    if (e < 0).any():
-        i, k = (int(x) for x in np.argwhere(e < 0)[0])
-        raise ValueError(f"box_half_extents must be >= 0: box_half_extents[{i}, {k}] = {e[i, k]!r}")
-    check_orthonormal_rows(r, "box_axes", ORTHONORMAL_TOL)
-    return c, r, e
 
 
 # ---------------------------------------------------------------------------------------------------------------
@@ -244,7 +232,7 @@ def overlap_sphere_obb_batch(centers, radii, box_centers, box_axes, box_half_ext
     unit axes), half extents (m, 3). Returns bool (k,)."""
     c = as_float_array(centers, "centers", shape=(None, 3))
     r = as_radii(radii, "radii", c.shape[0])
-    bc, ba, be = _obbs(box_centers, box_axes, box_half_extents)
+    bc, ba, be = as_obbs(box_centers, box_axes, box_half_extents, ("box_centers", "box_axes", "box_half_extents"))
     ia, ib = pair_indices(c.shape[0], bc.shape[0], index_a, index_b)
     out = np.empty(ia.shape[0], np.bool_)
     _overlap_sphere_obb_batch(c, r, bc, ba, be, ia, ib, out)
@@ -385,7 +373,7 @@ def _evaluate(f, x: np.ndarray) -> np.ndarray:
     y = np.asarray(y, dtype=np.float64)
     if not np.isfinite(y).all():
         i = np.argwhere(~np.isfinite(y))[0]
-        raise ValueError(f"f returned a non-finite value {y[tuple(i)]!r} at x = {x[tuple(i)]!r}")
+        raise ValueError(f"f returned a non-finite value {float(y[tuple(i)])!r} at x = {float(x[tuple(i)])!r}")
     return y
 
 
@@ -525,7 +513,7 @@ def _minimize_on_intervals(f, mode, lo, hi, px, py, samples: int, iterations: in
     if _is_jitted(f):
         bad = np.empty(2)
         if _search_jit(f, mode, lo, hi, t, px, py, iterations, x_out, v_out, bad):
-            raise ValueError(f"f returned a non-finite value {bad[1]!r} at x = {bad[0]!r}")
+            raise ValueError(f"f returned a non-finite value {float(bad[1])!r} at x = {float(bad[0])!r}")
         return x_out, v_out
     xs = np.empty(n * samples)
     _sample_grid(lo, hi, t, xs)
@@ -563,7 +551,7 @@ def max_on_intervals(f, lo_x, hi_x, *, samples: int = 64):
         raise TypeError(f"f must be a vectorised callable, got {type(f).__name__}")
     if (lo_x > hi_x).any():
         i = int(np.argmax(lo_x > hi_x))
-        raise ValueError(f"lo_x must be <= hi_x: lo_x[{i}] = {lo_x[i]!r} > hi_x[{i}] = {hi_x[i]!r}")
+        raise ValueError(f"lo_x must be <= hi_x: lo_x[{i}] = {float(lo_x[i])!r} > hi_x[{i}] = {float(hi_x[i])!r}")
     if lo_x.shape[0] == 0:
         return np.empty(0), np.empty(0)
     zero = np.zeros(lo_x.shape[0])

@@ -26,8 +26,8 @@ import math
 import numpy as np
 
 from .._config import njit
-from .._validate import as_float_array, check_offsets, check_orthonormal_rows, check_pairs, pair_indices
-from ..bounding.obb import OBB, ORTHONORMAL_TOL
+from .._validate import as_float_array, check_offsets, check_pairs, pair_indices
+from ..bounding.obb import OBB, as_obbs
 
 __all__ = ["PARALLEL_EPS", "obb_overlap", "overlap_obb_obb_batch", "overlap_convex_sat", "overlap_convex_sat_pairs",
            "convex_axes"]
@@ -66,36 +66,23 @@ def _overlap_obb_obb(ca, Aa, ea, cb, Ab, eb, R, AbsR):
         rb = eb[j]
         if abs(t0 * R[0, j] + t1 * R[1, j] + t2 * R[2, j]) > ra + rb:
             return False
-    # L = A0 x B0, A0 x B1, A0 x B2
-    if abs(t2 * R[1, 0] - t1 * R[2, 0]) > ea[1] * AbsR[2, 0] + ea[2] * AbsR[1, 0] \
-            + eb[1] * AbsR[0, 2] + eb[2] * AbsR[0, 1]:
-        return False
-    if abs(t2 * R[1, 1] - t1 * R[2, 1]) > ea[1] * AbsR[2, 1] + ea[2] * AbsR[1, 1] \
-            + eb[0] * AbsR[0, 2] + eb[2] * AbsR[0, 0]:
-        return False
-    if abs(t2 * R[1, 2] - t1 * R[2, 2]) > ea[1] * AbsR[2, 2] + ea[2] * AbsR[1, 2] \
-            + eb[0] * AbsR[0, 1] + eb[1] * AbsR[0, 0]:
-        return False
-    # L = A1 x B0, A1 x B1, A1 x B2
-    if abs(t0 * R[2, 0] - t2 * R[0, 0]) > ea[0] * AbsR[2, 0] + ea[2] * AbsR[0, 0] \
-            + eb[1] * AbsR[1, 2] + eb[2] * AbsR[1, 1]:
-        return False
-    if abs(t0 * R[2, 1] - t2 * R[0, 1]) > ea[0] * AbsR[2, 1] + ea[2] * AbsR[0, 1] \
-            + eb[0] * AbsR[1, 2] + eb[2] * AbsR[1, 0]:
-        return False
-    if abs(t0 * R[2, 2] - t2 * R[0, 2]) > ea[0] * AbsR[2, 2] + ea[2] * AbsR[0, 2] \
-            + eb[0] * AbsR[1, 1] + eb[1] * AbsR[1, 0]:
-        return False
-    # L = A2 x B0, A2 x B1, A2 x B2
-    if abs(t1 * R[0, 0] - t0 * R[1, 0]) > ea[0] * AbsR[1, 0] + ea[1] * AbsR[0, 0] \
-            + eb[1] * AbsR[2, 2] + eb[2] * AbsR[2, 1]:
-        return False
-    if abs(t1 * R[0, 1] - t0 * R[1, 1]) > ea[0] * AbsR[1, 1] + ea[1] * AbsR[0, 1] \
-            + eb[0] * AbsR[2, 2] + eb[2] * AbsR[2, 0]:
-        return False
-    if abs(t1 * R[0, 2] - t0 * R[1, 2]) > ea[0] * AbsR[1, 2] + ea[1] * AbsR[0, 2] \
-            + eb[0] * AbsR[2, 1] + eb[1] * AbsR[2, 0]:
-        return False
+    # L = A_i x B_j (Ericson's nine cross-product tests, one per (i, j)): with i1, i2 = i+1, i+2 and j1, j2 = j+1,
+    # j+2 (mod 3), |t·L| = |t[i2] R[i1][j] − t[i1] R[i2][j]|, r_A = e_A[i1] |R[i2][j]| + e_A[i2] |R[i1][j]|,
+    # r_B = e_B[j1] |R[i][j2]| + e_B[j2] |R[i][j1]|. The sums run over the lower index first, as the book's
+    # unrolled lines do, so the rounding is the same as in those lines.
+    for i in range(3):
+        i1 = (i + 1) % 3
+        i2 = (i + 2) % 3
+        ilo = min(i1, i2)
+        ihi = max(i1, i2)
+        for j in range(3):
+            j1 = (j + 1) % 3
+            j2 = (j + 2) % 3
+            jlo = min(j1, j2)
+            jhi = max(j1, j2)
+            if abs(t[i2] * R[i1, j] - t[i1] * R[i2, j]) > ea[ilo] * AbsR[ihi, j] + ea[ihi] * AbsR[ilo, j] \
+                    + eb[jlo] * AbsR[i, jhi] + eb[jhi] * AbsR[i, jlo]:
+                return False
     # no separating axis: the boxes overlap
     return True
 
@@ -145,17 +132,6 @@ def obb_overlap(a: OBB, b: OBB) -> bool:
                                  np.empty((3, 3)), np.empty((3, 3))))
 
 
-def _check_boxes(centers, axes, half_extents, side: str):
-    c = as_float_array(centers, f"centers_{side}", shape=(None, 3))
-    r = as_float_array(axes, f"axes_{side}", shape=(c.shape[0], 3, 3))
-    e = as_float_array(half_extents, f"half_extents_{side}", shape=(c.shape[0], 3))
-    if (e < 0).any():
-        i, k = (int(x) for x in np.argwhere(e < 0)[0])
-        raise ValueError(f"half_extents_{side} must be >= 0: half_extents_{side}[{i}, {k}] = {e[i, k]!r}")
-    check_orthonormal_rows(r, f"axes_{side}", ORTHONORMAL_TOL)
-    return c, r, e
-
-
 def overlap_obb_obb_batch(centers_a, axes_a, half_extents_a, centers_b, axes_b, half_extents_b,
                           index_a=None, index_b=None) -> np.ndarray:
     """SAT on many box pairs in one compiled call.
@@ -164,8 +140,8 @@ def overlap_obb_obb_batch(centers_a, axes_a, half_extents_a, centers_b, axes_b, 
     Without index arrays, pair p is box p of A against box p of B; with ``index_a``, ``index_b`` (k,) int,
     pair p is box ``index_a[p]`` of A against box ``index_b[p]`` of B. Returns bool (k,).
     """
-    ca, ra, ea = _check_boxes(centers_a, axes_a, half_extents_a, "a")
-    cb, rb, eb = _check_boxes(centers_b, axes_b, half_extents_b, "b")
+    ca, ra, ea = as_obbs(centers_a, axes_a, half_extents_a, ("centers_a", "axes_a", "half_extents_a"))
+    cb, rb, eb = as_obbs(centers_b, axes_b, half_extents_b, ("centers_b", "axes_b", "half_extents_b"))
     ia, ib = pair_indices(ca.shape[0], cb.shape[0], index_a, index_b)
     out = np.empty(ia.shape[0], np.bool_)
     if out.shape[0]:

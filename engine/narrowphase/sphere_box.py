@@ -23,7 +23,7 @@ import math
 import numpy as np
 
 from .._config import njit
-from .._validate import as_float_array, as_positive
+from .._validate import as_float_array, as_half_extents, as_positive
 from ..bounding.aabb import as_rotation_matrix
 from .contacts import (
     EDGE,
@@ -119,10 +119,7 @@ def contact_sphere_box_pair(center, radius, box_center, box_rotation, half_exten
                         as_float_array(box_center, "box_center", shape=(3,))])
     r = as_positive(radius, "radius")
     rotations = np.stack([np.eye(3), as_rotation_matrix(box_rotation, "box_rotation")])
-    e = as_float_array(half_extents, "half_extents", shape=(3,))
-    if (e <= 0).any():
-        k = int(np.argmax(e <= 0))
-        raise ValueError(f"half_extents must be > 0: half_extents[{k}] = {e[k]!r}")
+    e = as_half_extents(half_extents, "half_extents")
     rows = contact_rows(1)
     contact_sphere_box(centers, np.array([r, 0.0]), rotations, np.stack([np.zeros(3), e]), 0, 1, rows, 0, False,
                        kernel_scratch())

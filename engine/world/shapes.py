@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from engine._validate import as_float, as_float_array, as_positive
+from engine._validate import as_float, as_float_array, as_half_extents, as_positive
 from engine.bounding.aabb import ROTATION_TOL, as_rotation_matrix
 from engine.bounding.hull import convex_hull
 
@@ -90,10 +90,7 @@ class Box(Shape):
 
     def __init__(self, center, half_extents, rotation=None):
         self.center = _vec3(center, "center")
-        half = _vec3(half_extents, "half_extents")
-        if (half <= 0).any():
-            k = int(np.argmax(half <= 0))
-            raise ValueError(f"half_extents must be > 0: half_extents[{k}] = {half[k]!r}")
+        half = as_half_extents(half_extents, "half_extents")
         self.half_extents = half
         self.rotation = as_rotation(rotation)
         signs = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)], dtype=float)
