@@ -2,7 +2,8 @@
 
 - every ```python block runs on its own, in a fresh namespace (a user pastes one block into a new interpreter);
 - every ``colldet ...`` line of a shell block runs and exits 0 (from an empty folder holding only the examples);
-  install and tox lines are left to CI itself, which runs them.
+  install and tox lines are left to CI itself, which runs them;
+- every ``>>>`` example of an engine docstring (the API reference's Examples sections) gives the output it shows.
 ``properties/test_wheel.py`` runs the same blocks against a wheel installed in a fresh virtual environment.
 """
 from __future__ import annotations
@@ -35,6 +36,32 @@ def command_lines() -> list[str]:
             if command.startswith("colldet "):
                 lines.append(command)
     return lines
+
+
+def example_modules() -> list[str]:
+    """The engine modules whose docstrings hold doctest examples."""
+    names = []
+    for path in sorted((ROOT / "engine").rglob("*.py")):
+        if ">>> " in path.read_text():
+            parts = path.relative_to(ROOT).with_suffix("").parts
+            names.append(".".join(parts[:-1] if parts[-1] == "__init__" else parts))
+    return names
+
+
+@pytest.mark.parametrize("module", example_modules())
+def test_docstring_examples_run(module):
+    import doctest
+    import importlib
+    import io
+
+    finder = doctest.DocTestFinder()
+    runner = doctest.DocTestRunner(optionflags=doctest.NORMALIZE_WHITESPACE)
+    report = io.StringIO()
+    for test in finder.find(importlib.import_module(module), module):
+        runner.run(test, out=report.write)
+    result = runner.summarize(verbose=False)
+    assert result.attempted > 0, f"{module}: no example found"
+    assert result.failed == 0, report.getvalue()
 
 
 def test_readme_has_the_blocks_it_promises():

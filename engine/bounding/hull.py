@@ -48,16 +48,27 @@ _DEGENERATE_3D = {
 
 
 class ConvexHull:
-    """The convex hull of ``points`` (n, d), d = 2 or 3.
+    """The convex hull of a point set in 2-D or 3-D (``convex_hull``'s answer); its arrays are read-only.
 
-    - ``vertices``: int64 indices into ``points`` of the hull's vertices; counter-clockwise in 2-D, ascending in
-      3-D (one index per distinct vertex position);
-    - ``faces``: int64 (m, d): outward-oriented triangles (counter-clockwise seen from outside) in 3-D, the
-      counter-clockwise edges in 2-D;
-    - ``normals`` (m, d) unit outward normals and ``offsets`` (m,): a point x is inside iff
-      ``normals @ x <= offsets`` for every face;
-    - ``volume``: the enclosed volume (the area in 2-D); ``area``: the surface area (the perimeter in 2-D);
-    - ``dim`` and ``points`` (a read-only copy of the input).
+    Attributes
+    ----------
+    points : numpy.ndarray, shape (n, d), float64
+        A read-only copy of the input, d = 2 or 3.
+    dim : int
+        d.
+    vertices : numpy.ndarray, shape (v,), int64
+        Indices into ``points`` of the hull's vertices, one per distinct position: counter-clockwise in 2-D,
+        ascending in 3-D.
+    faces : numpy.ndarray, shape (m, d), int64
+        Outward-oriented triangles (counter-clockwise seen from outside) in 3-D; the counter-clockwise edges in 2-D.
+    normals : numpy.ndarray, shape (m, d), float64
+        Unit outward normals of the faces.
+    offsets : numpy.ndarray, shape (m,), float64
+        A point x is inside iff ``normals @ x <= offsets`` for every face.
+    volume : float
+        The enclosed volume (the area in 2-D).
+    area : float
+        The surface area (the perimeter in 2-D).
     """
 
     __slots__ = ("points", "dim", "vertices", "faces", "normals", "offsets", "volume", "area")
@@ -578,10 +589,38 @@ def _hull_3d(pts: np.ndarray) -> ConvexHull:
 
 
 def convex_hull(points) -> ConvexHull:
-    """The convex hull of ``points`` (n, d), d = 2 (monotone chain) or 3 (quickhull); see ``ConvexHull``.
+    """The convex hull of a point set: Andrew's monotone chain in 2-D, quickhull in 3-D.
 
-    Raises ValueError for fewer than d + 1 points, NaN/inf, or input of lower dimension (all points equal,
-    collinear, or coplanar in 3-D): such input has no d-dimensional hull.
+    Quickhull (Barber, Dobkin, Huhdanpaa 1996; Ericson 12.4.2): start from a simplex of extreme points, then
+    repeatedly take the point farthest outside a face, remove the faces it sees and join their horizon to it.
+    Collinear and coplanar points on the boundary are not vertices.
+
+    Parameters
+    ----------
+    points : array_like, shape (n, d), float64
+        d = 2 or 3, n >= d + 1, finite; duplicates and interior points are allowed.
+
+    Returns
+    -------
+    ConvexHull
+        Its vertices, faces, normals, offsets, volume and area.
+
+    Raises
+    ------
+    ValueError
+        For fewer than d + 1 points, NaN or ±inf, or input of lower dimension (all points equal, collinear, or
+        coplanar in 3-D): such input has no d-dimensional hull.
+
+    Examples
+    --------
+    The unit cube's corners and its centre:
+
+    >>> import numpy as np
+    >>> import engine
+    >>> cube = np.array([[x, y, z] for x in (0.0, 1.0) for y in (0.0, 1.0) for z in (0.0, 1.0)])
+    >>> hull = engine.convex_hull(np.vstack([cube, [[0.5, 0.5, 0.5]]]))
+    >>> hull.vertices, hull.faces.shape, hull.volume, hull.area
+    (array([0, 1, 2, 3, 4, 5, 6, 7]), (12, 3), 1.0, 6.0)
     """
     pts = as_points(points)
     return _hull_2d(pts) if pts.shape[1] == 2 else _hull_3d(pts)
@@ -653,13 +692,38 @@ def _mesh_convex_kernel(vertices, faces, tol):
 def is_convex(vertices, faces=None, *, tol: float = 1e-9) -> bool:
     """Whether a polygon or a closed polyhedral surface is convex (slide "Objet convexe").
 
-    - 2-D: ``vertices`` (n, 2), n >= 3, the polygon's vertices in boundary order (either orientation);
-      ``faces`` must be None.
-    - 3-D: ``vertices`` (n, 3) and ``faces`` (m, 3) int triangles, consistently oriented (all outward or all
-      inward), e.g. a ``ConvexHull``'s ``points`` and ``faces``.
+    Every vertex must lie on the inner side of every face plane (edge line, in 2-D), to ``tol`` times the
+    coordinate scale. Degenerate shapes (zero area or volume) are not convex.
 
-    The test: every vertex lies on the inner side of every face plane (edge line), to ``tol`` times the
-    coordinate scale. Degenerate shapes (zero area / volume) are not convex.
+    Parameters
+    ----------
+    vertices : array_like, shape (n, 2) or (n, 3), float64
+        2-D: the polygon's vertices in boundary order (either orientation), n >= 3. 3-D: the surface's vertices,
+        e.g. a ``ConvexHull``'s ``points``.
+    faces : array_like, shape (m, 3), int, optional
+        3-D only (required there): triangles, m >= 4, consistently oriented (all outward or all inward); must be
+        None in 2-D.
+    tol : float, default 1e-9
+        Relative tolerance, >= 0.
+
+    Returns
+    -------
+    bool
+        True when no vertex lies outside a face plane by more than the tolerance.
+
+    Raises
+    ------
+    ValueError
+        For ``faces`` given in 2-D or missing in 3-D, a face index out of range (named ``faces[f, e]``), faces not
+        of shape (m, 3) with m >= 4, fewer than 3 vertices, NaN or ±inf, or a negative ``tol``.
+
+    Examples
+    --------
+    >>> import engine
+    >>> engine.is_convex([[0.0, 0.0], [2.0, 0.0], [2.0, 2.0], [0.0, 2.0]])
+    True
+    >>> engine.is_convex([[0.0, 0.0], [2.0, 0.0], [1.0, 0.5], [2.0, 2.0], [0.0, 2.0]])
+    False
     """
     tol = as_nonnegative(tol, "tol")
     pts = as_points(vertices, "vertices", min_rows=3)

@@ -76,12 +76,42 @@ def _reflect_kernel(v, n):
 
 
 def collide_elastic(v1, v2, m1, m2, p1, p2):
-    """Velocities after the elastic collision of two spheres (the chapter's mass-weighted formulas).
+    """Velocities after the elastic collision of two spheres (the chapter's mass-weighted formulas, 1.B and 2.C).
 
-    v1, v2, p1, p2: (3,) velocities and centres; m1, m2 > 0 masses. Returns ``(v1_new, v2_new, virial)``, two
-    new (3,) arrays and the pair's virial term m1 Δv1 · (p1 − p2) (>= 0). A receding, grazing (relative
-    velocity perpendicular to p1 − p2) or coincident pair is returned unchanged with virial 0. Inputs are not
-    modified.
+    With r = p1 − p2 and b = (v1 − v2)·r < 0 (approaching), the normal components are exchanged with the weights
+    2 m2/(m1 + m2) and 2 m1/(m1 + m2): ``v1' = v1 − 2 m2/(m1 + m2) (b/|r|²) r`` and
+    ``v2' = v2 + 2 m1/(m1 + m2) (b/|r|²) r``.
+    Momentum and kinetic energy are conserved.
+
+    Parameters
+    ----------
+    v1, v2 : array_like, shape (3,)
+        The velocities before the collision.
+    m1, m2 : float
+        The masses, > 0.
+    p1, p2 : array_like, shape (3,)
+        The centres at contact (only the direction p1 − p2 matters).
+
+    Returns
+    -------
+    v1_new, v2_new : numpy.ndarray, shape (3,), float64
+        New arrays; a receding, grazing (relative velocity perpendicular to p1 − p2) or coincident pair is
+        returned unchanged. The inputs are never modified.
+    virial : float
+        The pair's virial term m1 Δv1 · (p1 − p2) >= 0 (0.0 when nothing is done).
+
+    Raises
+    ------
+    ValueError
+        For a vector not of shape (3,), NaN or ±inf, a mass <= 0, or a response that overflows float64.
+
+    Examples
+    --------
+    Equal masses meeting head on exchange their velocities:
+
+    >>> from engine.gas import collide_elastic
+    >>> collide_elastic([1.0, 0.0, 0.0], [-1.0, 0.0, 0.0], 1.0, 1.0, [0.0, 0.0, 0.0], [1.0, 0.0, 0.0])
+    (array([-1.,  0.,  0.]), array([1., 0., 0.]), 2.0)
     """
     v1 = as_float_array(v1, "v1", shape=(3,))
     v2 = as_float_array(v2, "v2", shape=(3,))
@@ -96,10 +126,26 @@ def collide_elastic(v1, v2, m1, m2, p1, p2):
 
 
 def reflect_off_wall(velocity, normal):
-    """Specular reflection v − 2 (v·n) n off a wall of outward unit normal ``normal`` ((3,) each).
+    """Specular reflection ``v − 2 (v·n) n`` off a wall of outward unit normal n.
 
-    Applied only when the sphere moves into the wall (v·n > 0); otherwise ``velocity`` is returned unchanged
-    (a copy). ``normal`` must have unit length (within 1e-9).
+    Applied only when the sphere moves into the wall (v·n > 0); otherwise the velocity comes back unchanged.
+
+    Parameters
+    ----------
+    velocity : array_like, shape (3,)
+        The sphere's velocity.
+    normal : array_like, shape (3,)
+        The wall's outward normal, of unit length within 1e-9.
+
+    Returns
+    -------
+    numpy.ndarray, shape (3,), float64
+        The velocity after the bounce (a new array).
+
+    Raises
+    ------
+    ValueError
+        For a normal that is not a unit vector, NaN or ±inf, or an overflowing result.
     """
     v = as_float_array(velocity, "velocity", shape=(3,))
     n = as_float_array(normal, "normal", shape=(3,))

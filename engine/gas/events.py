@@ -350,15 +350,43 @@ def _new_queue(times, per_bucket=BUCKET_EVENTS, turns=4.0):
 
 
 class EventDrivenGas(EventTally):
-    """State of an event-driven gas of n spheres: positions and velocities (n, 3), radii and masses (n,).
+    """An exact event-driven gas of n hard spheres: the state, and ``run(t_stop)`` that advances it.
 
-    ``run(t_stop)`` processes every event up to ``t_stop`` and brings all spheres to that time; the counters
-    (``collisions``, ``events``, ``wall_hits``, ``crossings``, ``stale``) and the sums ``wall_impulse``
-    (``Σ 2 m |v⊥|``) and ``virial`` (``Σ m_i Δv_i · r_ij``) accumulate until ``reset_sums()``. Positions are wrapped
-    into [−L/2, L/2) when periodic. The constructor validates its arguments (``check_gas_state``).
+    Every sphere flies in a straight line until its next event — a collision (the earliest root of
+    ``|Δp + Δv t| = r_i + r_j``), a wall hit or a cell crossing — kept in a calendar queue; only the spheres of an event
+    are moved and re-predicted (each keeps its own local time). Positions are wrapped into [−L/2, L/2) when
+    periodic. Internally the spheres are renumbered in cell order (``order``) and packed into ``EventGasState``;
+    ``positions``, ``velocities`` and ``masses`` answer in the caller's order.
 
-    Internally the spheres are renumbered in cell order (``order``) and packed into ``EventGasState``;
-    ``positions`` and ``velocities`` return arrays in the caller's order.
+    Parameters
+    ----------
+    positions : array_like, shape (n, 3), float64
+        Start centres, non-overlapping, inside the box (walls) or anywhere (periodic: wrapped).
+    velocities : array_like, shape (n, 3), float64
+        Start velocities.
+    radii, masses : float or array_like, shape (n,)
+        Positive, one for all or one per sphere.
+    box : float
+        The side L, > 0 (2r < L with walls, 6r <= L periodic).
+    periodic : bool
+        Periodic images instead of walls.
+
+    Attributes
+    ----------
+    n : int
+        The number of spheres.
+    time : float
+        The gas time after the last ``run``.
+    collisions, wall_hits, events, crossings, stale : int
+        Counts since the last ``reset_sums()``: collisions, wall hits, events processed, cell crossings and stale
+        pair events (the partner collided since the prediction).
+    wall_impulse, virial : float
+        ``Σ 2 m |v⊥|`` over the wall hits, and Σ m_i Δv_i · r_ij over the collisions, since ``reset_sums()``.
+
+    Raises
+    ------
+    ValueError, TypeError
+        From the checks of the start state (each argument named; overlapping spheres by their indices).
     """
 
     def __init__(self, positions, velocities, radii, masses, box, periodic):
@@ -390,9 +418,26 @@ class EventDrivenGas(EventTally):
         calendar_build(self.queue, times)
 
     def run(self, t_stop: float, max_events: int = 2**62) -> int:
-        """Process the events up to time t_stop and synchronise every sphere to it; returns the event count.
+        """Process the events up to ``t_stop`` and bring every sphere to that time.
 
-        When ``max_events`` is reached first, the run stops there (spheres stay at their own local times)."""
+        Parameters
+        ----------
+        t_stop : float
+            The time to reach, >= the gas's current ``time``.
+        max_events : int, default 2**62
+            Stop after this many events (>= 1); the spheres then stay at their own local times and ``time`` is not
+            advanced.
+
+        Returns
+        -------
+        int
+            The number of events processed.
+
+        Raises
+        ------
+        ValueError
+            For ``t_stop`` before the gas time, or ``max_events < 1``.
+        """
         t_stop = as_float(t_stop, "t_stop")
         if t_stop < self.time:
             raise ValueError(f"t_stop must be >= the gas time {float(self.time)!r}, got {t_stop!r}")

@@ -33,7 +33,31 @@ def reachable_side(box: float, radius: float, boundary: str) -> float:
 
 
 def packing_fraction(radii, box: float, boundary: str = "walls") -> float:
-    """η = Σ π σ_i³/6 / V' (σ = 2 r_i; V' = (L − 2 r̄)³ with walls, r̄ the mean radius; L³ when periodic)."""
+    """The packing fraction η = Σ π σ_i³/6 / V' of spheres in a cube of side ``box``.
+
+    σ_i = 2 r_i; V' = (L − 2 r̄)³ with walls (r̄ the mean radius: the volume the centres can reach), L³ when
+    periodic.
+
+    Parameters
+    ----------
+    radii : float or array_like, shape (n,)
+        The radii, > 0 (a scalar is one sphere).
+    box : float
+        The side L of the cube, > 0.
+    boundary : {"walls", "periodic"}, default "walls"
+        Hard walls at ±L/2, or periodic images.
+
+    Returns
+    -------
+    float
+        η, >= 0.
+
+    Raises
+    ------
+    ValueError
+        For an empty ``radii``, a radius <= 0, spheres too large for the box (L − 2r̄ <= 0), or an unknown
+        ``boundary``.
+    """
     boundary = as_choice(boundary, "boundary", ("walls", "periodic"))
     box = as_positive(box, "box")
     r = np.atleast_1d(as_float_array(radii, "radii"))
@@ -49,8 +73,32 @@ def packing_fraction(radii, box: float, boundary: str = "walls") -> float:
 
 
 def radius_for_packing(n: int, eta: float, box: float = 10.0, boundary: str = "walls") -> float:
-    """The common radius r of n spheres at packing fraction η: σ = cL/(1 + c) with walls, σ = cL periodic,
-    where c = (6η/(nπ))^(1/3)."""
+    """The common radius of n spheres that fill a cube of side ``box`` at packing fraction η.
+
+    With c = (6η/(nπ))^(1/3): σ = cL/(1 + c) with walls (the inverse of ``packing_fraction``), σ = cL periodic;
+    the radius is σ/2.
+
+    Parameters
+    ----------
+    n : int
+        The number of spheres, >= 1.
+    eta : float
+        The packing fraction, in (0, 1).
+    box : float, default 10.0
+        The side L, > 0.
+    boundary : {"walls", "periodic"}, default "walls"
+        As for ``packing_fraction``.
+
+    Returns
+    -------
+    float
+        The radius r > 0.
+
+    Raises
+    ------
+    ValueError
+        For ``eta`` outside (0, 1), ``n < 1``, ``box <= 0``, or an unknown ``boundary``.
+    """
     n = as_count(n, "n", 1)
     eta = as_positive(eta, "eta")
     if eta >= 1.0:

@@ -34,9 +34,21 @@ __all__ = [
 
 
 def compressibility_from_walls(wall_impulse, n, temperature, side, t) -> float:
-    """Z = P V'/(N kT) with P = Σ 2m|v⊥|/(6 A' t), i.e. Z = Σ 2m|v⊥| · L'/(6 t N kT).
+    """Z from the pressure on the walls: ``Z = Σ 2m|v⊥| · L' / (6 t N kT)``.
 
-    wall_impulse: Σ 2m|v⊥| over the wall hits of the window; side: L' (reachable side); t: window length.
+    ``P = Σ 2m|v⊥| / (6 A' t)`` over the six walls of area A' = L'², and Z = P V'/(N kT).
+
+    Parameters
+    ----------
+    wall_impulse : float
+        ``Σ 2 m |v⊥|`` over the wall hits of the window, >= 0.
+    n, temperature, side, t : int, float, float, float
+        N, kT, L' and the window length (:ref:`gas-notation`).
+
+    Returns
+    -------
+    float
+        Z measured on the walls.
     """
     impulse = as_nonnegative(wall_impulse, "wall_impulse")
     n = as_count(n, "n", 1)
@@ -47,7 +59,20 @@ def compressibility_from_walls(wall_impulse, n, temperature, side, t) -> float:
 
 
 def compressibility_from_virial(virial, n, temperature, t) -> float:
-    """Z = 1 + Σ m Δv_i · r_ij / (3 t N kT) (the collision virial over a window of length t)."""
+    """Z from the collision virial: ``Z = 1 + Σ m Δv_i · r_ij / (3 t N kT)``.
+
+    Parameters
+    ----------
+    virial : float
+        Σ m_i Δv_i · r_ij over the collisions of the window, >= 0.
+    n, temperature, t : int, float, float
+        N, kT and the window length; see :ref:`gas-notation`.
+
+    Returns
+    -------
+    float
+        Z >= 1.
+    """
     w = as_nonnegative(virial, "virial")
     n = as_count(n, "n", 1)
     kt = as_positive(temperature, "temperature")
@@ -56,7 +81,20 @@ def compressibility_from_virial(virial, n, temperature, t) -> float:
 
 
 def collision_rate(collisions, n, t) -> float:
-    """Γ = 2·collisions/(N t): collisions per particle per unit time."""
+    """The collision rate Γ = 2·collisions/(N t): collisions per particle per unit time (each involves two).
+
+    Parameters
+    ----------
+    collisions : int
+        Collisions counted in the window, >= 0.
+    n, t : int, float
+        The number of spheres and the window's length, as in :ref:`gas-notation`.
+
+    Returns
+    -------
+    float
+        Γ >= 0.
+    """
     c = as_count(collisions, "collisions", 0)
     n = as_count(n, "n", 1)
     t = as_positive(t, "t")
@@ -64,7 +102,24 @@ def collision_rate(collisions, n, t) -> float:
 
 
 def compressibility_from_collision_rate(rate, sigma, mass, temperature) -> float:
-    """Z = 1 + Γ σ sqrt(π m/kT)/6 (hard spheres: the virial written with the collision rate)."""
+    """Z from the collision rate: ``Z = 1 + Γ σ sqrt(π m/kT) / 6`` (the hard-sphere virial written with Γ).
+
+    Parameters
+    ----------
+    rate : float
+        Γ, >= 0 (``collision_rate``).
+    sigma : float
+        The diameter σ, > 0.
+    mass : float
+        The sphere mass, > 0.
+    temperature : float
+        kT (:ref:`gas-notation`).
+
+    Returns
+    -------
+    float
+        Z >= 1.
+    """
     rate = as_nonnegative(rate, "rate")
     sigma = as_positive(sigma, "sigma")
     mass = as_positive(mass, "mass")
@@ -73,7 +128,33 @@ def compressibility_from_collision_rate(rate, sigma, mass, temperature) -> float
 
 
 def carnahan_starling(eta) -> float:
-    """Carnahan–Starling compressibility of the bulk hard-sphere fluid, (1 + η + η² − η³)/(1 − η)³, η in [0, 1)."""
+    """Carnahan–Starling compressibility of the bulk hard-sphere fluid, ``(1 + η + η² − η³) / (1 − η)³``.
+
+    The reference a periodic gas's Z is compared with (a gas between walls adds a wall correction).
+
+    Parameters
+    ----------
+    eta : float
+        The packing fraction η, in [0, 1).
+
+    Returns
+    -------
+    float
+        Z >= 1 (1 at η = 0).
+
+    Raises
+    ------
+    ValueError
+        For η outside [0, 1).
+
+    Examples
+    --------
+    >>> from engine.gas import carnahan_starling
+    >>> carnahan_starling(0.0)
+    1.0
+    >>> round(carnahan_starling(0.2), 6)
+    2.40625
+    """
     eta = as_fraction(eta, "eta")
     if eta >= 1.0:
         raise ValueError("eta must be < 1")
@@ -111,14 +192,49 @@ def _masses(masses, n):
 
 
 def kinetic_temperature(velocities, masses=1.0) -> float:
-    """kT = 2K/(3N) with K = Σ m v²/2; velocities (n, 3), masses a scalar or (n,)."""
+    """The kinetic temperature kT = 2K/(3N), with K = Σ m v²/2.
+
+    Parameters
+    ----------
+    velocities : array_like, shape (n, 3), float64
+        The velocities, n >= 1.
+    masses : float or array_like, shape (n,), default 1.0
+        The masses, > 0.
+
+    Returns
+    -------
+    float
+        kT >= 0.
+
+    Raises
+    ------
+    ValueError
+        For an empty or non-finite ``velocities``, or a mass <= 0 (named with its index).
+    """
     v = as_float_array(velocities, "velocities", shape=(None, 3), min_rows=1)
     m = _masses(masses, v.shape[0])
     return float(np.sum(m[:, None] * v * v) / (3.0 * v.shape[0]))
 
 
 def scaled_speeds(velocities, masses=1.0, temperature=1.0) -> np.ndarray:
-    """``|v_i| sqrt(m_i/kT)``, (n,): Maxwell-distributed with unit scale in equilibrium, whatever the masses."""
+    """The speeds in thermal units, ``|v_i| sqrt(m_i/kT)``: Maxwell-distributed with unit scale in equilibrium.
+
+    Whatever the masses, these follow one distribution (scipy.stats.maxwell), so mixtures can be tested together.
+
+    Parameters
+    ----------
+    velocities : array_like, shape (n, 3), float64
+        One row per sphere, n >= 1.
+    masses : float or array_like, shape (n,), default 1.0
+        One mass for all, or one per sphere (> 0).
+    temperature : float, default 1.0
+        kT, > 0.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n,), float64
+        The scaled speeds, >= 0.
+    """
     v = as_float_array(velocities, "velocities", shape=(None, 3), min_rows=1)
     m = _masses(masses, v.shape[0])
     kt = as_positive(temperature, "temperature")
@@ -134,8 +250,25 @@ def _speeds(speeds) -> np.ndarray:
 
 
 def maxwell_boltzmann_test(speeds) -> tuple[float, float]:
-    """Kolmogorov–Smirnov test of scaled speeds (n,) (see ``scaled_speeds``) against scipy.stats.maxwell
-    (unit scale). Returns (statistic, p-value)."""
+    """Kolmogorov–Smirnov test of scaled speeds against the unit Maxwell distribution (scipy.stats.maxwell).
+
+    Parameters
+    ----------
+    speeds : array_like, shape (n,), float64
+        Scaled speeds (``scaled_speeds``), >= 0, n >= 1.
+
+    Returns
+    -------
+    statistic : float
+        The KS statistic, in [0, 1].
+    pvalue : float
+        Its p-value; small values reject the Maxwell–Boltzmann distribution.
+
+    Raises
+    ------
+    ValueError
+        For an empty array, NaN or ±inf, or a negative speed (named with its index).
+    """
     from scipy import stats
 
     u = _speeds(speeds)
@@ -144,10 +277,25 @@ def maxwell_boltzmann_test(speeds) -> tuple[float, float]:
 
 
 def speed_moment_ratio(speeds) -> float:
-    """⟨v⁴⟩/⟨v²⟩², 5/3 for a Maxwell–Boltzmann gas (1 when every speed is equal).
+    """The moment ratio ⟨v⁴⟩/⟨v²⟩²: 5/3 for a Maxwell–Boltzmann gas, 1 when every speed is equal.
 
     The ratio does not depend on the unit of speed: it is computed on u / max(u), so that u⁴ neither underflows
-    (speeds near 1e-80 gave ⟨v²⟩² = 0 and a ZeroDivisionError) nor overflows (speeds near 1e100 gave inf/inf).
+    (speeds near 1e-80) nor overflows (near 1e100).
+
+    Parameters
+    ----------
+    speeds : array_like, shape (n,), float64
+        Speeds, >= 0, not all zero.
+
+    Returns
+    -------
+    float
+        The ratio, in [1, n].
+
+    Raises
+    ------
+    ValueError
+        For all-zero speeds, besides the checks of ``maxwell_boltzmann_test``.
     """
     u = _speeds(speeds)
     top = float(u.max())
@@ -159,16 +307,42 @@ def speed_moment_ratio(speeds) -> float:
 
 
 def mean_and_standard_error(values) -> tuple[float, float]:
-    """Mean of block values (k,) and its standard error s/sqrt(k) (k >= 2)."""
+    """The mean of k block values and its standard error s/sqrt(k) (s the sample standard deviation).
+
+    Parameters
+    ----------
+    values : array_like, shape (k,), float64
+        One value per measurement block, k >= 2, finite.
+
+    Returns
+    -------
+    mean : float
+        The mean of the values.
+    standard_error : float
+        ``std(values, ddof=1) / sqrt(k)``.
+    """
     x = as_float_array(values, "values", shape=(None,), min_rows=2)
     return float(x.mean()), float(x.std(ddof=1) / math.sqrt(x.shape[0]))
 
 
 def plot_speed_histogram(speeds, path=None, title: str = ""):
-    """Histogram of scaled speeds (n,) against the Maxwell–Boltzmann density; returns the matplotlib Figure.
+    """Histogram of scaled speeds against the Maxwell–Boltzmann density, as a matplotlib Figure.
 
-    The figure is built without pyplot (the caller's matplotlib backend is left alone) and written as a PNG at
-    ``path`` when one is given.
+    The figure is built without pyplot, so the caller's matplotlib backend is left alone (notebooks included).
+
+    Parameters
+    ----------
+    speeds : array_like, shape (n,), float64
+        Scaled speeds (``scaled_speeds``), >= 0.
+    path : str or os.PathLike, optional
+        Where to write the figure as a PNG; nothing is written when omitted.
+    title : str, default ""
+        The axes' title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure (6 × 4 inches, 60 bins).
     """
     from matplotlib.figure import Figure
     from scipy import stats

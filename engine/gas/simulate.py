@@ -33,7 +33,10 @@ from engine.gas.stepped import SteppedGas
 __all__ = ["simulate_gas", "GasResult", "GAS_METHODS", "GAS_BOUNDARIES", "GasEventCapReached", "MAX_STEPS"]
 
 class GasEventCapReached(RuntimeError):
-    """The event-driven loop processed ``max_events`` events before reaching the end of the run."""
+    """The event-driven loop processed ``max_events`` events before reaching the end of the run.
+
+    Raised by ``simulate_gas(method="events")``; raise ``max_events`` or shorten the run.
+    """
 
 GAS_METHODS = ("events", "stepped")
 GAS_BOUNDARIES = ("walls", "periodic")
@@ -43,12 +46,48 @@ GAS_BOUNDARIES = ("walls", "periodic")
 class GasResult:
     """What ``simulate_gas`` measured (after equilibration, over ``t_measure``) and the final state.
 
-    ``z_*`` are compressibilities Z = PV'/(NkT) with their standard errors (``*_err``, over the blocks); z_wall is NaN
-    for periodic boxes (there is no wall). z_collision_rate = 1 + Γσ sqrt(πm/kT)/6. energy_drift is
-    ``max |E(t) − E0| / E0`` over the block ends (E0 at t = 0, equilibration included). momentum: total m v (3,).
-    scaled_speeds: ``|v| sqrt(m/kT)`` of every sphere at every block end ((blocks·n,)), for the Maxwell test.
-    events: events processed in the window (event-driven: collisions, wall hits, cell crossings, stale events)
-    or frames (stepped). seconds: wall-clock time of the measurement window; collisions_per_second from it.
+    The measurement window is split into ``blocks`` equal blocks; each observable is the mean of its block values,
+    ``*_err`` the standard error of that mean.
+
+    Attributes
+    ----------
+    z_virial, z_virial_err : float
+        Z = P V'/(N kT) from the collision virial, and its standard error.
+    z_wall, z_wall_err : float
+        Z from the wall impulses; NaN for a periodic box (there is no wall).
+    collision_rate, collision_rate_err : float
+        Γ = 2·collisions/(n·t) per block, collisions per particle per unit time.
+    z_collision_rate : float
+        1 + Γ σ sqrt(π m/kT)/6.
+    collisions : int
+        Collisions in the window.
+    energy_drift : float
+        ``max |E(t) − E0| / E0`` over the block ends (E0 at t = 0, equilibration included).
+    positions, velocities : numpy.ndarray, shape (n, 3), float64
+        The final state.
+    temperature : float
+        The run's kT = 2 E0/(3n).
+    packing_fraction : float
+        η of the spheres in the box (``packing_fraction``).
+    momentum : numpy.ndarray, shape (3,), float64
+        The final total momentum Σ m v.
+    scaled_speeds : numpy.ndarray, shape (blocks·n,), float64
+        ``|v| sqrt(m/kT)`` of every sphere at every block end, for ``maxwell_boltzmann_test``.
+    method, boundary, broad_phase : str
+        The run's choices.
+    dt, t_measure : float
+        The frame step (stepped method) and the window's length.
+    n : int
+        The number of spheres.
+    sigma : float
+        The mean diameter 2r̄.
+    seconds, collisions_per_second : float
+        Wall-clock time of the measurement window, and the collisions it answered per second.
+    events : int
+        Events processed in the window (event-driven: collisions, wall hits, cell crossings, stale events) or
+        frames (stepped).
+    block_z_virial, block_z_wall, block_collision_rate : numpy.ndarray, shape (blocks,), float64
+        The per-block values behind the means.
     """
 
     z_virial: float
@@ -272,18 +311,76 @@ def _result(gas, req: _Request, blocks: _Blocks, drift: _Drift, kt_run: float) -
 def simulate_gas(n, *, radius, mass=1.0, box=10.0, temperature=1.0, t_equilibrate=5.0, t_measure=20.0, dt=1e-3,
                  method="events", broad_phase="sap", boundary="walls", seed=0, initial="auto", blocks=10,
                  positions=None, velocities=None, progress=None, max_events=10**10) -> GasResult:
-    """Simulate n hard spheres in a cube of side ``box`` (walls at ±box/2, or periodic) and measure Z, Γ, drift.
+    """Simulate n hard spheres in a cube and measure their compressibility Z, collision rate Γ and energy drift.
 
-    n: number of spheres; radius, mass: positive scalars or (n,) arrays; temperature kT > 0 (velocities drawn
-    from Maxwell–Boltzmann and scaled to exactly 2K/(3n) = kT; zero total momentum when periodic).
-    method: "events" (exact event-driven; ``dt`` unused) or "stepped" (the chapter's frame loop with step
-    ``dt`` and broad phase ``broad_phase``, a name of ``BROAD_PHASES``, "sap" = incremental sweep-and-prune).
-    initial: "auto", "random" or "lattice" (a melting FCC lattice; dense fluids up to η = 0.45); or give
-    ``positions`` (n, 3) (non-overlapping, inside the box) and ``velocities`` (n, 3) to start from a given
-    state. blocks >= 2 measurement blocks. progress: an optional callable receiving the fraction done in [0, 1].
-    Raises ValueError for an impossible packing or bad arguments. Iteration caps: the stepped method refuses more
-    than ``MAX_STEPS`` frames (ValueError naming dt); the event loop stops after ``max_events`` events and raises
-    ``GasEventCapReached``.
+    The chapter's confined gas: elastic spheres in a cube of side ``box`` (walls at ±box/2, or periodic). Velocities
+    are drawn from Maxwell–Boltzmann and scaled so that 2K/(3n) = kT exactly (zero total momentum when periodic);
+    the gas runs ``t_equilibrate``, then ``t_measure`` split into ``blocks``. Two methods: "events", exact
+    event-driven dynamics (``EventDrivenGas``), and "stepped", the chapter's frame loop of step ``dt``
+    (``SteppedGas``: move, walls, broad phase, exact test, response).
+
+    Parameters
+    ----------
+    n : int
+        The number of spheres, >= 1 (>= 2 periodic).
+    radius : float or array_like, shape (n,)
+        Sphere radii, > 0 (keyword only, required).
+    mass : float or array_like, shape (n,), default 1.0
+        Masses, > 0.
+    box : float, default 10.0
+        The side L of the cube, > 0; 2r < L with walls, 6r <= L periodic.
+    temperature : float, default 1.0
+        kT, > 0.
+    t_equilibrate : float, default 5.0
+        Time run before measuring, >= 0.
+    t_measure : float, default 20.0
+        Length of the measurement window, > 0.
+    dt : float, default 1e-3
+        The frame step of the stepped method, > 0 (unused by "events"); at most ``MAX_STEPS`` frames.
+    method : {"events", "stepped"}, default "events"
+        See above (``GAS_METHODS``).
+    broad_phase : str, default "sap"
+        A name of ``BROAD_PHASES`` for the stepped method; "sap" is the incremental sweep-and-prune.
+    boundary : {"walls", "periodic"}, default "walls"
+        ``GAS_BOUNDARIES``.
+    seed : int, default 0
+        Seed of the initial state (numpy's default generator), >= 0; the same seed gives the same run.
+    initial : {"auto", "random", "lattice"}, default "auto"
+        Random sequential addition, a melting FCC lattice (dense fluids up to η = 0.45), or random below
+        η = 0.25 and the lattice above.
+    blocks : int, default 10
+        Measurement blocks, >= 2.
+    positions, velocities : array_like, shape (n, 3), optional
+        A start state instead of ``initial`` (non-overlapping, inside the box).
+    progress : callable, optional
+        Called with the fraction done, in [0, 1].
+    max_events : int, default 10**10
+        The event method's cap, >= 1.
+
+    Returns
+    -------
+    GasResult
+        The measurements and the final state.
+
+    Raises
+    ------
+    ValueError
+        For an impossible packing, a bad argument (named), or more than ``MAX_STEPS`` frames (naming ``dt``).
+    TypeError
+        For a non-integer count, a non-string choice, or a ``progress`` that is not callable.
+    GasEventCapReached
+        When the event loop reaches ``max_events``.
+
+    Examples
+    --------
+    A dilute gas of 50 spheres; an exact event-driven run conserves the energy:
+
+    >>> import engine
+    >>> result = engine.simulate_gas(50, radius=0.3, t_equilibrate=1.0, t_measure=4.0, seed=1)
+    >>> result.positions.shape, result.method
+    ((50, 3), 'events')
+    >>> bool(result.energy_drift < 1e-9), bool(1.0 < result.z_virial < 1.2)
+    (True, True)
     """
     req = _validate(n, radius, mass, box, temperature, t_equilibrate, t_measure, dt, method, broad_phase, boundary,
                     seed, initial, blocks, progress, max_events)

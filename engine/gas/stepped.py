@@ -198,12 +198,45 @@ def _respond(pairs, s):
 
 
 class SteppedGas(GasTally):
-    """The chapter's fixed-step gas: positions/velocities (n, 3), radii/masses (n,), box side L, Δt.
+    """The chapter's fixed-step gas: ``run(steps)`` advances frames of ``dt``.
 
-    ``run(steps)`` advances ``steps`` frames of ``dt``; counters ``collisions``, ``wall_hits`` and the sums
-    ``wall_impulse`` (``Σ 2 m |v⊥|``), ``virial`` (``Σ m_i Δv_i · r_ij`` at contact) accumulate until ``reset_sums()``.
-    ``broad_phase`` is a name of ``BROAD_PHASES``; "sap" uses ``IncrementalSAP`` (sorted order kept between
-    frames). The constructor validates its arguments (``check_gas_state``, dt, broad_phase).
+    A frame: move every sphere by v Δt; reflect off the walls (or wrap, periodic); find candidate pairs with the
+    broad phase on boxes widened by the reach of a frame; test them exactly and answer each overlapping, approaching
+    pair with the elastic response (``collide_elastic``'s formula), pushing the spheres apart. Overlaps at the start
+    are allowed: the loop resolves them.
+
+    Parameters
+    ----------
+    positions, velocities : array_like, shape (n, 3), float64
+        The start state; centres inside the box (walls) or wrapped (periodic).
+    radii, masses : float or array_like, shape (n,)
+        Positive scalars or one per sphere.
+    box : float
+        The cube's side L, > 0.
+    periodic : bool
+        Periodic images instead of walls.
+    dt : float
+        The frame step Δt, > 0.
+    broad_phase : str, default "sap"
+        A name of ``BROAD_PHASES``; "sap" keeps an ``IncrementalSAP`` (sorted order kept between frames).
+
+    Attributes
+    ----------
+    n : int
+        Sphere count.
+    time : float
+        Frames run times ``dt``.
+    overlapping : int
+        Pairs still overlapping after the last frame's response.
+    collisions, wall_hits : int
+        Collisions answered and wall hits since ``reset_sums()``.
+    wall_impulse, virial : float
+        ``Σ 2 m |v⊥|`` (walls) and Σ m_i Δv_i · r_ij at contact, since ``reset_sums()``.
+
+    Raises
+    ------
+    ValueError, TypeError
+        From the checks of the state, ``dt`` or ``broad_phase`` (each named).
     """
 
     def __init__(self, positions, velocities, radii, masses, box, periodic, dt, broad_phase="sap"):
@@ -288,7 +321,17 @@ class SteppedGas(GasTally):
 
     # -- the frame loop ---------------------------------------------------------------------------------------
     def run(self, steps: int) -> None:
-        """Advance ``steps`` frames: move, walls, pairs (broad phase + exact test), response."""
+        """Advance ``steps`` frames: move, walls, pairs (broad phase and exact test), response.
+
+        Parameters
+        ----------
+        steps : int
+            Frames to run, >= 0.
+
+        Returns
+        -------
+        None
+        """
         steps = as_count(steps, "steps", 0)
         s = FrameState(self.pos, self.vel, self.rad, self.mass, self.counters, self.sums, self.half,
                        2.0 * self.half, self.periodic, self.dt)
@@ -300,14 +343,17 @@ class SteppedGas(GasTally):
 
     @property
     def positions(self) -> np.ndarray:
+        """Centres (n, 3) after the last frame (a copy)."""
         return self.pos.copy()
 
     @property
     def velocities(self) -> np.ndarray:
+        """Velocities (n, 3) after the last frame (a copy)."""
         return self.vel.copy()
 
     @property
     def masses(self) -> np.ndarray:
+        """Masses (n,) (a copy)."""
         return self.mass.copy()
 
     def vel_view(self) -> np.ndarray:

@@ -1,10 +1,41 @@
 """Narrow phase (chapter: "Pipeline de détection de collisions" — the precise test, then the instant and place of
 contact): separating axes, GJK distance, EPA penetration, primitive tests, contact features and time of impact.
 
-Every test has a single-pair form and a batched form over arrays of pairs in one compiled call. Batched forms
-take either aligned arrays (pair p = row p of A against row p of B) or index arrays ``index_a``, ``index_b`` (k,)
-into per-shape arrays — the form a dispatch table (shape kind × shape kind → batched test) calls. Convex point
-sets are packed as ``points`` (N, 3) + ``offsets`` (S + 1,) and paired by a (k, 2) ``pairs`` array.
+Every test has a single-pair form and a batched form over arrays of pairs in one compiled call.
+
+.. _batched-pairs:
+
+Batched pairs
+-------------
+A ``*_batch`` function (``overlap_sphere_sphere_batch``, ``overlap_sphere_obb_batch``, ...) takes per-shape arrays
+of the A shapes (n rows) and of the B shapes (m rows), and answers k pairs in one compiled call:
+
+- without index arrays (``index_a = index_b = None``), pair p is row p of A against row p of B: n == m == k;
+- with ``index_a``, ``index_b`` (k,) integer array_like (given together), pair p is row ``index_a[p]`` of A
+  against row ``index_b[p]`` of B — the form a dispatch table (shape kind × shape kind → batched test) calls.
+
+Radii are (n,) or a scalar standing for n equal radii, >= 0. The answer is a fresh (k,) bool ndarray, True where
+the closed shapes meet (touching counts). Errors are raised before any kernel runs: ``ValueError`` naming the
+argument (and the first bad index) for NaN or ±inf, a negative radius, ``lo > hi``, a wrong shape, A and B of
+different lengths without index arrays, only one index array, or an index out of range; ``TypeError`` for
+non-numeric arrays or non-integer indices.
+
+.. _packed-point-sets:
+
+Packed point sets
+-----------------
+The ``*_pairs`` functions (``gjk_distance_pairs``, ``epa_penetration_pairs``, ``contact_feature_pairs``,
+``time_of_impact_pairs``, ``overlap_convex_sat_pairs``) take S convex shapes at once, each the convex hull of its
+vertices:
+
+- ``points`` : (N, 3) float64 array_like, every shape's vertices one after the other, finite;
+- ``offsets`` : (S + 1,) integer array_like, strictly increasing from 0 to N: shape s owns
+  ``points[offsets[s]:offsets[s + 1]]`` (at least one point); ``pack_point_sets`` builds both from a list;
+- ``pairs`` : (k, 2) integer array_like, rows (shape_a, shape_b) of shape indices in [0, S).
+
+The answers are arrays of k rows, row p for ``pairs[p]``. ``ValueError`` names the argument and the first bad
+row (NaN or ±inf in ``points``, offsets not increasing or not ending at N, a shape index out of range);
+``TypeError`` is raised for non-integer ``offsets`` or ``pairs``.
 
 The kernel layer
 ----------------

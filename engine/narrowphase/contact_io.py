@@ -62,7 +62,29 @@ class ShapeSpec:
 
 
 def load_shape(source, where: str = "shape") -> ShapeSpec:
-    """Parse one shape from a JSON file path or an already-loaded dict (format in the module docstring)."""
+    """Parse one shape of the ``collide contact`` JSON format (in this module's docstring).
+
+    Parameters
+    ----------
+    source : str, os.PathLike or dict
+        A path to a JSON file holding one object, or the already-loaded dict.
+    where : str, default "shape"
+        How error messages name a dict source (a file is named by its path).
+
+    Returns
+    -------
+    ShapeSpec
+        ``core`` (n, 3) float64 world vertices at t = 0 (a box's 8 corners, a sphere's centre, a capsule's two
+        axis ends, a convex set's points), ``radius``, ``center``, ``velocity`` and ``angular_velocity`` (3,).
+
+    Raises
+    ------
+    ValueError
+        For invalid JSON, an unknown ``"shape"`` or key, a missing required key, a bad rotation, or a bad value
+        (each message starts with the file or ``where``).
+    OSError
+        When the file cannot be read.
+    """
     if isinstance(source, dict):
         spec = source
     else:
@@ -126,7 +148,39 @@ def _fmt(v) -> str:
 
 
 def describe_contact(path_a, path_b, t_max: float = 10.0) -> str:
-    """Whether, where and when the shapes of two JSON files (paths or dicts) collide, as readable text."""
+    """Whether, where and when the shapes of two JSON files collide, as readable text (``collide contact``).
+
+    At t = 0: the overlap (depth, normal, feature and points) or the distance; otherwise the first time of impact
+    in [0, t_max] (``time_of_impact``) and the contact feature, normal and points at that instant.
+
+    Parameters
+    ----------
+    path_a, path_b : str, os.PathLike or dict
+        The two shapes, as for ``load_shape`` (named "A" and "B" in messages about dicts).
+    t_max : float, default 10.0
+        The end of the time window, > 0.
+
+    Returns
+    -------
+    str
+        A few lines of text.
+
+    Raises
+    ------
+    ValueError
+        From ``load_shape``, or for ``t_max <= 0``.
+
+    Examples
+    --------
+    >>> from engine.narrowphase import describe_contact
+    >>> ball = {"shape": "sphere", "center": [0, 3, 0], "radius": 0.5, "velocity": [0, -1, 0]}
+    >>> box = {"shape": "box", "center": [0, 0, 0], "half_extents": [1, 1, 1]}
+    >>> print(describe_contact(ball, box))
+    A: sphere, B: box
+    at t = 0: separated, distance 1.5
+    time of impact: t = 1.5
+    contact at t: sphere-face, normal (0, -1, 0) (A towards B), point(s): (0, 1, 0)
+    """
     t_max = as_positive(t_max, "t_max")
     a = load_shape(path_a, "A")
     b = load_shape(path_b, "B")

@@ -47,15 +47,23 @@ FEATURE_TOL = 1e-7
 
 @dataclass(frozen=True)
 class Contact:
-    """The answer to "whether and where".
+    """The contact of one pair of convex shapes: whether they touch, and where (``contact_feature``'s answer).
 
-    - ``separation``: signed distance between the shapes (> 0 apart, 0 touching, < 0 penetration depth);
-    - ``normal`` (3,): unit vector from A towards B;
-    - ``feature_a``, ``feature_b``: "vertex", "edge" or "face" (rounded shapes: "sphere" or "cylinder");
-    - ``kind``: e.g. "vertex-face" (A's feature first);
-    - ``points`` (k, 3): contact point(s) on the mid-plane between the two support planes (k = 1 for a vertex or
-      crossing edges, 2 for an edge on a face or parallel edges, up to the polygon's size for face–face);
-    - ``closest_a``, ``closest_b`` (3,): GJK's closest (or EPA's deepest) points of A and B.
+    Attributes
+    ----------
+    separation : float
+        Signed distance between the shapes: > 0 apart, 0 touching, < 0 minus the penetration depth.
+    normal : numpy.ndarray, shape (3,), float64
+        Unit vector from A towards B.
+    feature_a, feature_b : str
+        The feature of each side: "vertex", "edge" or "face" ("sphere" or "cylinder" on a rounded shape).
+    kind : str
+        Both names, A's first, e.g. "vertex-face".
+    points : numpy.ndarray, shape (q, 3), float64
+        The contact point(s) on the mid-plane between the two support planes: q = 1 for a vertex or crossing
+        edges, 2 for an edge on a face or parallel edges, up to the clipped polygon's size for face–face.
+    closest_a, closest_b : numpy.ndarray, shape (3,), float64
+        GJK's closest (or EPA's deepest) points of A and of B.
     """
 
     separation: float
@@ -69,6 +77,7 @@ class Contact:
 
     @property
     def touching(self) -> bool:
+        """Whether the shapes touch or overlap: ``separation <= 0``."""
         return self.separation <= 0.0
 
 
@@ -229,20 +238,28 @@ def contact_points_pairs(points, offsets, pairs, radii, ftol, normal, closest_a,
 
 @dataclass(frozen=True)
 class ContactBatch(PairFeatureNames):
-    """``contact_feature`` over k pairs, as arrays (see ``contact_feature_pairs``).
+    """``contact_feature`` of k pairs, as arrays (``contact_feature_pairs``' answer).
 
-    - ``separation`` (k,): signed distance (> 0 apart, 0 touching, < 0 penetration depth);
-    - ``normal`` (k, 3): unit vectors from A towards B;
-    - ``feature_a``, ``feature_b`` (k,) int8: 1 vertex, 2 edge, 3 face (for a rounded shape, radius > 0: sphere,
-      cylinder, face; ``names_a``, ``names_b`` and ``kind`` give the strings);
-    - ``points`` (M, 3), ``point_offsets`` (k + 1,): the contact points of pair p are
-      ``points[point_offsets[p]:point_offsets[p + 1]]`` (at least one per pair);
-    - ``closest_a``, ``closest_b`` (k, 3): GJK's closest (or EPA's deepest) points of A and B;
-    - ``radius_a``, ``radius_b`` (k,): the radii of the two shapes of every pair;
-    - ``exact_fallback`` (k,) bool: pairs whose depth came from Qhull on the Minkowski difference (EPA broke
-      down on round-off; see ``engine.narrowphase.epa``).
+    ``len(batch)`` is k and ``batch[p]`` the ``Contact`` of pair p (an int, negative counts from the end);
+    ``names_a``, ``names_b`` and ``kind`` give the feature names as lists of k strings.
 
-    ``len(batch)`` is k and ``batch[p]`` the ``Contact`` of pair p.
+    Attributes
+    ----------
+    separation : numpy.ndarray, shape (k,), float64
+        Signed distances (> 0 apart, 0 touching, < 0 penetrating).
+    normal : numpy.ndarray, shape (k, 3), float64
+        Unit vectors, from each pair's first shape towards its second.
+    feature_a, feature_b : numpy.ndarray, shape (k,), int8
+        Feature codes: 1 vertex, 2 edge, 3 face (on a rounded shape, radius > 0: sphere, cylinder, face).
+    points, point_offsets : numpy.ndarray, shapes (M, 3) float64 and (k + 1,) int64
+        Pair p's contact points are ``points[point_offsets[p]:point_offsets[p + 1]]``, at least one per pair.
+    closest_a, closest_b : numpy.ndarray, shape (k, 3), float64
+        The closest (or, overlapping, deepest) point of each side.
+    radius_a, radius_b : numpy.ndarray, shape (k,), float64
+        The sweeping radii of the two shapes of every pair.
+    exact_fallback : numpy.ndarray, shape (k,), bool
+        Pairs whose depth came from Qhull on the Minkowski difference (EPA broke down on round-off; see
+        ``engine.narrowphase.epa``).
     """
 
     separation: np.ndarray
@@ -305,15 +322,34 @@ def _contact_batch(pts, off, pr, rad, ftol, max_iter) -> ContactBatch:
 
 
 def contact_feature_pairs(points, offsets, pairs, *, radii=None, feature_tol: float = FEATURE_TOL) -> ContactBatch:
-    """``contact_feature`` over k pairs of packed convex shapes in one compiled call.
+    """``contact_feature`` for k pairs of packed convex shapes, in one compiled call.
 
-    ``points`` (N, 3) / ``offsets`` (S + 1,) as in ``gjk_distance_pairs`` (shape s is the convex hull of
-    ``points[offsets[s]:offsets[s + 1]]``), swept by a ball of ``radii[s]`` ((S,) >= 0, default 0); ``pairs``
-    (k, 2) int: (shape A, shape B) per row, repeats allowed. GJK, EPA for overlapping pairs, the support sets,
-    the features and their clipping all run in one compiled loop (chapter: "l'instant et le lieu précis (vertex,
-    côtés, faces) de contact"; Ericson 9.5, 8.3.4, 5.1.9). Returns a ``ContactBatch``; ``batch[p]`` equals
-    ``contact_feature`` on pair p. Where EPA folds on round-off (rare, see ``engine.narrowphase.epa``) the depth
-    and normal of that pair come from Qhull (Python), flagged in ``exact_fallback``.
+    GJK, EPA for overlapping pairs, the support sets, the features and their clipping all run in one compiled
+    loop (chapter: "l'instant et le lieu précis (vertex, côtés, faces) de contact"; Ericson 9.5, 8.3.4, 5.1.9).
+    Where EPA folds on round-off (rare, see ``engine.narrowphase.epa``) the depth and normal of that pair come
+    from Qhull (Python), flagged in ``exact_fallback``.
+
+    Parameters
+    ----------
+    points, offsets, pairs
+        The shapes (shape s the hull of its points) and the pairs, repeats allowed: :ref:`packed-point-sets`.
+    radii : array_like, shape (S,), optional
+        Shape s is swept by a ball of radius ``radii[s]`` >= 0; default all 0 (polyhedra).
+    feature_tol : float, default 1e-7
+        Relative tolerance (times the pair's size) within which support points count as one feature, > 0.
+
+    Returns
+    -------
+    ContactBatch
+        One row per pair; ``batch[p]`` equals ``contact_feature`` on ``pairs[p]``.
+
+    Raises
+    ------
+    ValueError
+        For a negative radius or ``radii`` not of shape (S,), or ``feature_tol <= 0``, besides the checks of
+        :ref:`packed-point-sets`.
+    GJKNotConverged, EPANotConverged
+        For the first pair (``pairs[p]``) that neither the iterations nor the exact fallback solve.
     """
     pts = as_float_array(points, "points", shape=(None, 3))
     off = check_offsets(offsets, pts.shape[0])
@@ -328,10 +364,51 @@ def contact_feature(points_a, points_b, *, radius_a: float = 0.0, radius_b: floa
                     feature_tol: float = FEATURE_TOL) -> Contact:
     """Contact normal, features and contact point(s) of two convex shapes.
 
-    Shape A is the convex hull of ``points_a`` (n, 3) swept by a ball of ``radius_a`` >= 0 (0: a polyhedron; a
-    single point with radius r: a sphere; two points: a capsule); likewise B. Works whether the shapes are apart
-    (the features that face each other across the gap), touching, or overlapping (the features along EPA's
-    normal). Returns a ``Contact``: ``contact_feature_pairs`` on this one pair.
+    Shape A is the convex hull of ``points_a`` swept by a ball of ``radius_a`` (0: a polyhedron; a single point
+    with radius r: a sphere; two points: a capsule); likewise B. Works whether the shapes are apart (the features
+    that face each other across the gap), touching, or overlapping (the features along EPA's normal): the support
+    sets of both shapes along the normal, projected on the contact plane, reduced to a vertex, an edge or a polygon
+    and clipped against each other (Sutherland–Hodgman, Ericson 8.3.4).
+
+    Parameters
+    ----------
+    points_a : array_like, shape (n, 3), float64
+        The core of A, n >= 1, finite.
+    points_b : array_like, shape (m, 3), float64
+        The core of B, m >= 1.
+    radius_a, radius_b : float, default 0.0
+        The sweeping radii, >= 0.
+    feature_tol : float, default 1e-7
+        Relative tolerance for grouping support points into a feature, > 0.
+
+    Returns
+    -------
+    Contact
+        ``contact_feature_pairs`` on this one pair.
+
+    Raises
+    ------
+    ValueError
+        For an empty set, a wrong shape, NaN or ±inf (named ``points_a`` / ``points_b``), a negative radius or
+        ``feature_tol <= 0``.
+    GJKNotConverged, EPANotConverged
+        When the pair is left unsolved (see ``epa_penetration``).
+
+    Examples
+    --------
+    A ball of radius 0.25 centred 0.5 above a unit cube, and a cube sinking 0.1 into it:
+
+    >>> import numpy as np
+    >>> import engine
+    >>> cube = np.array([[x, y, z] for x in (0.0, 1.0) for y in (0.0, 1.0) for z in (0.0, 1.0)])
+    >>> c = engine.contact_feature(cube, [[0.5, 1.5, 0.5]], radius_b=0.25)
+    >>> c.separation, c.kind, c.touching
+    (0.25, 'face-sphere', False)
+    >>> c.normal, c.points
+    (array([0., 1., 0.]), array([[0.5  , 1.125, 0.5  ]]))
+    >>> c = engine.contact_feature(cube, cube + [0.0, 0.9, 0.0])
+    >>> round(c.separation, 12), c.kind, len(c.points)
+    (-0.1, 'face-face', 4)
     """
     pa = as_float_array(points_a, "points_a", shape=(None, 3), min_rows=1)
     pb = as_float_array(points_b, "points_b", shape=(None, 3), min_rows=1)

@@ -101,7 +101,24 @@ def swap_point_id(pid):
 
 
 def describe_point_id(pid: int) -> str:
-    """``"vertex 3 - face 1"``: the two features a point id names (first shape's first)."""
+    """Spell out the two features a contact point id names, the first shape's first.
+
+    Parameters
+    ----------
+    pid : int
+        A point id of ``ContactSet.point_ids``.
+
+    Returns
+    -------
+    str
+        E.g. ``"vertex 3 - face 1"``, with ``" (#2)"`` appended when two points of a pair shared the features.
+
+    Examples
+    --------
+    >>> from engine.world import describe_point_id
+    >>> describe_point_id(8796121333761)
+    'vertex 3 - face 1'
+    """
     pid = int(pid)
     bump = pid >> _BUMP_BITS
     pid &= (1 << _BUMP_BITS) - 1
@@ -272,7 +289,38 @@ class PairFeatureNames:
 
 @dataclass(frozen=True)
 class ContactSet(PairFeatureNames):
-    """Contacts of k pairs (see the module docstring for every field)."""
+    """The contacts of k pairs of shapes, as arrays: the one contact record of ``World.contacts()``.
+
+    Point ids and feature keys are described in ``engine.narrowphase.contacts``; ``len(contacts)`` is k and
+    ``names_a``, ``names_b``, ``kind`` give the feature names as lists of k strings.
+
+    Attributes
+    ----------
+    pairs : numpy.ndarray, shape (k, 2), int64
+        The two shapes of each pair (for ``World``: canonical body ids, i < j).
+    separation, depth : numpy.ndarray, shape (k,), float64
+        Signed distance (< 0 penetrating, 0 touching, > 0 apart), and depth = max(−separation, 0).
+    normal : numpy.ndarray, shape (k, 3), float64
+        Unit vectors from the pair's first shape to its second: translating the second by depth · normal
+        separates the pair.
+    feature_a, feature_b : numpy.ndarray, shape (k,), int8
+        The touching feature of each side, a code of ``FEATURE_NAMES`` (1 vertex, 2 edge, 3 face).
+    points : numpy.ndarray, shape (M, 3), float64
+        Every pair's contact points, packed.
+    point_offsets : numpy.ndarray, shape (k + 1,), int64
+        Pair p owns rows ``point_offsets[p]:point_offsets[p + 1]`` of ``points`` (``points_of(p)``).
+    radius_a, radius_b : numpy.ndarray, shape (k,), float64
+        Sweeping radii of the two sides (> 0: a rounded shape, whose features are named sphere, cylinder, face).
+    point_ids : numpy.ndarray, shape (M,), int64, or None
+        Per point, which feature of each shape made it: the same id while the same two features touch
+        (``describe_point_id``).
+    persists : numpy.ndarray, shape (M,), bool, or None
+        Whether that point (same pair, same id) was in the previous frame's contacts (World only).
+    closest_a, closest_b : numpy.ndarray, shape (k, 3), float64, or None
+        GJK's closest (or EPA's deepest) points, when given.
+    exact_fallback : numpy.ndarray, shape (k,), bool, or None
+        Pairs whose depth came from Qhull, when given.
+    """
 
     pairs: np.ndarray
     separation: np.ndarray
@@ -294,11 +342,33 @@ class ContactSet(PairFeatureNames):
         return int(self.pairs.shape[0])
 
     def points_of(self, p: int) -> np.ndarray:
-        """The contact points (m, 3) of pair p."""
+        """The contact points of pair p.
+
+        Parameters
+        ----------
+        p : int
+            A row, 0 <= p < k.
+
+        Returns
+        -------
+        numpy.ndarray, shape (m, 3), float64
+            A view of ``points`` (1 <= m <= 4 for a World contact).
+        """
         return self.points[self.point_offsets[p]:self.point_offsets[p + 1]]
 
     def ids_of(self, p: int) -> np.ndarray:
-        """The point ids (m,) of pair p."""
+        """The point ids of pair p.
+
+        Parameters
+        ----------
+        p : int
+            Which pair (a row).
+
+        Returns
+        -------
+        numpy.ndarray, shape (m,), int64
+            A view of ``point_ids``, aligned with ``points_of(p)``.
+        """
         assert self.point_ids is not None, "this ContactSet carries no point ids"
         return self.point_ids[self.point_offsets[p]:self.point_offsets[p + 1]]
 

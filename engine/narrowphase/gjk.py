@@ -333,11 +333,61 @@ def _raise_invalid(status, arrays: dict, shape: tuple):
 
 
 def gjk_distance(points_a, points_b, *, max_iterations: int = MAX_ITERATIONS):
-    """Distance between the convex hulls of ``points_a`` (n, 3) and ``points_b`` (m, 3), n, m >= 1.
+    """Distance between the convex hulls of two point sets, and a closest point on each (GJK).
 
-    Returns ``(distance, closest_a, closest_b)``: a float >= 0 (0.0 when the hulls overlap or touch) and the two
-    closest points (3,), one on each hull, with ``|closest_a − closest_b| = distance``. When the hulls overlap, both
-    points are the same point common to the two hulls. Raises ``GJKNotConverged`` after ``max_iterations``.
+    Gilbert–Johnson–Keerthi (Ericson 9.5): the distance from the origin to the Minkowski difference
+    M = A − B = {a − b}, found by walking a simplex of at most 4 support points of M towards the origin; the
+    closest points are the same barycentric combination of the supporting vertices of A and of B. Inputs whose
+    largest coordinate is tiny or huge are solved on copies scaled by a power of two, so squared distances never
+    underflow or overflow.
+
+    Parameters
+    ----------
+    points_a : array_like, shape (n, 3), float64
+        The points whose convex hull is A, n >= 1 (duplicates and interior points are allowed); finite, magnitude
+        at most 1e150.
+    points_b : array_like, shape (m, 3), float64
+        The points of B, m >= 1.
+    max_iterations : int, default 128
+        GJK's iteration cap, >= 1.
+
+    Returns
+    -------
+    distance : float
+        >= 0; 0.0 when the hulls overlap or touch.
+    closest_a : numpy.ndarray, shape (3,), float64
+        A point of hull(A) closest to B.
+    closest_b : numpy.ndarray, shape (3,), float64
+        A point of hull(B) with ``|closest_a − closest_b| = distance``; when the hulls overlap, both are one point
+        common to the two hulls.
+
+    Raises
+    ------
+    ValueError
+        For an empty point set, a shape other than (n, 3), NaN, ±inf or a magnitude above 1e150 (named
+        ``points_a`` or ``points_b`` with the index), or ``max_iterations < 1``.
+    TypeError
+        For non-numeric points or a non-integer ``max_iterations``.
+    GJKNotConverged
+        When GJK reaches ``max_iterations`` before its stopping test.
+
+    See Also
+    --------
+    epa_penetration : the depth and normal of overlapping hulls.
+    gjk_distance_pairs : k pairs of packed shapes in one call.
+
+    Examples
+    --------
+    Two unit cubes, the second 3 along x:
+
+    >>> import numpy as np
+    >>> import engine
+    >>> cube = np.array([[x, y, z] for x in (0.0, 1.0) for y in (0.0, 1.0) for z in (0.0, 1.0)])
+    >>> distance, closest_a, closest_b = engine.gjk_distance(cube, cube + [3.0, 0.0, 0.0])
+    >>> distance
+    2.0
+    >>> closest_a, closest_b
+    (array([1., 0., 0.]), array([3., 0., 0.]))
     """
     pa = as_float_array(points_a, "points_a", shape=(None, 3), min_rows=1)
     pb = as_float_array(points_b, "points_b", shape=(None, 3), min_rows=1)
@@ -349,7 +399,25 @@ def gjk_distance(points_a, points_b, *, max_iterations: int = MAX_ITERATIONS):
 
 
 def pack_point_sets(point_sets):
-    """Pack a list of (n_i, 3) point sets into ``(points (N, 3), offsets (len + 1,))`` for ``gjk_distance_pairs``."""
+    """Pack a list of point sets into the ``(points, offsets)`` arrays of :ref:`packed-point-sets`.
+
+    Parameters
+    ----------
+    point_sets : sequence of array_like, each of shape (n_i, 3)
+        The shapes' vertices, n_i >= 1, finite.
+
+    Returns
+    -------
+    points : numpy.ndarray, shape (N, 3), float64
+        The sets one after the other, N = sum of the n_i.
+    offsets : numpy.ndarray, shape (len(point_sets) + 1,), int64
+        Shape s owns ``points[offsets[s]:offsets[s + 1]]``; ``[0]`` and an empty (0, 3) array for an empty list.
+
+    Raises
+    ------
+    ValueError
+        For an empty set, a wrong shape, NaN or ±inf (named ``point_sets[i]``).
+    """
     if len(point_sets) == 0:
         return np.empty((0, 3)), np.zeros(1, np.int64)
     arrays = [as_float_array(p, f"point_sets[{i}]", shape=(None, 3), min_rows=1) for i, p in enumerate(point_sets)]
@@ -382,12 +450,33 @@ def run_in_chunks(run, k: int, threads: int) -> None:
 
 
 def gjk_distance_pairs(points, offsets, pairs, *, max_iterations: int = MAX_ITERATIONS, threads: int = 1):
-    """GJK over k pairs of packed shapes, in one compiled call (or one per thread: ``threads``).
+    """GJK for k pairs of packed convex shapes, in one compiled call (or one per thread).
 
-    ``points`` (N, 3) holds every shape's vertices; shape s owns ``points[offsets[s]:offsets[s + 1]]``
-    (``offsets`` (S + 1,), increasing, from 0 to N; see ``pack_point_sets``). ``pairs`` (k, 2) int lists
-    (shape_a, shape_b). Returns ``(distance (k,), closest_a (k, 3), closest_b (k, 3))``. ``threads`` > 1 splits
-    the pairs among that many threads (``run_in_chunks``; the same answers, bit for bit).
+    The algorithm of ``gjk_distance``, pair p being ``pairs[p]`` of :ref:`packed-point-sets`.
+
+    Parameters
+    ----------
+    points, offsets, pairs
+        The shapes and the pairs, see :ref:`packed-point-sets`.
+    max_iterations : int, default 128
+        GJK's iteration cap per pair, >= 1.
+    threads : int, default 1
+        With more than 1 (at most 256), the pairs are split into contiguous chunks run on that many threads (the
+        kernels release the GIL); the answers are the same, bit for bit.
+
+    Returns
+    -------
+    distance : numpy.ndarray, shape (k,), float64
+        Distance of each pair's hulls, 0.0 where they overlap or touch.
+    closest_a, closest_b : numpy.ndarray, shape (k, 3), float64
+        The closest points on the first and on the second shape of each pair.
+
+    Raises
+    ------
+    GJKNotConverged
+        For the first pair (named ``pairs[p]``) that reaches ``max_iterations``.
+    ValueError, TypeError
+        For a bad argument, as in :ref:`packed-point-sets`, or ``threads`` out of range.
     """
     pts = _as_points(points, "points", (None, 3))
     off = check_offsets(offsets, pts.shape[0])
@@ -408,10 +497,33 @@ def gjk_distance_pairs(points, offsets, pairs, *, max_iterations: int = MAX_ITER
 
 
 def gjk_distance_batch(points_a, points_b, *, max_iterations: int = MAX_ITERATIONS, threads: int = 1):
-    """GJK over k aligned pairs: ``points_a`` (k, n, 3) against ``points_b`` (k, m, 3), one compiled call (or one
-    per thread: ``threads`` > 1 splits the pairs among that many threads, with the same answers bit for bit).
+    """GJK for k aligned pairs of equally sized point sets: ``points_a[p]`` against ``points_b[p]``.
 
-    Returns ``(distance (k,), closest_a (k, 3), closest_b (k, 3))``.
+    Parameters
+    ----------
+    points_a : array_like, shape (k, n, 3), float64
+        The k first shapes, n >= 1 points each (when k > 0).
+    points_b : array_like, shape (k, m, 3), float64
+        The k second shapes, m >= 1 points each.
+    max_iterations : int, default 128
+        Iteration cap per pair, >= 1.
+    threads : int, default 1
+        Threads that share the pairs (at most 256); the same answers bit for bit.
+
+    Returns
+    -------
+    distance : numpy.ndarray, shape (k,), float64
+        The distance of each pair, 0.0 for overlapping or touching hulls.
+    closest_a, closest_b : numpy.ndarray, shape (k, 3), float64
+        A closest point on each hull of pair p.
+
+    Raises
+    ------
+    ValueError
+        For different numbers of pairs, an empty shape, NaN, ±inf or a magnitude above 1e150 (named with the
+        argument and index).
+    GJKNotConverged
+        For the first pair (``points_a[p]``) that reaches ``max_iterations``.
     """
     # every point of a batch is read by the kernel, which checks the values as it copies them (INVALID_INPUT)
     pa = _as_points(points_a, "points_a", (None, None, 3), scan_values=False)

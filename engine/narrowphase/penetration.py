@@ -194,13 +194,62 @@ ONE_PAIR = np.array([[0, 1]], np.int64)
 
 
 def epa_penetration(points_a, points_b, *, max_iterations: int = MAX_ITERATIONS, witnesses: bool = False):
-    """Penetration depth and normal of the overlapping convex hulls of ``points_a`` (n, 3) and ``points_b`` (m, 3).
+    """Penetration depth and normal of two overlapping convex hulls (GJK, then EPA).
 
-    Returns ``(depth, normal)``: depth >= 0 is the length of the shortest translation that separates the hulls
-    (0.0 when they only touch, or do not overlap at all), ``normal`` (3,) a unit vector pointing from A towards
-    B, so that moving B by ``depth * normal`` leaves the hulls touching. With ``witnesses=True`` also returns
-    the deepest points of A and of B, (3,) each: ``(depth, normal, point_a, point_b)``. For separated hulls
-    depth is 0 and the normal is the direction of GJK's closest points (see ``gjk_distance``).
+    GJK (Ericson 9.5) decides whether the origin lies in the Minkowski difference M = A − B; if so, the expanding
+    polytope algorithm (van den Bergen 2001, Ericson 9.5's companion) grows GJK's simplex inside M until it reaches
+    the face of M nearest to the origin: its distance is the depth, its outward normal the direction. Where EPA
+    breaks down on round-off (many coplanar support points), the exact hull of M (Qhull) answers instead.
+
+    Parameters
+    ----------
+    points_a : array_like, shape (n, 3), float64
+        The points whose convex hull is A, n >= 1, finite.
+    points_b : array_like, shape (m, 3), float64
+        The points of B, m >= 1.
+    max_iterations : int, default 128
+        The cap of GJK's and of EPA's iterations, >= 1.
+    witnesses : bool, default False
+        Also return the deepest points of A and of B.
+
+    Returns
+    -------
+    depth : float
+        >= 0: the length of the shortest translation that separates the hulls; 0.0 when they only touch or do
+        not overlap at all.
+    normal : numpy.ndarray, shape (3,), float64
+        Unit vector from A towards B: moving B by ``depth * normal`` leaves the hulls touching. For separated
+        hulls, the direction of GJK's closest points.
+    point_a, point_b : numpy.ndarray, shape (3,), float64
+        Only with ``witnesses=True``: the deepest point of A along ``normal`` and of B against it.
+
+    Raises
+    ------
+    ValueError
+        For an empty point set, a wrong shape, NaN or ±inf (named ``points_a`` / ``points_b``), or
+        ``max_iterations < 1``.
+    TypeError
+        For non-numeric points or a non-integer ``max_iterations``.
+    GJKNotConverged, EPANotConverged
+        When GJK or EPA reaches ``max_iterations`` and the exact fallback has no answer either.
+
+    See Also
+    --------
+    gjk_distance : the distance of separated hulls.
+    contact_feature : the contact points and features as well.
+
+    Examples
+    --------
+    Two unit cubes overlapping by 0.25 along x:
+
+    >>> import numpy as np
+    >>> import engine
+    >>> cube = np.array([[x, y, z] for x in (0.0, 1.0) for y in (0.0, 1.0) for z in (0.0, 1.0)])
+    >>> depth, normal = engine.epa_penetration(cube, cube + [0.75, 0.0, 0.0])
+    >>> depth
+    0.25
+    >>> bool(np.allclose(normal, [1.0, 0.0, 0.0]))
+    True
     """
     pts, off = _packed_pair(points_a, points_b)
     max_iter = as_max_iterations(max_iterations)
@@ -212,8 +261,27 @@ def epa_penetration(points_a, points_b, *, max_iterations: int = MAX_ITERATIONS,
 
 
 def epa_penetration_pairs(points, offsets, pairs, *, max_iterations: int = MAX_ITERATIONS):
-    """EPA over k pairs of packed shapes (see ``gjk_distance_pairs`` for ``points``/``offsets``) in one compiled
-    call. Returns ``(depth (k,), normal (k, 3))``; separated pairs get depth 0 and GJK's direction."""
+    """``epa_penetration`` for k pairs of packed convex shapes, in one compiled call.
+
+    Parameters
+    ----------
+    points, offsets, pairs
+        The shapes and the pairs (:ref:`packed-point-sets`).
+    max_iterations : int, default 128
+        GJK's and EPA's iteration cap per pair, >= 1.
+
+    Returns
+    -------
+    depth : numpy.ndarray, shape (k,), float64
+        The penetration depth of each pair, >= 0; 0.0 for separated or touching pairs.
+    normal : numpy.ndarray, shape (k, 3), float64
+        Unit normals from the first shape towards the second (GJK's direction for separated pairs).
+
+    Raises
+    ------
+    GJKNotConverged, EPANotConverged
+        For the first pair left unsolved (named ``pairs[p]``).
+    """
     pts = as_float_array(points, "points", shape=(None, 3))
     off = check_offsets(offsets, pts.shape[0])
     pr = check_pairs(pairs, off.shape[0] - 1)

@@ -185,7 +185,29 @@ def _one(value, name, d=None):
 # ---------------------------------------------------------------------------------------------------------------
 
 def overlap_sphere_sphere_batch(centers_a, radii_a, centers_b, radii_b, index_a=None, index_b=None):
-    """Spheres (n, 3) with radii (n,) or a scalar against spheres (m, 3); bool (k,): ``|c_a − c_b| <= r_a + r_b``."""
+    """Sphere–sphere overlap for k pairs: ``|c_a − c_b| <= r_a + r_b``, squared (no square root).
+
+    The slide "Bounding sphere" test of ``overlap_sphere_sphere`` in one compiled call; the pair convention is
+    :ref:`batched-pairs`.
+
+    Parameters
+    ----------
+    centers_a : array_like, shape (n, 3), float64
+        Centres of the A spheres.
+    radii_a : array_like, shape (n,) or scalar
+        Their radii, >= 0.
+    centers_b : array_like, shape (m, 3), float64
+        Centres of the B spheres.
+    radii_b : array_like, shape (m,) or scalar
+        Their radii, >= 0.
+    index_a, index_b : array_like, shape (k,), int, optional
+        Rows of A and of B paired (see :ref:`batched-pairs`).
+
+    Returns
+    -------
+    numpy.ndarray, shape (k,), bool
+        True where the spheres of pair p overlap or touch.
+    """
     ca = as_float_array(centers_a, "centers_a", shape=(None, 3))
     cb = as_float_array(centers_b, "centers_b", shape=(None, 3))
     ra = as_radii(radii_a, "radii_a", ca.shape[0])
@@ -197,7 +219,27 @@ def overlap_sphere_sphere_batch(centers_a, radii_a, centers_b, radii_b, index_a=
 
 
 def overlap_aabb_aabb_batch(lo_a, hi_a, lo_b, hi_b, index_a=None, index_b=None):
-    """Closed boxes [lo_a, hi_a] (n, d) against [lo_b, hi_b] (m, d), d = 1, 2 or 3; bool (k,)."""
+    """AABB–AABB overlap for k pairs: the projections overlap on every axis (Ericson 4.2.1, slide "AABB").
+
+    Parameters
+    ----------
+    lo_a, hi_a : array_like, shape (n, d), float64
+        Corners of the closed A boxes, d = 1, 2 or 3, ``lo_a <= hi_a``.
+    lo_b, hi_b : array_like, shape (m, d), float64
+        Corners of the B boxes, of the same dimension d.
+    index_a, index_b : array_like, shape (k,), int, optional
+        Rows paired, :ref:`batched-pairs`.
+
+    Returns
+    -------
+    numpy.ndarray, shape (k,), bool
+        True where the boxes of pair p overlap (touching counts).
+
+    Raises
+    ------
+    ValueError
+        Also when ``lo_a`` and ``lo_b`` differ in dimension.
+    """
     la, ha = _boxes(lo_a, hi_a, "lo_a", "hi_a")
     lb, hb = _boxes(lo_b, hi_b, "lo_b", "hi_b")
     if la.shape[1] != lb.shape[1]:
@@ -209,7 +251,29 @@ def overlap_aabb_aabb_batch(lo_a, hi_a, lo_b, hi_b, index_a=None, index_b=None):
 
 
 def overlap_sphere_aabb_batch(centers, radii, lo, hi, index_a=None, index_b=None):
-    """Spheres (n, d) with radii (n,) or a scalar against closed boxes [lo, hi] (m, d); bool (k,)."""
+    """Sphere–AABB overlap for k pairs: the squared distance from the centre to the box is <= r² (Ericson 5.2.5).
+
+    Parameters
+    ----------
+    centers : array_like, shape (n, d), float64
+        Sphere (d = 3) or circle (d = 2) centres.
+    radii : array_like, shape (n,) or scalar
+        Their radii, >= 0.
+    lo, hi : array_like, shape (m, d), float64
+        Corners of the closed boxes, ``lo <= hi``.
+    index_a, index_b : array_like, shape (k,), int, optional
+        Rows of ``centers`` and of ``lo`` paired; see :ref:`batched-pairs`.
+
+    Returns
+    -------
+    numpy.ndarray, shape (k,), bool
+        True where circle or sphere p reaches its box.
+
+    Raises
+    ------
+    ValueError
+        Also when ``centers`` and ``lo`` differ in dimension.
+    """
     c = as_float_array(centers, "centers", ndim=2)
     r = as_radii(radii, "radii", c.shape[0])
     lo, hi = _boxes(lo, hi, "lo", "hi")
@@ -222,14 +286,54 @@ def overlap_sphere_aabb_batch(centers, radii, lo, hi, index_a=None, index_b=None
 
 
 def overlap_sphere_aabb(center, radius, lo, hi) -> bool:
-    """A sphere (centre (d,), radius) against the closed box [lo, hi] (d,)."""
+    """Whether a sphere (or circle) overlaps the closed box [lo, hi]: the single-pair ``overlap_sphere_aabb_batch``.
+
+    Parameters
+    ----------
+    center : array_like, shape (d,)
+        The centre, d = 2 or 3.
+    radius : float
+        >= 0.
+    lo, hi : array_like, shape (d,)
+        The box corners, ``lo <= hi``.
+
+    Returns
+    -------
+    bool
+        True when they overlap or touch.
+    """
     return bool(overlap_sphere_aabb_batch(_one(center, "center"), [as_nonnegative(radius, "radius")],
                                           _one(lo, "lo"), _one(hi, "hi"))[0])
 
 
 def overlap_sphere_obb_batch(centers, radii, box_centers, box_axes, box_half_extents, index_a=None, index_b=None):
-    """Spheres (n, 3), radii (n,) or scalar, against oriented boxes: centres (m, 3), axes (m, 3, 3) (rows are the
-    unit axes), half extents (m, 3). Returns bool (k,)."""
+    """Sphere–OBB overlap for k pairs: the closest point of the box to the centre is within r (Ericson 5.2.6).
+
+    Parameters
+    ----------
+    centers : array_like, shape (n, 3), float64
+        Sphere centres.
+    radii : array_like, shape (n,) or scalar
+        Radii, >= 0.
+    box_centers : array_like, shape (m, 3), float64
+        Centres of the oriented boxes.
+    box_axes : array_like, shape (m, 3, 3), float64
+        Their axes; the rows of ``box_axes[j]`` are box j's unit axes (orthonormal).
+    box_half_extents : array_like, shape (m, 3), float64
+        Half extents along those axes, >= 0.
+    index_a, index_b : array_like, shape (k,), int, optional
+        Sphere rows and box rows paired (:ref:`batched-pairs`).
+
+    Returns
+    -------
+    numpy.ndarray, shape (k,), bool
+        True where sphere and box of pair p overlap or touch.
+
+    Raises
+    ------
+    ValueError
+        Also for axes that are not orthonormal rows (named with the box index).
+    """
     c = as_float_array(centers, "centers", shape=(None, 3))
     r = as_radii(radii, "radii", c.shape[0])
     bc, ba, be = as_obbs(box_centers, box_axes, box_half_extents, ("box_centers", "box_axes", "box_half_extents"))
@@ -240,7 +344,27 @@ def overlap_sphere_obb_batch(centers, radii, box_centers, box_axes, box_half_ext
 
 
 def overlap_sphere_obb(center, radius, box: OBB) -> bool:
-    """A sphere (centre (3,), radius) against an ``OBB``."""
+    """Whether a sphere overlaps an oriented box (Ericson 5.2.6, TestSphereOBB).
+
+    Parameters
+    ----------
+    center : array_like, shape (3,)
+        The sphere's centre.
+    radius : float
+        Its radius, >= 0.
+    box : engine.bounding.OBB
+        The box.
+
+    Returns
+    -------
+    bool
+        True when they overlap or touch.
+
+    Raises
+    ------
+    TypeError
+        When ``box`` is not an ``OBB``.
+    """
     if not isinstance(box, OBB):
         raise TypeError(f"box must be an engine.bounding.obb.OBB, got {type(box).__name__}")
     return bool(overlap_sphere_obb_batch(_one(center, "center", 3), [as_nonnegative(radius, "radius")],
@@ -252,7 +376,25 @@ def overlap_sphere_obb(center, radius, box: OBB) -> bool:
 # ---------------------------------------------------------------------------------------------------------------
 
 def distance_point_segment(points, p0, p1) -> np.ndarray:
-    """Distance from points (n, d) to segments [p0, p1] (n, d) row by row, d = 2 or 3; (n,)."""
+    """Distance from each point to its segment, row by row (Ericson 5.1.2.1, SqDistPointSegment, then a square root).
+
+    Parameters
+    ----------
+    points : array_like, shape (n, d), float64
+        The points, d = 2 or 3.
+    p0, p1 : array_like, shape (n, d), float64
+        The segments' end points; a segment with p0 == p1 is a point.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n,), float64
+        ``min over t in [0, 1] of |points[i] − (p0[i] + t (p1[i] − p0[i]))|``.
+
+    Raises
+    ------
+    ValueError
+        For NaN or ±inf, or ``p0``, ``p1`` not of the shape of ``points``.
+    """
     c = as_float_array(points, "points", ndim=2)
     a = as_float_array(p0, "p0", shape=c.shape)
     b = as_float_array(p1, "p1", shape=c.shape)
@@ -268,8 +410,23 @@ def _segments(p0, p1, d):
 
 
 def overlap_circle_segment_batch(centers, radii, p0, p1, index_a=None, index_b=None):
-    """Circles (n, 2), radii (n,) or scalar, against segments [p0, p1] (m, 2) — the ball and the paddle.
-    Returns bool (k,): the distance from the centre to the segment is <= the radius."""
+    """Circle–segment overlap for k pairs, the slide's ball and paddle: the centre is within r of the segment.
+
+    Parameters
+    ----------
+    centers : array_like, shape (n, 2), float64
+        Circle centres (the balls).
+    radii : array_like, shape (n,) or scalar
+        The balls' radii, >= 0.
+    p0, p1 : array_like, shape (m, 2), float64
+        Segment end points.
+    index_a, index_b : array_like, shape (k,), int, optional
+        Circle rows and segment rows paired; :ref:`batched-pairs`.
+
+    Returns
+    -------
+    numpy.ndarray, shape (k,), bool
+    """
     c = as_float_array(centers, "centers", shape=(None, 2))
     r = as_radii(radii, "radii", c.shape[0])
     a, b = _segments(p0, p1, 2)
@@ -280,14 +437,46 @@ def overlap_circle_segment_batch(centers, radii, p0, p1, index_a=None, index_b=N
 
 
 def overlap_circle_segment(center, radius, p0, p1) -> bool:
-    """A circle (centre (2,), radius) against the segment [p0, p1] ((2,) each), e.g. a ball and a paddle."""
+    """Whether a circle meets the segment [p0, p1], e.g. a ball and a paddle.
+
+    Parameters
+    ----------
+    center : array_like, shape (2,)
+        Centre (x, y) of the ball.
+    radius : float
+        The ball's radius, >= 0 (0 for a point).
+    p0, p1 : array_like, shape (2,)
+        The segment's end points.
+
+    Returns
+    -------
+    bool
+        True when the distance from ``center`` to the segment is <= ``radius``.
+    """
     return bool(overlap_circle_segment_batch(_one(center, "center", 2), [as_nonnegative(radius, "radius")],
                                              _one(p0, "p0", 2), _one(p1, "p1", 2))[0])
 
 
 def overlap_sphere_capsule_batch(centers, radii, p0, p1, capsule_radii, index_a=None, index_b=None):
-    """Spheres (n, 3), radii (n,) or scalar, against capsules: segment [p0, p1] (m, 3) swept by a ball of radius
-    ``capsule_radii`` (m,) or scalar. Returns bool (k,)."""
+    """Sphere–capsule overlap for k pairs: ``distance(c, [p0, p1]) <= r + capsule_radius`` (Ericson 5.1.2).
+
+    Parameters
+    ----------
+    centers : array_like, shape (n, 3), float64
+        Centres of the spheres.
+    radii : array_like, shape (n,) or scalar
+        Sphere radii, >= 0.
+    p0, p1 : array_like, shape (m, 3), float64
+        End points of the capsules' axes.
+    capsule_radii : array_like, shape (m,) or scalar
+        The radius of the ball that sweeps each axis, >= 0.
+    index_a, index_b : array_like, shape (k,), int, optional
+        Sphere and capsule rows paired (see :ref:`batched-pairs`).
+
+    Returns
+    -------
+    numpy.ndarray, shape (k,), bool
+    """
     c = as_float_array(centers, "centers", shape=(None, 3))
     r = as_radii(radii, "radii", c.shape[0])
     a, b = _segments(p0, p1, 3)
@@ -299,7 +488,23 @@ def overlap_sphere_capsule_batch(centers, radii, p0, p1, capsule_radii, index_a=
 
 
 def overlap_sphere_capsule(center, radius, p0, p1, capsule_radius) -> bool:
-    """A sphere (centre (3,), radius) against the capsule of axis [p0, p1] ((3,) each) and radius capsule_radius."""
+    """Whether a sphere meets the capsule of axis [p0, p1] and radius ``capsule_radius``.
+
+    Parameters
+    ----------
+    center : array_like, shape (3,)
+        The sphere's centre.
+    radius : float
+        The sphere's radius, >= 0.
+    p0, p1 : array_like, shape (3,)
+        The capsule's axis end points.
+    capsule_radius : float
+        The capsule's radius, >= 0.
+
+    Returns
+    -------
+    bool
+    """
     return bool(overlap_sphere_capsule_batch(_one(center, "center", 3), [as_nonnegative(radius, "radius")],
                                              _one(p0, "p0", 3), _one(p1, "p1", 3),
                                              [as_nonnegative(capsule_radius, "capsule_radius")])[0])
@@ -310,9 +515,24 @@ def overlap_sphere_capsule(center, radius, p0, p1, capsule_radius) -> bool:
 # ---------------------------------------------------------------------------------------------------------------
 
 def overlap_aabb_ground_batch(lo, hi, altitude):
-    """Boxes [lo, hi] (n, d), d = 2 or 3, against the flat ground y = altitude (scalar or (n,)); bool (n,).
+    """Boxes against the flat ground y = altitude (slide "sol plat": a box whose bottom is above it does not touch).
 
-    Slide "sol plat": if the bottom of the bounding box (lo[:, 1]) is above ``altitude``, no collision.
+    Parameters
+    ----------
+    lo, hi : array_like, shape (n, d), float64
+        Box corners, d = 2 or 3, ``lo <= hi``; y is column 1.
+    altitude : float or array_like, shape (n,)
+        The ground's height, one for all boxes or one per box; finite.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n,), bool
+        ``lo[:, 1] <= altitude``: True where the box reaches the ground (the region y <= altitude).
+
+    Raises
+    ------
+    ValueError
+        For NaN or ±inf, ``lo > hi``, or ``altitude`` of the wrong length.
     """
     lo, hi = _boxes(lo, hi, "lo", "hi", dims=(2, 3))
     alt = np.asarray(altitude)
@@ -324,13 +544,46 @@ def overlap_aabb_ground_batch(lo, hi, altitude):
 
 
 def overlap_aabb_ground(lo, hi, altitude) -> bool:
-    """One box [lo, hi] ((2,) or (3,)) against the ground y = altitude: True unless the box is above it."""
+    """Whether one box reaches the flat ground y = altitude.
+
+    Parameters
+    ----------
+    lo, hi : array_like, shape (2,) or (3,)
+        The box corners, ``lo <= hi``.
+    altitude : float
+        The ground's height.
+
+    Returns
+    -------
+    bool
+        True unless the box's bottom ``lo[1]`` is above ``altitude``.
+    """
     return bool(overlap_aabb_ground_batch(_one(lo, "lo", (2, 3)), _one(hi, "hi", (2, 3)), altitude)[0])
 
 
 def overlap_sphere_ground_batch(centers, radii, altitude):
-    """Spheres or circles (n, d), d = 2 or 3, radii (n,) or scalar, against the ground y = altitude; bool (n,):
-    the lowest point c_y − r is not above the ground."""
+    """Spheres or circles against the flat ground y = altitude: the lowest point ``c_y − r`` is not above it.
+
+    Parameters
+    ----------
+    centers : array_like, shape (n, d), float64
+        Centres, d = 2 or 3; y is column 1.
+    radii : array_like, shape (n,) or scalar
+        Radii, >= 0.
+    altitude : float or array_like, shape (n,)
+        The ground's height, one for all or one per shape.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n,), bool
+        True where the shape reaches the region y <= altitude.
+
+    Raises
+    ------
+    ValueError
+        For NaN or ±inf, a negative radius, ``centers`` without 2 or 3 columns, or ``altitude`` of the wrong
+        length.
+    """
     c = as_float_array(centers, "centers", ndim=2)
     if c.shape[1] not in (2, 3):
         raise ValueError(f"centers must have 2 or 3 columns, got shape {c.shape}")
@@ -537,12 +790,37 @@ def _check_samples(samples) -> int:
 
 
 def max_on_intervals(f, lo_x, hi_x, *, samples: int = 64):
-    """max of f over [lo_x[i], hi_x[i]] for every i ((n,) each): ``(x_at_max (n,), f_max (n,))``.
+    """The maximum of f over each interval [lo_x[i], hi_x[i]], for every i at once.
 
     Robust for continuous f: ``samples`` evenly spaced evaluations per interval (one vectorised call of f for all
-    intervals), then a golden-section refinement around the best sample (one vectorised call per iteration; with
-    a numba-jitted f the whole search is one compiled call). A peak narrower than the sample spacing may be
-    missed; raise ``samples`` for wiggly curves.
+    intervals), then a golden-section refinement (Kiefer 1953, ``GOLDEN_ITERATIONS`` iterations) around the best
+    sample, one vectorised call per iteration; with a numba-jitted f the whole search is one compiled call. A peak
+    narrower than the sample spacing may be missed: raise ``samples`` for wiggly curves.
+
+    Parameters
+    ----------
+    f : callable
+        Vectorised: ``f(x)`` for a float64 array x returns finite values of x's shape (or a scalar). A numba
+        ``@njit`` function is called from compiled code.
+    lo_x, hi_x : array_like, shape (n,), float64
+        The intervals, ``lo_x <= hi_x``.
+    samples : int, default 64
+        Evaluations per interval, 2 to ``MAX_SAMPLES``.
+
+    Returns
+    -------
+    x_at_max : numpy.ndarray, shape (n,), float64
+        Where the maximum is reached (the first best sample on ties).
+    f_max : numpy.ndarray, shape (n,), float64
+        The maximum, ``f(x_at_max)``.
+
+    Raises
+    ------
+    TypeError
+        When ``f`` is not callable.
+    ValueError
+        For ``lo_x > hi_x`` (named with its index), ``samples`` out of range, or f returning a wrong shape or a
+        non-finite value (named with its x).
     """
     lo_x = as_float_array(lo_x, "lo_x", ndim=1)
     hi_x = as_float_array(hi_x, "hi_x", shape=lo_x.shape)
@@ -560,17 +838,43 @@ def max_on_intervals(f, lo_x, hi_x, *, samples: int = 64):
 
 
 def overlap_aabb_curve_bottom_middle(lo, hi, f):
-    """The slide's test of boxes [lo, hi] (n, 2 or 3) against the ground y <= f(x): only the bottom-middle point
-    (x = (lo_x + hi_x)/2, y = lo_y) is tested — contact iff f(x) >= y. bool (n,); one vectorised call of f. Fast,
-    but misses a box whose corner dips under a bump of the curve (see ``overlap_aabb_curve``)."""
+    """The slide's test of boxes against the ground y <= f(x): only the bottom-middle point is tested.
+
+    Slide "Sol courbe": at x = (lo_x + hi_x) / 2, contact iff ``f(x) >= lo_y``. One vectorised call of f; fast, but
+    it misses a box whose corner dips under a bump of the curve (``overlap_aabb_curve`` is exact).
+
+    Parameters
+    ----------
+    lo, hi : array_like, shape (n, d), float64
+        Box corners, d = 2 or 3, ``lo <= hi``.
+    f : callable
+        The ground's height, vectorised (see ``max_on_intervals``).
+
+    Returns
+    -------
+    numpy.ndarray, shape (n,), bool
+    """
     lo, hi = _boxes(lo, hi, "lo", "hi", dims=(2, 3))
     x = 0.5 * (lo[:, 0] + hi[:, 0])
     return _evaluate(f, x) >= lo[:, UP]
 
 
 def overlap_aabb_curve(lo, hi, f, *, samples: int = 64):
-    """Exact test of boxes [lo, hi] (n, 2 or 3) against the solid region y <= f(x): a box meets it iff its bottom
-    lo_y is not above max f over [lo_x, hi_x] (found by ``max_on_intervals``). bool (n,)."""
+    """Exact test of boxes against the solid region y <= f(x): contact iff ``lo_y <= max f over [lo_x, hi_x]``.
+
+    Parameters
+    ----------
+    lo, hi : array_like, shape (n, d), float64
+        Box corners, d = 2 or 3, ``lo <= hi``.
+    f : callable
+        The ground's height, vectorised and continuous (see ``max_on_intervals``).
+    samples : int, default 64
+        Samples per box before the refinement.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n,), bool
+    """
     lo, hi = _boxes(lo, hi, "lo", "hi", dims=(2, 3))
     samples = _check_samples(samples)
     if lo.shape[0] == 0:
@@ -580,9 +884,36 @@ def overlap_aabb_curve(lo, hi, f, *, samples: int = 64):
 
 
 def min_distance_to_curve(points, f, half_width, *, samples: int = 64):
-    """Smallest Euclidean distance from points (n, 2) to the graph of f restricted to ``|x − p_x| <= half_width``
-    ((n,) or scalar). Returns ``(distance (n,), x_closest (n,))``; sampling + golden-section refinement, every
-    point at once (see ``max_on_intervals``)."""
+    """Smallest distance from each point to the graph of f over the window ``|x − p_x| <= half_width``.
+
+    Minimises ``(x − p_x)² + (f(x) − p_y)²`` by sampling and golden-section refinement, every point at once (the
+    search of ``max_on_intervals``).
+
+    Parameters
+    ----------
+    points : array_like, shape (n, 2), float64
+        The points (x, y).
+    f : callable
+        The curve y = f(x), vectorised.
+    half_width : float or array_like, shape (n,)
+        Half the width of each point's search window, >= 0.
+    samples : int, default 64
+        Samples per window.
+
+    Returns
+    -------
+    distance : numpy.ndarray, shape (n,), float64
+        The smallest distance found.
+    x_closest : numpy.ndarray, shape (n,), float64
+        The abscissa of the closest point of the curve.
+
+    Raises
+    ------
+    TypeError
+        When ``f`` is not callable.
+    ValueError
+        For a negative ``half_width``, ``samples`` out of range, or a non-finite value of f.
+    """
     p = as_float_array(points, "points", shape=(None, 2))
     w = as_radii(half_width, "half_width", p.shape[0])
     samples = _check_samples(samples)
@@ -597,9 +928,26 @@ def min_distance_to_curve(points, f, half_width, *, samples: int = 64):
 
 
 def overlap_circle_curve(centers, radii, f, *, samples: int = 64):
-    """Exact test of circles (n, 2), radii (n,) or scalar, against the solid region y <= f(x), f continuous:
-    contact iff the centre is under the curve, or the curve passes within the radius (its closest point then has
-    ``|x − c_x| <= r``, so the minimum of the true distance over that window decides). bool (n,)."""
+    """Exact test of circles against the solid region y <= f(x), f continuous.
+
+    Contact iff the centre is under the curve, or the curve passes within the radius; the closest point then has
+    ``|x − c_x| <= r``, so the minimum of the true distance over that window decides (``min_distance_to_curve``).
+
+    Parameters
+    ----------
+    centers : array_like, shape (n, 2), float64
+        Circle centres (x, y).
+    radii : array_like, shape (n,) or scalar
+        Their radii, >= 0 (one for all, or one each).
+    f : callable
+        The ground's height, vectorised.
+    samples : int, default 64
+        Samples per circle.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n,), bool
+    """
     c = as_float_array(centers, "centers", shape=(None, 2))
     r = as_radii(radii, "radii", c.shape[0])
     samples = _check_samples(samples)

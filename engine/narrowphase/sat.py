@@ -124,7 +124,37 @@ def _overlap_along_axes(pa, pb, axes):
 # ---------------------------------------------------------------------------------------------------------------
 
 def obb_overlap(a: OBB, b: OBB) -> bool:
-    """True when the two oriented boxes overlap or touch (SAT over the 15 axes, Ericson 4.4.1)."""
+    """Whether two oriented boxes overlap or touch: the separating axis theorem on 15 axes (Ericson 4.4.1).
+
+    The candidate axes are the 3 face normals of each box and the 9 cross products of an edge of A with an edge of
+    B; the boxes are disjoint iff on some axis L, ``|t·L| > r_A + r_B`` (t the centre offset, r the projected
+    half sizes). ``PARALLEL_EPS`` added to ``|R|`` keeps near-parallel edge pairs from reporting a false separation.
+
+    Parameters
+    ----------
+    a, b : engine.bounding.OBB
+        The two boxes (``OBB(center, axes, half_extents)``, rows of ``axes`` the unit axes).
+
+    Returns
+    -------
+    bool
+        True when the closed boxes share a point.
+
+    Raises
+    ------
+    TypeError
+        When ``a`` or ``b`` is not an ``OBB`` (named).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from engine import OBB, obb_overlap
+    >>> a = OBB([0.0, 0.0, 0.0], np.eye(3), [1.0, 1.0, 1.0])
+    >>> obb_overlap(a, OBB([1.9, 0.0, 0.0], np.eye(3), [1.0, 1.0, 1.0]))
+    True
+    >>> obb_overlap(a, OBB([2.1, 0.0, 0.0], np.eye(3), [1.0, 1.0, 1.0]))
+    False
+    """
     for name, box in (("a", a), ("b", b)):
         if not isinstance(box, OBB):
             raise TypeError(f"{name} must be an engine.bounding.obb.OBB, got {type(box).__name__}")
@@ -134,11 +164,30 @@ def obb_overlap(a: OBB, b: OBB) -> bool:
 
 def overlap_obb_obb_batch(centers_a, axes_a, half_extents_a, centers_b, axes_b, half_extents_b,
                           index_a=None, index_b=None) -> np.ndarray:
-    """SAT on many box pairs in one compiled call.
+    """The 15-axis SAT of ``obb_overlap`` on k box pairs, in one compiled call.
 
-    Boxes: ``centers_*`` (n, 3), ``axes_*`` (n, 3, 3) with ROWS the unit axes, ``half_extents_*`` (n, 3).
-    Without index arrays, pair p is box p of A against box p of B; with ``index_a``, ``index_b`` (k,) int,
-    pair p is box ``index_a[p]`` of A against box ``index_b[p]`` of B. Returns bool (k,).
+    Parameters
+    ----------
+    centers_a : array_like, shape (n, 3), float64
+        Centres of the A boxes.
+    axes_a : array_like, shape (n, 3, 3), float64
+        Their axes: the ROWS of ``axes_a[i]`` are box i's unit axes (orthonormal to 1e-9).
+    half_extents_a : array_like, shape (n, 3), float64
+        Half extents along those axes, >= 0.
+    centers_b, axes_b, half_extents_b : array_like, shapes (m, 3), (m, 3, 3), (m, 3)
+        The B boxes, likewise.
+    index_a, index_b : array_like, shape (k,), int, optional
+        Box rows paired, :ref:`batched-pairs`.
+
+    Returns
+    -------
+    numpy.ndarray, shape (k,), bool
+        True where the boxes of pair p overlap or touch.
+
+    Raises
+    ------
+    ValueError
+        Also for non-orthonormal axes or a negative half extent (named with the box index).
     """
     ca, ra, ea = as_obbs(centers_a, axes_a, half_extents_a, ("centers_a", "axes_a", "half_extents_a"))
     cb, rb, eb = as_obbs(centers_b, axes_b, half_extents_b, ("centers_b", "axes_b", "half_extents_b"))
@@ -257,12 +306,21 @@ def _overlap_convex_batch(pts, off, pr) -> np.ndarray:
 
 
 def overlap_convex_sat_pairs(points, offsets, pairs) -> np.ndarray:
-    """SAT over k pairs of packed convex hulls in one compiled call: bool (k,), True where they overlap or touch.
+    """SAT over k pairs of packed convex hulls, in one compiled call.
 
-    ``points`` (N, 3) / ``offsets`` (S + 1,) as in ``gjk_distance_pairs`` (shape s is the convex hull of
-    ``points[offsets[s]:offsets[s + 1]]``), ``pairs`` (k, 2) int. Each shape's face normals and edge directions
-    (``convex_axes``, the engine's quickhull) are computed once, however many pairs it is in; then one kernel
-    tests every pair on its candidate axes (Ericson 5.2.1).
+    Each shape's face normals and edge directions (``convex_axes``, the engine's quickhull) are computed once,
+    however many pairs it is in; then one kernel tests every pair on its candidate axes: the face normals of both
+    hulls and the cross products of their edges (Ericson 5.2.1).
+
+    Parameters
+    ----------
+    points, offsets, pairs
+        The shapes, each the hull of its points, and the pairs: :ref:`packed-point-sets`.
+
+    Returns
+    -------
+    numpy.ndarray, shape (k,), bool
+        True where the hulls of ``pairs[p]`` overlap or touch.
     """
     pts = as_float_array(points, "points", shape=(None, 3))
     off = check_offsets(offsets, pts.shape[0])
@@ -271,10 +329,27 @@ def overlap_convex_sat_pairs(points, offsets, pairs) -> np.ndarray:
 
 
 def overlap_convex_sat(points_a, points_b) -> bool:
-    """True when the convex hulls of ``points_a`` (n, 3) and ``points_b`` (m, 3) overlap or touch (SAT).
+    """Whether the convex hulls of two point sets overlap or touch, by the separating axis theorem.
 
     Candidate axes: the face normals of both hulls and the cross products of every edge pair (Ericson 5.2.1).
     Flat or degenerate sets (segments, polygons) are accepted. ``overlap_convex_sat_pairs`` on one pair.
+
+    Parameters
+    ----------
+    points_a : array_like, shape (n, 3), float64
+        Points whose hull is A, n >= 1, finite.
+    points_b : array_like, shape (m, 3), float64
+        Points whose hull is B, m >= 1.
+
+    Returns
+    -------
+    bool
+        True when no candidate axis separates the hulls.
+
+    Raises
+    ------
+    ValueError
+        For an empty set, a shape other than (n, 3), NaN or ±inf (named with the argument and index).
     """
     pa = as_float_array(points_a, "points_a", shape=(None, 3), min_rows=1)
     pb = as_float_array(points_b, "points_b", shape=(None, 3), min_rows=1)

@@ -35,25 +35,43 @@ TOI_NOT_CONVERGED = 5
 
 
 class NotConverged(RuntimeError):
-    """A narrow-phase iteration reached its cap before its stopping test; ``status`` is its code."""
+    """A narrow-phase iteration reached its cap before its stopping test.
+
+    Attributes
+    ----------
+    status : int
+        The code of the failure (a class attribute), one of this module's status codes.
+    """
 
     status = -1
 
 
 class GJKNotConverged(NotConverged):
-    """GJK reached its iteration cap without meeting its stopping test."""
+    """GJK reached its iteration cap without meeting its stopping test.
+
+    Raised by ``gjk_distance``, ``epa_penetration``, ``contact_feature`` and their batched forms (the message
+    names the pair, ``pairs[p]``); ``status`` is ``GJK_NOT_CONVERGED``.
+    """
 
     status = GJK_NOT_CONVERGED
 
 
 class EPANotConverged(NotConverged):
-    """EPA reached its iteration cap (or its polytope storage) before its stopping test."""
+    """EPA reached its iteration cap (or its polytope storage) before its stopping test.
+
+    Raised by ``epa_penetration``, ``contact_feature`` and their batched forms only when the exact fallback on
+    the Minkowski difference has no answer either; ``status`` is ``EPA_NOT_CONVERGED``.
+    """
 
     status = EPA_NOT_CONVERGED
 
 
 class TOINotConverged(NotConverged):
-    """Conservative advancement hit its iteration cap before reaching the contact distance."""
+    """Conservative advancement hit its iteration cap before reaching the contact distance.
+
+    Raised by ``time_of_impact`` and ``time_of_impact_pairs`` after ``max_iterations`` steps, or when the GJK
+    a step runs on does not converge; ``status`` is ``TOI_NOT_CONVERGED``.
+    """
 
     status = TOI_NOT_CONVERGED
 

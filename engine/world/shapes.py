@@ -1,4 +1,4 @@
-"""The shapes a ``World`` holds: four convex bodies and two grounds (DESIGN.md section 3).
+"""The shapes a ``World`` holds: four convex bodies and two grounds.
 
 Every body is stored the same way: a pose (``center`` (3,), ``rotation`` (3, 3)) and a convex *core* given by
 local points (m, 3) — world = center + rotation @ local — swept by a ball of ``radius`` (Ericson 4.5, "sphere
@@ -53,8 +53,24 @@ def _vec3(value, name):
 
 
 class Shape:
-    """Base class: ``kind`` (a code of the dispatch table), pose ``center``/``rotation``, core ``local`` points
-    (m, 3) and sweep ``radius``."""
+    """Base class of the shapes a ``World`` holds: a pose and a convex core swept by a ball.
+
+    Every body is stored alike — world points = ``center + rotation @ local`` — so the narrow phase treats every
+    pair the same way (GJK on the world points plus the radii), and the closed-form tests read the same data.
+
+    Attributes
+    ----------
+    kind : int
+        The shape's row and column in the dispatch tables (``KIND_NAMES[kind]`` is its name).
+    center : numpy.ndarray, shape (3,), float64
+        The pose's position.
+    rotation : numpy.ndarray, shape (3, 3), float64
+        The pose's rotation; its columns are the body's axes in the world.
+    local : numpy.ndarray, shape (m, 3), float64
+        The core's points in the body frame.
+    radius : float
+        The radius of the ball that sweeps the core, >= 0 (0 for a polyhedron).
+    """
 
     kind: int = -1
     radius: float = 0.0
@@ -63,7 +79,13 @@ class Shape:
     local: np.ndarray
 
     def world_points(self) -> np.ndarray:
-        """The core's points in world coordinates, (m, 3)."""
+        """The core's points in world coordinates.
+
+        Returns
+        -------
+        numpy.ndarray, shape (m, 3), float64
+            ``center + local @ rotation.T``, a new array.
+        """
         return self.center + self.local @ self.rotation.T
 
     def __repr__(self) -> str:
@@ -71,7 +93,20 @@ class Shape:
 
 
 class Sphere(Shape):
-    """``Sphere(center (3,), radius > 0)``."""
+    """A sphere: one point swept by a ball (the attributes of ``Shape``).
+
+    Parameters
+    ----------
+    center : array_like, shape (3,)
+        Its centre, finite.
+    radius : float
+        Its radius, > 0.
+
+    Raises
+    ------
+    ValueError
+        For a centre not of shape (3,), NaN or ±inf, or a radius <= 0.
+    """
 
     kind = SPHERE
 
@@ -83,8 +118,29 @@ class Sphere(Shape):
 
 
 class Box(Shape):
-    """``Box(center (3,), half_extents (3,) > 0, rotation=None)``: an oriented box (OBB); rotation a 3x3 matrix
-    whose columns are the box axes, a unit quaternion (w, x, y, z) or a scipy Rotation."""
+    """An oriented box (OBB): its 8 corners, unswept (``radius`` 0).
+
+    Parameters
+    ----------
+    center : array_like, shape (3,)
+        Its centre.
+    half_extents : array_like, shape (3,)
+        Half its size along each of its axes, > 0.
+    rotation : array_like or scipy.spatial.transform.Rotation, optional
+        A (3, 3) proper rotation matrix whose columns are the box axes in the world, a unit quaternion (4,) in
+        (w, x, y, z) order, or a scipy Rotation; default the identity.
+
+    Attributes
+    ----------
+    half_extents : numpy.ndarray, shape (3,), float64
+        As given; the other attributes are those of ``Shape``.
+
+    Raises
+    ------
+    ValueError
+        For a half extent <= 0 (named with its index), an improper or non-orthonormal matrix, or a quaternion that
+        is not of unit norm (it is refused, not normalised).
+    """
 
     kind = BOX
 
@@ -98,8 +154,23 @@ class Box(Shape):
 
 
 class Capsule(Shape):
-    """``Capsule(p0 (3,), p1 (3,), radius > 0)``: the segment p0–p1 swept by a ball; its center is the midpoint
-    and its rotation starts as the identity (``move`` turns the segment about the center)."""
+    """A capsule: the segment p0–p1 swept by a ball of ``radius``.
+
+    Its ``center`` is the segment's midpoint and its rotation starts as the identity (``World.move`` turns the
+    segment about the centre).
+
+    Parameters
+    ----------
+    p0, p1 : array_like, shape (3,)
+        The ends of the axis segment.
+    radius : float
+        > 0.
+
+    Raises
+    ------
+    ValueError
+        For a non-finite end, or ``radius <= 0``.
+    """
 
     kind = CAPSULE
 
@@ -113,8 +184,21 @@ class Capsule(Shape):
 
 
 class ConvexPolyhedron(Shape):
-    """``ConvexPolyhedron(points (n, 3))``: the convex hull of the points (engine.convex_hull, quickhull), which
-    must have a volume (>= 4 points, not coplanar). Its center is the mean of the hull vertices."""
+    """The convex hull of a point set (the engine's quickhull, ``engine.convex_hull``).
+
+    The core keeps the hull's vertices only, centred on their mean (``center``); the rotation starts as the
+    identity.
+
+    Parameters
+    ----------
+    points : array_like, shape (n, 3), float64
+        n >= 4 points spanning a volume (not coplanar); interior points are dropped.
+
+    Raises
+    ------
+    ValueError
+        For fewer than 4 points, NaN or ±inf, or points that span no volume.
+    """
 
     kind = HULL
 
@@ -133,7 +217,19 @@ class ConvexPolyhedron(Shape):
 
 
 class Plane(Shape):
-    """``Plane(altitude=0.0)``: the flat ground, solid below y = altitude (slide "sol plat")."""
+    """The flat ground, solid below y = altitude (slide "sol plat"); it never moves and takes no part in the broad
+    phase.
+
+    Parameters
+    ----------
+    altitude : float, default 0.0
+        The ground's height.
+
+    Attributes
+    ----------
+    altitude : float
+        As given.
+    """
 
     kind = PLANE
 
@@ -141,6 +237,18 @@ class Plane(Shape):
         self.altitude = as_float(altitude, "altitude")
 
     def height(self, x) -> np.ndarray:
+        """The ground's height at x: the altitude everywhere.
+
+        Parameters
+        ----------
+        x : float or array_like
+            Where to evaluate.
+
+        Returns
+        -------
+        numpy.ndarray, float64
+            ``altitude`` in an array of the shape of x.
+        """
         return np.full(np.shape(x), self.altitude)
 
     def __repr__(self) -> str:
@@ -148,10 +256,32 @@ class Plane(Shape):
 
 
 class HeightCurve(Shape):
-    """``HeightCurve(f, *, samples=64)``: the curved ground, solid below y = f(x) (slide "Sol courbe"), extruded
-    along z. ``f`` is a vectorised callable (numpy array -> array of the same shape), continuous; ``samples``
-    is the number of points per body on which the narrow test samples the body's lower boundary (then refined
-    around the lowest one by golden-section search: ``dispatch.ground_gap``)."""
+    """The curved ground, solid below y = f(x) (slide "Sol courbe"), extruded along z; it never moves.
+
+    The narrow test samples each body's lower boundary at ``samples`` abscissae and refines the lowest gap by
+    golden-section search (``engine.world.dispatch.ground_gap``).
+
+    Parameters
+    ----------
+    f : callable
+        Vectorised and continuous: ``f(x)`` for a float64 array returns finite heights of x's shape.
+    samples : int, default 64
+        Samples per body, >= 8.
+
+    Attributes
+    ----------
+    f : callable
+        The height function.
+    samples : int
+        As given.
+
+    Raises
+    ------
+    TypeError
+        When ``f`` is not callable.
+    ValueError
+        For ``samples`` below 8, or an ``f`` that is not vectorised (probed on three points).
+    """
 
     kind = CURVE
 
@@ -167,13 +297,40 @@ class HeightCurve(Shape):
         self.samples = int(samples)
 
     def height(self, x) -> np.ndarray:
+        """The ground's height f(x), checked.
+
+        Parameters
+        ----------
+        x : array_like
+            Abscissae, any shape.
+
+        Returns
+        -------
+        numpy.ndarray, the shape of x, float64
+
+        Raises
+        ------
+        ValueError
+            When f returns a non-finite height.
+        """
         y = np.asarray(self.f(np.asarray(x, dtype=float)), dtype=float)
         if not np.isfinite(y).all():
             raise ValueError("f returned a non-finite height")
         return y
 
     def slope(self, x) -> np.ndarray:
-        """f'(x) by a central difference."""
+        """The slope f'(x), by a central difference of step ``h = 1e-6·max(1, |x|)``.
+
+        Parameters
+        ----------
+        x : float or array_like
+            The abscissae, of any shape.
+
+        Returns
+        -------
+        numpy.ndarray, float64
+            ``(f(x + h) − f(x − h)) / 2h``, of the shape of x.
+        """
         x = np.asarray(x, dtype=float)
         h = 1e-6 * np.maximum(1.0, np.abs(x))
         return (self.height(x + h) - self.height(x - h)) / (2 * h)

@@ -76,7 +76,17 @@ def _touching_in_order(cand, rows) -> np.ndarray:
 
 @dataclass(frozen=True)
 class ImpactSet:
-    """Pairs (k, 2) canonical that touch within dt, with their first-contact ``times`` (k,) in [0, dt]."""
+    """The answer of ``World.time_of_impact(dt)``: the pairs that touch within dt and when.
+
+    ``len(impacts)`` is k.
+
+    Attributes
+    ----------
+    pairs : numpy.ndarray, shape (k, 2), int64
+        Canonical pairs of ids (i < j per row, rows in lexicographic order).
+    times : numpy.ndarray, shape (k,), float64
+        The first-contact time of each pair, in [0, dt] (0 for a pair already touching).
+    """
 
     pairs: np.ndarray
     times: np.ndarray
@@ -87,11 +97,32 @@ class ImpactSet:
 
 @dataclass
 class WorldStats:
-    """Work of each stage in the last query: ``bodies``, ``candidate_pairs`` (broad phase, bodies and grounds),
-    ``culled`` (kinematic culling, time_of_impact only), ``narrow_tests`` (candidates whose AABBs overlap),
-    ``overlapping`` (pairs that touch), ``contacts`` (contact points), ``persisting`` (points that persist from
-    the previous contacts()), ``impacts``; ``groups`` {"sphere-box": narrow tests, ...}; ``seconds`` {"upload",
-    "broad", "narrow", "contacts"}: wall time of each stage (upload: the updates since the previous query)."""
+    """The work and the time of each stage in a ``World``'s last query (``world.stats``).
+
+    Attributes
+    ----------
+    query : str
+        "pairs", "contacts" or "time_of_impact".
+    bodies : int
+        Live bodies (grounds excluded).
+    candidate_pairs : int
+        Pairs the broad phase returned, bodies and grounds.
+    culled : int
+        Candidates dropped by the kinematic culling (pairs apart and moving apart; ``time_of_impact`` only).
+    narrow_tests : int
+        Candidates whose boxes overlap, tested exactly.
+    overlapping : int
+        Pairs that touch.
+    contacts, persisting : int
+        Contact points, and those that persist from the previous ``contacts()``.
+    impacts : int
+        Pairs that touch within dt (``time_of_impact``).
+    groups : dict of str to int
+        Narrow tests per shape-kind pair, e.g. ``{"sphere-box": 12}``.
+    seconds : dict of str to float
+        Wall time of the stages "upload" (the updates since the previous query), "broad", "narrow" and
+        "contacts".
+    """
 
     query: str = ""
     bodies: int = 0
@@ -106,19 +137,58 @@ class WorldStats:
     seconds: dict = field(default_factory=dict)
 
     def as_dict(self) -> dict:
+        """The statistics as a plain dict (field name to value), e.g. for a table or JSON.
+
+        Returns
+        -------
+        dict
+            A shallow copy of the fields.
+        """
         return dict(self.__dict__)
 
 
 class World:
-    """A collision world: ``World(broad_phase="tree")`` (any of engine.BROAD_PHASES).
+    """A collision world: bodies of mixed shapes, and the chapter's pipeline over them.
 
-    - ``add(shape, velocity=None) -> id``; ``remove(id)``; ``move(id, center=None, rotation=None,
-      velocity=None)``; ``update(ids, centers, rotations=None, velocities=None)`` moves a batch;
-    - ``pairs()`` -> canonical (k, 2) int64 ids of overlapping shapes; ``contacts()`` -> ``ContactSet``;
-      ``time_of_impact(dt)`` -> ``ImpactSet`` (bodies move with their constant velocities; grounds are fixed);
-    - ``stats`` (``WorldStats``): the work of each stage in the last query; ``bodies()``: the body store.
+    Each query runs broad phase (bounding boxes kept across frames; by default the dynamic AABB tree of fat boxes)
+    → the exact test of every candidate pair through the dispatch tables (shape kind × shape kind → kernel) →
+    ``contacts()`` (where) or ``time_of_impact(dt)`` (when). Bodies are added once (``add``), then moved a batch at a
+    time (``update``) or one by one (``move``). Ids are ints, reused after ``remove``; grounds (``Plane``,
+    ``HeightCurve``) take ids too but cannot move. World is y-up.
 
-    Ids are ints, reused after ``remove``. Grounds (``Plane``, ``HeightCurve``) take ids too but cannot move.
+    Parameters
+    ----------
+    broad_phase : str, default "tree"
+        A name of ``engine.BROAD_PHASES``.
+
+    Attributes
+    ----------
+    broad_phase : str
+        As given.
+    stats : WorldStats
+        The work of each stage in the last query.
+
+    Raises
+    ------
+    ValueError, TypeError
+        For an unknown ``broad_phase``, or one that is not a string.
+
+    Examples
+    --------
+    A ball of radius 0.5 resting 0.1 deep on a box, then thrown at it from above:
+
+    >>> from engine import Box, Sphere, World
+    >>> world = World()
+    >>> ball = world.add(Sphere([0.0, 1.0, 0.0], 0.5))
+    >>> table = world.add(Box([0.0, 0.0, 0.0], [1.0, 0.6, 1.0]))
+    >>> world.pairs()
+    array([[0, 1]])
+    >>> contacts = world.contacts()
+    >>> contacts.kind, contacts.depth.round(12), contacts.points_of(0)
+    (['sphere-face'], array([0.1]), array([[0.  , 0.55, 0.  ]]))
+    >>> world.update([ball], [[0.0, 3.0, 0.0]], velocities=[[0.0, -2.0, 0.0]])
+    >>> world.time_of_impact(1.0).times
+    array([0.95])
     """
 
     def __init__(self, broad_phase: str = "tree"):
@@ -144,7 +214,27 @@ class World:
 
     # -- bodies --------------------------------------------------------------------------------------------
     def add(self, shape, velocity=None) -> int:
-        """Add a shape (Sphere, Box, Capsule, ConvexPolyhedron, Plane, HeightCurve); returns its id."""
+        """Add a shape; returns its id.
+
+        Parameters
+        ----------
+        shape : Shape
+            A ``Sphere``, ``Box``, ``Capsule``, ``ConvexPolyhedron``, ``Plane`` or ``HeightCurve``; its pose as built.
+        velocity : array_like, shape (3,), optional
+            Its constant velocity for ``time_of_impact``; default zero (ignored for grounds).
+
+        Returns
+        -------
+        int
+            The new id (the smallest free one).
+
+        Raises
+        ------
+        TypeError
+            When ``shape`` is not an engine shape.
+        ValueError
+            For a velocity not of shape (3,) or not finite.
+        """
         if not isinstance(shape, Shape):
             raise TypeError(f"shape must be an engine shape (Sphere, Box, ...), got {type(shape).__name__}")
         vel = np.zeros(3) if velocity is None else as_float_array(velocity, "velocity", shape=(3,))
@@ -175,7 +265,18 @@ class World:
         return body
 
     def remove(self, body_id) -> None:
-        """Delete a body (or a ground); its id may be reused by a later ``add``."""
+        """Delete a body or a ground; its id may be reused by a later ``add``.
+
+        Parameters
+        ----------
+        body_id : int
+            A live id.
+
+        Raises
+        ------
+        ValueError
+            For an id that is not in this world; ``TypeError`` for a non-integer id.
+        """
         body = self._check_id(body_id, movable=False)
         if body in self._grounds:
             del self._grounds[body]
@@ -185,8 +286,24 @@ class World:
         self._store.release(body)
 
     def move(self, body_id, center=None, rotation=None, velocity=None) -> None:
-        """New pose of one body: ``center`` (3,), ``rotation`` (3x3, columns = axes; a unit quaternion (w, x,
-        y, z); or a scipy Rotation), ``velocity`` (3,); the ones left None keep their value."""
+        """Set the pose of one body; the arguments left None keep their value.
+
+        Parameters
+        ----------
+        body_id : int
+            A live body (not a ground).
+        center : array_like, shape (3,), optional
+            The new position.
+        rotation : array_like or scipy.spatial.transform.Rotation, optional
+            A (3, 3) rotation matrix (columns = the body's axes), a unit quaternion (w, x, y, z) or a scipy Rotation.
+        velocity : array_like, shape (3,), optional
+            The new constant velocity.
+
+        Raises
+        ------
+        ValueError
+            For a ground or an unknown id, or a bad vector or rotation (named); the body is then unchanged.
+        """
         body = self._check_id(body_id)
         st = self._store
         c = st.center[body] if center is None else as_float_array(center, "center", shape=(3,))
@@ -197,10 +314,31 @@ class World:
                        _NO_QUATERNIONS, v)
 
     def update(self, ids, centers, rotations=None, velocities=None) -> None:
-        """Move many bodies at once: ``ids`` (k,) distinct, ``centers`` (k, 3), ``rotations`` (k, 3, 3) (columns
-        = axes), (k, 4) unit quaternions (w, x, y, z) or a scipy Rotation of length k, ``velocities`` (k, 3).
-        Everything is checked before anything is written (ValueError naming the argument and the index; the
-        world is then unchanged); the caller's arrays are never modified."""
+        """Move many bodies at once, in one validation pass and one compiled kernel.
+
+        Everything is checked before anything is written: on an error the world is unchanged. The caller's arrays
+        are never modified.
+
+        Parameters
+        ----------
+        ids : array_like, shape (k,), int
+            Distinct live bodies (not grounds).
+        centers : array_like, shape (k, 3), float64
+            Their new positions.
+        rotations : array_like or scipy.spatial.transform.Rotation, optional
+            (k, 3, 3) rotation matrices (columns = axes), (k, 4) unit quaternions (w, x, y, z), or a scipy Rotation of
+            length k; default: rotations unchanged.
+        velocities : array_like, shape (k, 3), optional
+            New constant velocities; default unchanged.
+
+        Raises
+        ------
+        ValueError
+            Naming the argument and the first bad index: an unknown, ground or repeated id, a non-finite value, a
+            wrong shape, a non-unit quaternion or an improper matrix.
+        TypeError
+            For ids that are not a 1-D integer array.
+        """
         t0 = time.perf_counter()
         st = self._store
         idx = st.check_ids(ids)
@@ -223,12 +361,24 @@ class World:
         return body
 
     def ids(self) -> np.ndarray:
-        """Live ids (bodies and grounds), ascending."""
+        """The live ids, bodies and grounds.
+
+        Returns
+        -------
+        numpy.ndarray, shape (n,), int64
+            Ascending.
+        """
         return self._store.live().astype(np.int64)
 
     def bodies(self) -> BodyArrays:
-        """The body store (engine/world/bodies.py) as read-only views of rows 0..max id (no copy; rows of
-        removed ids have kind −1)."""
+        """The body store as read-only views of rows 0 to the largest id (no copy).
+
+        Returns
+        -------
+        BodyArrays
+            The structure-of-arrays store of ``engine.world.bodies`` (kind, centre, rotation, velocity, radius,
+            points, AABBs ...); rows of removed ids have kind −1.
+        """
         n = self._store.n_ids
         views = []
         for arr in self._store.view():
@@ -238,26 +388,97 @@ class World:
         return BodyArrays(*views)
 
     def shape(self, body_id) -> Shape:
-        """The shape added under ``body_id`` (its pose as added; the current pose is ``pose(id)``)."""
+        """The shape added under ``body_id``, with its pose as added (the current pose is ``pose(body_id)``).
+
+        Parameters
+        ----------
+        body_id : int
+            A live id (bodies and grounds).
+
+        Returns
+        -------
+        Shape
+        """
         return self._shapes[self._check_id(body_id, movable=False)]
 
     def pose(self, body_id):
-        """``(center (3,), rotation (3, 3), velocity (3,))`` of a body (copies)."""
+        """The current pose and velocity of a body.
+
+        Parameters
+        ----------
+        body_id : int
+            A live body (grounds have no pose).
+
+        Returns
+        -------
+        center : numpy.ndarray, shape (3,), float64
+            Its position (a copy).
+        rotation : numpy.ndarray, shape (3, 3), float64
+            Columns = its axes in the world.
+        velocity : numpy.ndarray, shape (3,), float64
+            Its constant velocity.
+        """
         b = self._check_id(body_id)
         return self._store.center[b].copy(), self._store.rotation[b].copy(), self._store.velocity[b].copy()
 
     def kind(self, body_id) -> str:
+        """The kind of a body or ground, by name.
+
+        Parameters
+        ----------
+        body_id : int
+            Any live id, grounds included.
+
+        Returns
+        -------
+        str
+            "sphere", "box", "capsule", "hull", "plane" or "curve".
+        """
         return KIND_NAMES[self._store.kind[self._check_id(body_id, movable=False)]]
 
     def world_points(self, body_id) -> np.ndarray:
-        """The body's core points in world coordinates (m, 3) (swept by ``radius(id)``)."""
+        """The body's core points in world coordinates, swept by ``radius(body_id)``.
+
+        Parameters
+        ----------
+        body_id : int
+            The body whose points to return.
+
+        Returns
+        -------
+        numpy.ndarray, shape (m, 3), float64
+            A copy; m = 1 for a sphere, 2 for a capsule, 8 for a box, the hull's vertex count for a polyhedron.
+        """
         b = self._check_id(body_id)
         return self._store.points[b, : self._store.count[b]].copy()
 
     def radius(self, body_id) -> float:
+        """The radius that sweeps a body's core (0 for boxes and polyhedra).
+
+        Parameters
+        ----------
+        body_id : int
+            Which body.
+
+        Returns
+        -------
+        float
+        """
         return float(self._store.radius[self._check_id(body_id)])
 
     def aabb(self, body_id):
+        """A body's current axis-aligned bounding box (the exact box of its swept core).
+
+        Parameters
+        ----------
+        body_id : int
+            A body's id; a ground is refused (ValueError), as in ``pose``.
+
+        Returns
+        -------
+        lo, hi : numpy.ndarray, shape (3,), float64
+            Its corners (copies).
+        """
         b = self._check_id(body_id)
         return self._store.lo[b].copy(), self._store.hi[b].copy()
 
@@ -309,8 +530,15 @@ class World:
         return cand, rows, stats
 
     def pairs(self) -> np.ndarray:
-        """Canonical pairs (k, 2) int64 of ids whose shapes overlap (touching counts): broad phase, then the
-        exact test of each candidate through the overlap table."""
+        """Canonical pairs of ids whose shapes overlap (touching counts).
+
+        The broad phase, then the exact test of each candidate through the overlap table. Refreshes ``stats``.
+
+        Returns
+        -------
+        numpy.ndarray, shape (k, 2), int64
+            i < j in every row, rows in lexicographic order, no repeat.
+        """
         cand, rows, stats = self._answer("overlap")
         out = np.ascontiguousarray(cand[_touching_in_order(cand, rows)])
         stats.query, stats.overlapping = "pairs", int(out.shape[0])
@@ -318,10 +546,19 @@ class World:
         return out
 
     def contacts(self) -> ContactSet:
-        """Contacts of the overlapping pairs (``ContactSet``: pairs, depth, normal from the first id to the
-        second, features, points, point ids and whether each point persists from the previous call), through
-        the contact table: closed forms for sphere–sphere, sphere–box, sphere–capsule, capsule–capsule, box–box
-        and every body on a Plane; GJK/EPA with the contact features for the others; the curve rows."""
+        """The contacts of the overlapping pairs, with per-point feature ids that persist across frames.
+
+        Through the contact table: closed forms for sphere–sphere, sphere–box, sphere–capsule, capsule–capsule,
+        box–box and every body on a Plane; GJK/EPA with the contact features for the others; the curve rows for a
+        HeightCurve. Each point's id names the two features that made it (Box2D's ``b2ContactFeature``) and
+        ``persists`` says whether the same pair had the same id in the previous call. Refreshes ``stats``.
+
+        Returns
+        -------
+        ContactSet
+            One row per touching pair (the canonical order of ``pairs()``), normals from the first id to the second,
+            at most 4 points per pair, with ``point_ids`` and ``persists``.
+        """
         cand, rows, stats = self._answer("contact")
         t0 = time.perf_counter()
         radius = self._store.radius[cand]
@@ -340,12 +577,31 @@ class World:
         return out
 
     def time_of_impact(self, dt) -> ImpactSet:
-        """Pairs that touch within ``dt`` (>= 0) while the bodies move with their velocities, with their first
-        contact times (0 for pairs already touching). Broad phase on the swept AABBs, kinematic culling of the
-        pairs apart and moving apart (engine.broadphase.cull_separating_box_pairs), then the impact table:
-        closed forms for two spheres and a body over a Plane, conservative advancement for the other bodies
-        (engine.narrowphase.time_of_impact_pairs, distance within 1e-9 at the returned time), bisection on the
-        sampled gap for a HeightCurve."""
+        """The pairs that touch within ``dt`` while the bodies move with their velocities, and when.
+
+        Broad phase on the swept boxes, kinematic culling of the pairs apart and moving apart
+        (``engine.broadphase.cull_separating_box_pairs``), then the impact table: closed forms for two spheres and a
+        body over a Plane, conservative advancement for the other bodies (``engine.narrowphase.time_of_impact_pairs``,
+        distance within 1e-9 at the returned time), bisection on the sampled gap for a HeightCurve. Grounds are fixed;
+        the poses are not changed. Refreshes ``stats``.
+
+        Parameters
+        ----------
+        dt : float
+            The time window, >= 0.
+
+        Returns
+        -------
+        ImpactSet
+            The pairs (canonical) and their first-contact times in [0, dt] (0 for pairs already touching).
+
+        Raises
+        ------
+        ValueError
+            For a negative or non-finite ``dt``.
+        engine.narrowphase.TOINotConverged
+            When conservative advancement reaches its iteration cap on a pair.
+        """
         dt = as_nonnegative(dt, "dt")
         st = self._store
         bodies = self._live_bodies()
