@@ -385,7 +385,8 @@ def trace_epa(points_a, points_b, *, max_iterations: int = MAX_ITERATIONS):
     raise_for_status(status, max_iter)
     if status != OVERLAP:
         raise ValueError("the hulls of points_a and points_b do not overlap: EPA has no polytope to expand")
-    steps, out = [], np.empty(10)
+    steps: list[EPAStep] = []
+    out = np.empty(10)
     for cap in range(max_iter + 1):
         poly = epa_polytope()
         if epa_kernel(pa, pb, scratch.W, scratch.IA, scratch.IB, n_simplex, cap, poly, out) == OVERLAP:
