@@ -1,10 +1,14 @@
 """Where the cold start goes: the compile time of every engine kernel during ``engine.warmup.warm_up()``.
 
-    python -m bench.compile_times [--top 30]
+    python -m bench.compile_times [--top 30] [--signatures NAME]
 
 runs the warm-up in a fresh process with an empty kernel cache and prints, per kernel, how many type
-specialisations were compiled and the seconds spent compiling it (its own time: the nested compilations of the
-kernels it calls are counted for them, not for it), most expensive first, then the total.
+specialisations were compiled and the CPU seconds spent compiling it (its own time: the nested compilations of the
+kernels it calls are counted for them, not for it), most expensive first, then the totals (wall and CPU seconds
+of the whole warm-up; CPU time is the figure to compare on a shared machine). ``--signatures NAME`` also lists
+the argument types of every specialisation of the kernels compiled more than once whose name contains NAME: such a
+kernel is called with different array layouts (``C`` / ``A``), ranks, read-only arrays or literal constants
+(numba compiles a kernel once per distinct constant passed straight to it, e.g. ``Literal[int](128)``).
 """
 from __future__ import annotations
 
@@ -25,20 +29,21 @@ _PROBE = textwrap.dedent("""
 
     class Timer(ev.Listener):
         def on_start(self, event):
-            stack.append([event.data["dispatcher"], time.perf_counter(), 0.0])
+            stack.append([event.data["dispatcher"], time.process_time(), 0.0, event.data["args"]])
 
         def on_end(self, event):
-            dispatcher, start, nested = stack.pop()
-            spent = time.perf_counter() - start
+            dispatcher, start, nested, args = stack.pop()
+            spent = time.process_time() - start
             if stack:
                 stack[-1][2] += spent
             name = f"{dispatcher.py_func.__module__}.{dispatcher.py_func.__qualname__}"
-            records.append((name, spent - nested))
+            records.append((name, spent - nested, str(args)))
 
     ev.register("numba:compile", Timer())
     from engine.warmup import warm_up
+    cpu = time.process_time()
     total = warm_up(progress=False)
-    json.dump({"total": total, "records": records}, sys.stdout)
+    json.dump({"total": total, "cpu": time.process_time() - cpu, "records": records}, sys.stdout)
 """)
 
 
@@ -53,18 +58,27 @@ def measure() -> dict:
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(prog="python -m bench.compile_times", description=__doc__.split("\n\n")[0])
     parser.add_argument("--top", type=int, default=30, help="how many kernels to list (default 30)")
+    parser.add_argument("--signatures", metavar="NAME", default=None,
+                        help="the argument types of each specialisation of the kernels compiled more than once whose "
+                             "name holds NAME")
     args = parser.parse_args(argv)
     data = measure()
-    seconds, count = defaultdict(float), defaultdict(int)
-    for name, spent in data["records"]:
+    seconds, signatures = defaultdict(float), defaultdict(list)
+    for name, spent, types in data["records"]:
         seconds[name] += spent
-        count[name] += 1
-    engine_total = sum(s for n, s in seconds.items() if n.startswith("engine."))
-    print(f"warm-up: {data['total']:.1f} s wall; engine kernels compiled: {sum(count.values())} specialisations of "
-          f"{len(count)} kernels, {engine_total:.1f} s compiling")
-    print(f"{'seconds':>8} {'specs':>5}  kernel")
+        signatures[name].append(types)
+    engine = [n for n in seconds if n.startswith("engine.")]
+    print(f"warm-up: {data['total']:.1f} s wall, {data['cpu']:.1f} s CPU; engine kernels compiled: "
+          f"{sum(len(signatures[n]) for n in engine)} specialisations of {len(engine)} kernels, "
+          f"{sum(seconds[n] for n in engine):.1f} s CPU compiling")
+    print(f"{'CPU s':>8} {'specs':>5}  kernel")
     for name in sorted(seconds, key=seconds.get, reverse=True)[: args.top]:
-        print(f"{seconds[name]:8.2f} {count[name]:5d}  {name}")
+        print(f"{seconds[name]:8.2f} {len(signatures[name]):5d}  {name}")
+    if args.signatures:
+        for name in sorted(n for n in seconds if args.signatures in n and len(signatures[n]) > 1):
+            print(f"\n{name}:")
+            for types in signatures[name]:
+                print(f"    {types}")
     return 0
 
 

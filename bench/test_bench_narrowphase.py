@@ -80,7 +80,7 @@ def test_gjk_box_box_batch_engine(benchmark, boxes):
 
 def test_gjk_box_box_batch_engine_kernel_only(benchmark, boxes):
     """The compiled loop alone (no validation, no copies): what the public boundary costs is the difference."""
-    from engine.narrowphase.gjk import MAX_ITERATIONS, NO_OFFSETS, NO_PAIRS, gjk_pairs_kernel, gjk_scratch
+    from engine.narrowphase.gjk import MAX_ITERATIONS, gjk_pairs_kernel, gjk_scratch
     from engine.narrowphase.status import GJK_NOT_CONVERGED
 
     a = np.ascontiguousarray(boxes["corners"][:N_BATCH])
@@ -90,8 +90,8 @@ def test_gjk_box_box_batch_engine_kernel_only(benchmark, boxes):
     cb = np.empty((N_BATCH, 3))
     status = np.empty(N_BATCH, np.int64)
     scratch = gjk_scratch(8)
-    _run(benchmark, lambda: gjk_pairs_kernel(a, b, NO_PAIRS, NO_OFFSETS, MAX_ITERATIONS, scratch, dist, ca, cb,
-                                             status), N_BATCH, "engine-kernel", "gjk box-box")
+    _run(benchmark, lambda: gjk_pairs_kernel(a, b, scratch.no_pairs, scratch.no_offsets, MAX_ITERATIONS, scratch,
+                                             dist, ca, cb, status), N_BATCH, "engine-kernel", "gjk box-box")
     assert (status != GJK_NOT_CONVERGED).all()
 
 

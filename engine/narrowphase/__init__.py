@@ -57,13 +57,14 @@ module: kernels                   what they compute (shapes)
 ``largest_coordinate``
 ``simplex``: ``closest_on_*``     GJK's sub-algorithm: closest point of a segment / triangle / tetrahedron to the
                                   origin (scalars in: the vertices; out: supporting vertices and weights)
-``gjk``: ``gjk_scratch``,         ``GJKScratch`` (W (4, 3), IA, IB (4,), lam (4,), S (6, n), status (1,)); GJK on
-``gjk_pairs_kernel``,             k pairs, shapes addressed by row ranges of (S, N, 3) arrays (packed with a pair
-``gjk_kernel``                    list, or aligned), or on one pair pa (n, 3), pb (m, 3) (out (7,): closest
-                                  points, distance)
+``gjk``: ``gjk_scratch``,         ``GJKScratch`` (W (4, 3), IA, IB (4,), lam (4,), S (6, n), status (1,), the
+``gjk_pairs_kernel``,             empty pair list no_pairs (0, 2), no_offsets (1,)); GJK on k pairs, shapes
+``gjk_kernel``                    addressed by row ranges of (S, N, 3) arrays (packed with a pair list, or
+                                  aligned), or on one pair pa (n, 3), pb (m, 3) (out (7,): closest points,
+                                  distance)
 ``epa``: ``epa_polytope``,        ``Polytope`` (EPA's mesh and flood-fill scratch, the layout of
-``epa_kernel``                    engine.bounding.horizon); EPA from GJK's simplex: out (10,) depth, normal,
-                                  witness points
+``epa_kernel``,                   engine.bounding.horizon); EPA from GJK's simplex: out (10,) depth, normal,
+``trace_epa``                     witness points; the polytope of every iteration (``EPAStep``), for pictures
 ``touching_normal``:              the normal of hulls touching at a point p: a direction of M's normal cone
 ``touching_normal_at_vertex``
 ``penetration``:                  the chain GJK → EPA → rescale for one pair (out (10,): signed distance, normal,

@@ -346,12 +346,13 @@ def contact_box_box(centers, rotations, halves, i, j, rows, p, flip, scratch):
     if not overlap:
         write_pair(rows, p, -depth, nx, ny, nz, 0, 0, 0, flip)
         return -depth
-    if axis < 3:
-        _face_contact(centers[i], rotations[i], halves[i], axis, nx, ny, nz, centers[j], rotations[j], halves[j],
-                      True, rows, p, flip, depth, scratch)
-    elif axis < 6:
-        _face_contact(centers[j], rotations[j], halves[j], axis - 3, -nx, -ny, -nz, centers[i], rotations[i],
-                      halves[i], False, rows, p, flip, depth, scratch)
+    if axis < 6:
+        # one call for both reference boxes, with a run-time ``ref_is_a`` (a literal True / False would compile
+        # the clipping kernel twice)
+        ref_is_a = axis < 3
+        r, o, s = (i, j, 1.0) if ref_is_a else (j, i, -1.0)
+        _face_contact(centers[r], rotations[r], halves[r], axis % 3, s * nx, s * ny, s * nz, centers[o],
+                      rotations[o], halves[o], ref_is_a, rows, p, flip, depth, scratch)
     else:
         _edge_contact(centers, rotations, halves, i, j, (axis - 6) // 3, (axis - 6) % 3, nx, ny, nz, rows, p,
                       flip, depth)

@@ -20,7 +20,8 @@ Collision Detection*, section 9.5 (remarks on penetration depth). Moving B by ``
 
 Kernels (public within the package): ``epa_polytope`` (the one allocation of EPA's storage, ``Polytope``) and
 ``epa_kernel``. The public functions ``epa_penetration`` / ``epa_penetration_pairs`` (GJK, then this, with the
-exact fallback and the rescaling) are in engine.narrowphase.penetration.
+exact fallback and the rescaling) are in engine.narrowphase.penetration. ``trace_epa`` records the polytope of
+every iteration (``EPAStep``), for pictures of EPA converging.
 """
 from __future__ import annotations
 
@@ -30,12 +31,15 @@ from collections import namedtuple
 import numpy as np
 
 from .._config import njit
+from .._validate import as_float_array, as_max_iterations
 from ..bounding.horizon import link_neighbours, stitch_cone, visible_faces_and_horizon
-from .status import EPA_NOT_CONVERGED, OVERLAP
+from .gjk import MAX_ITERATIONS, gjk_kernel, gjk_scratch
+from .rescale import largest_coordinate, rescale_unit
+from .status import EPA_NOT_CONVERGED, OVERLAP, raise_for_status
 from .support import support_minkowski
 from .touching_normal import touching_normal_at_vertex, unit_vector
 
-__all__ = ["EPA_TOL", "MAX_VERTS", "MAX_FACES", "Polytope", "epa_polytope", "epa_kernel"]
+__all__ = ["EPA_TOL", "MAX_VERTS", "MAX_FACES", "Polytope", "epa_polytope", "epa_kernel", "EPAStep", "trace_epa"]
 
 #: EPA stops when the support point beyond the closest face is within EPA_TOL × size(M) of it
 EPA_TOL = 1e-10
@@ -347,3 +351,51 @@ def epa_kernel(pa, pb, W, IA, IB, n_simplex, max_iter, poly, out):
         return EPA_NOT_CONVERGED
     _face_witnesses(pa, pb, poly.V, poly.VA, poly.VB, poly.F, poly.N, poly.D, poly.alive, n_faces, best, out)
     return OVERLAP
+
+
+#: one polytope of ``trace_epa``
+EPAStep = namedtuple("EPAStep", ["vertices", "faces", "closest_face", "distance", "normal", "support"])
+
+
+def trace_epa(points_a, points_b, *, max_iterations: int = MAX_ITERATIONS):
+    """EPA's polytope, iteration by iteration, for the overlapping hulls of ``points_a`` (n, 3) and ``points_b``
+    (m, 3): for pictures of EPA converging (``epa_penetration`` is the function that answers).
+
+    Runs ``gjk_kernel``, then ``epa_kernel`` capped at 0, 1, 2, … expansions on a fresh ``Polytope``: the run
+    capped at k expansions stops with the very polytope the uncapped run has after k expansions. Returns
+    ``(steps, depth, normal)``: one ``EPAStep`` per polytope, the last being the one EPA stops on —
+    ``vertices`` (v, 3) float64 (points of M = A − B), ``faces`` (f, 3) int64 (rows of ``vertices``,
+    counter-clockwise seen from outside), ``closest_face`` (the row of ``faces`` closest to the origin),
+    ``distance`` (its distance to the origin), ``normal`` (3,) (its outward unit normal), ``support`` (3,) (the
+    support point of M along that normal: the next vertex, or, at the last step, a point within EPA's tolerance of
+    the face's plane) — and EPA's answer, ``depth`` (the last step's distance) and the unit ``normal`` (3,), the
+    same as ``epa_penetration``'s. Raises ValueError when the hulls do not overlap, only touch (no polytope to
+    expand) or have coordinates outside [2^-160, 2^160] (EPA then runs on rescaled copies); GJKNotConverged, or
+    EPANotConverged when EPA gives up (``max_iterations`` expansions, or a polytope broken by round-off, where
+    ``epa_penetration`` falls back on the exact hull of M).
+    """
+    pa = as_float_array(points_a, "points_a", shape=(None, 3), min_rows=1)
+    pb = as_float_array(points_b, "points_b", shape=(None, 3), min_rows=1)
+    max_iter = as_max_iterations(max_iterations)
+    if rescale_unit(largest_coordinate(pa, pb)) != 1.0:
+        raise ValueError("points_a and points_b have coordinates outside [2^-160, 2^160]: EPA runs on rescaled "
+                         "copies there, which trace_epa does not show")
+    scratch, g = gjk_scratch(max(pa.shape[0], pb.shape[0])), np.empty(7)
+    status, n_simplex = gjk_kernel(pa, pb, max_iter, scratch, g)
+    raise_for_status(status, max_iter)
+    if status != OVERLAP:
+        raise ValueError("the hulls of points_a and points_b do not overlap: EPA has no polytope to expand")
+    steps: list[EPAStep] = []
+    out = np.empty(10)
+    for cap in range(max_iter + 1):
+        poly = epa_polytope()
+        if epa_kernel(pa, pb, scratch.W, scratch.IA, scratch.IB, n_simplex, cap, poly, out) == OVERLAP:
+            if not steps:
+                raise ValueError("the hulls of points_a and points_b only touch: EPA has no polytope to expand")
+            return steps, float(out[0]), out[1:4].copy()
+        faces = np.flatnonzero(poly.alive)
+        best = faces[np.argmin(poly.D[faces])]  # the kernel's choice: the first face of least offset
+        _, _, wx, wy, wz = support_minkowski(pa, pb, poly.N[best, 0], poly.N[best, 1], poly.N[best, 2])
+        steps.append(EPAStep(poly.V[:4 + cap].copy(), poly.F[faces].copy(), int(np.flatnonzero(faces == best)[0]),
+                             float(poly.D[best]), poly.N[best].copy(), np.array([wx, wy, wz])))
+    raise_for_status(np.array([EPA_NOT_CONVERGED]), max_iter)

@@ -55,8 +55,6 @@ __all__ = [
     "start_direction",
     "gjk_kernel",
     "gjk_pairs_kernel",
-    "NO_PAIRS",
-    "NO_OFFSETS",
     "gjk_distance",
     "gjk_distance_pairs",
     "gjk_distance_batch",
@@ -83,7 +81,7 @@ OVERLAP_TOL = 1e-10
 # ---------------------------------------------------------------------------------------------------------------
 
 #: GJK's scratch (see ``gjk_scratch``)
-GJKScratch = namedtuple("GJKScratch", ["W", "IA", "IB", "lam", "S", "status"])
+GJKScratch = namedtuple("GJKScratch", ["W", "IA", "IB", "lam", "S", "status", "no_pairs", "no_offsets"])
 
 
 @njit
@@ -92,9 +90,11 @@ def gjk_scratch(n_max):
     (4, 3) float64 (support points of M), ``IA``, ``IB`` (4,) int64 (their rows in A's and B's arrays), ``lam`` (4,)
     float64 (the barycentric weights of v), and ``S`` (6, n_max) float64: the pair's two shapes copied as x, y, z
     rows (A in rows 0–2, B in rows 3–5) for unit-stride support scans; ``status`` (1,) int64 (``gjk_kernel``'s
-    answer). After a call, W, IA, IB and lam hold the final simplex (what EPA starts from)."""
+    answer); ``no_pairs`` (0, 2) and ``no_offsets`` (1,) int64, the empty pair list that tells ``gjk_pairs_kernel``
+    its pairs are aligned. After a call, W, IA, IB and lam hold the final simplex (what EPA starts from)."""
     return GJKScratch(np.empty((4, 3)), np.empty(4, np.int64), np.empty(4, np.int64), np.empty(4),
-                      np.empty((6, max(n_max, 1))), np.empty(1, np.int64))
+                      np.empty((6, max(n_max, 1))), np.empty(1, np.int64), np.empty((0, 2), np.int64),
+                      np.zeros(1, np.int64))
 
 
 @njit
@@ -153,21 +153,18 @@ def start_direction(dx, dy, dz):
     return dx, dy, dz
 
 
-#: stands for "no pair list" in ``gjk_pairs_kernel`` (aligned pairs)
-NO_PAIRS = np.zeros((0, 2), np.int64)
-NO_OFFSETS = np.zeros(1, np.int64)
-
-
 @njit
 def gjk_pairs_kernel(PA, PB, pairs, offsets, max_iter, scratch, dist, closest_a, closest_b, status):
     """GJK (Ericson 9.5) over k = ``status.shape[0]`` pairs in one compiled loop: dist (k,) (0.0 for overlapping
     or touching hulls, NaN for invalid input), closest_a, closest_b (k, 3) (one common point when they overlap),
     status (k,) int64. ``PA``, ``PB`` (S, N, 3) float64: with a pair list (``pairs`` (k, 2), ``offsets``
     (S' + 1,) int64) pair p is shape ``pairs[p, 0]`` = rows ``offsets[s]:offsets[s + 1]`` of ``PA[0]`` against
-    shape ``pairs[p, 1]`` of ``PB[0]``; without (``NO_PAIRS``, ``NO_OFFSETS``) ``PA[p]`` against ``PB[p]``.
-    ``scratch`` (``gjk_scratch``, largest shape) keeps the last pair's final simplex (for EPA), whose size is
-    returned. One body holds both loops: a call that passes arrays costs reference counting (comment above)."""
-    W, IA, IB, lam, S, _ = scratch
+    shape ``pairs[p, 1]`` of ``PB[0]``; without (``scratch.no_pairs``, ``scratch.no_offsets``) ``PA[p]`` against
+    ``PB[p]``. ``scratch`` (``gjk_scratch``, largest shape) keeps the last pair's final simplex (for EPA), whose
+    size is returned. One body holds both loops: a call that passes arrays costs reference counting (comment
+    above). Every caller passes C-contiguous, writeable arrays of these ranks (views made by ``reshape``, never by
+    ``np.newaxis`` or a strided slice), so numba compiles this large kernel once, not once per caller."""
+    W, IA, IB, lam, S = scratch[:5]
     n = 0
     for p in range(status.shape[0]):
         if pairs.shape[0] > 0:
@@ -266,8 +263,9 @@ def gjk_kernel(pa, pb, max_iter, scratch, out):
     """GJK between hull(pa) and hull(pb), (n, 3) and (m, 3) float64, with ``scratch`` from ``gjk_scratch`` (at
     least max(n, m) columns). Fills ``out`` (7,): ``out[0:3]`` the closest point on A, ``out[3:6]`` on B,
     ``out[6]`` the distance; the final simplex stays in ``scratch``. Returns (status, simplex size)."""
-    n = gjk_pairs_kernel(pa[np.newaxis], pb[np.newaxis], NO_PAIRS, NO_OFFSETS, max_iter, scratch, out[6:7],
-                         out[np.newaxis, 0:3], out[np.newaxis, 3:6], scratch.status)
+    n = gjk_pairs_kernel(pa.reshape((1, pa.shape[0], 3)), pb.reshape((1, pb.shape[0], 3)), scratch.no_pairs,
+                         scratch.no_offsets, max_iter, scratch, out[6:7], out[0:3].reshape((1, 3)),
+                         out[3:6].reshape((1, 3)), scratch.status)
     return scratch.status[0], n
 
 
@@ -282,7 +280,7 @@ def _largest_shape(offsets):
 @njit
 def _gjk_pairs(points, offsets, pairs, max_iter, dist, closest_a, closest_b, status):
     """One compiled loop over k pairs of packed shapes (shape s = rows offsets[s]:offsets[s+1] of points)."""
-    P = points[np.newaxis]  # (1, N, 3): one view for the whole loop, shapes addressed by row offsets
+    P = points.reshape((1, points.shape[0], 3))  # one view for the whole loop, shapes addressed by row offsets
     gjk_pairs_kernel(P, P, pairs, offsets, max_iter, gjk_scratch(_largest_shape(offsets)), dist, closest_a,
                      closest_b, status)
 
@@ -290,8 +288,9 @@ def _gjk_pairs(points, offsets, pairs, max_iter, dist, closest_a, closest_b, sta
 @njit
 def _gjk_batch(points_a, points_b, max_iter, dist, closest_a, closest_b, status):
     """One compiled loop over k aligned pairs (points_a[p], points_b[p]), addressed by index, not by view."""
-    gjk_pairs_kernel(points_a, points_b, NO_PAIRS, NO_OFFSETS, max_iter,
-                     gjk_scratch(max(points_a.shape[1], points_b.shape[1])), dist, closest_a, closest_b, status)
+    scratch = gjk_scratch(max(points_a.shape[1], points_b.shape[1]))
+    gjk_pairs_kernel(points_a, points_b, scratch.no_pairs, scratch.no_offsets, max_iter, scratch, dist, closest_a,
+                     closest_b, status)
 
 
 # ---------------------------------------------------------------------------------------------------------------

@@ -60,11 +60,12 @@ def toi_kernel(pa, ca, va, wa, ra, pb, cb, vb, wb, rb, t_max, tol, max_iter, scr
     xa = poses[0, :pa.shape[0]]
     xb = poses[1, :pb.shape[0]]
     spin = _spin_speed(pa, ca, wa) + _spin_speed(pb, cb, wb)
+    gjk_iterations = np.int64(MAX_ITERATIONS)  # an int64, not the literal 128: gjk_kernel is compiled once
     t = 0.0
     for _ in range(max_iter):
         pose_at(pa, ca, va, wa, t, xa)
         pose_at(pb, cb, vb, wb, t, xb)
-        status, _ = gjk_kernel(xa, xb, MAX_ITERATIONS, scratch, g)
+        status, _ = gjk_kernel(xa, xb, gjk_iterations, scratch, g)
         if status == GJK_NOT_CONVERGED:
             return TOI_NOT_CONVERGED
         gap = g[6] - ra - rb
