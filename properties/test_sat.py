@@ -199,4 +199,6 @@ def test_convex_sat_on_placed_pairs_agrees_with_the_construction(data):
         assert d <= 3.2e-8 * minkowski_size(pair.a, pair.b)
     else:
         # the construction's own round-off: B's coordinates rounded once after the move (a few u of them)
-        assert abs(d - pair.gap) <= 1e-9 * pair.gap + 1e-12 * np.abs(pair.b).max()
+        # and GJK's stop test |v|² − v·w <= ... + 1e-15 size(M)²: its distance is within 1e-15 size(M)² / d
+        size = minkowski_size(pair.a, pair.b)
+        assert abs(d - pair.gap) <= 1e-9 * pair.gap + 1e-12 * np.abs(pair.b).max() + 1e-15 * size * size / d
