@@ -15,7 +15,7 @@ from hypothesis import assume, given
 from hypothesis import strategies as st
 
 from engine.narrowphase import epa_penetration
-from properties.strategies.narrow import hull_signed_distance
+from properties.geometry_checks import assert_on_hull, assert_unit, assert_witness_gap, pair_scale
 
 SIGNS = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], float)
 
@@ -27,11 +27,11 @@ def _rot_z(angle: float) -> np.ndarray:
 
 def _check_witnesses(a: np.ndarray, b: np.ndarray) -> None:
     depth, normal, point_a, point_b = epa_penetration(a, b, witnesses=True)
-    scale = max(np.abs(a).max(), np.abs(b).max())
-    assert abs(np.linalg.norm(normal) - 1.0) <= 1e-12
-    assert hull_signed_distance(a, point_a) <= 1e-12 * scale, ("point_a outside A", point_a)
-    assert hull_signed_distance(b, point_b) <= 1e-12 * scale, ("point_b outside B", point_b)
-    assert np.abs(point_a - point_b - depth * normal).max() <= 1e-12 * scale
+    scale = pair_scale(a, b)
+    assert_unit(normal)
+    assert_on_hull(point_a, a, scale, what="point_a")
+    assert_on_hull(point_b, b, scale, what="point_b")
+    assert_witness_gap(point_a, point_b, depth, normal, scale)
 
 
 def test_witness_inside_a_on_the_issue_boxes():

@@ -155,3 +155,50 @@ def test_bad_input_raises():
         obb_overlap(OBB([0, 0, 0], np.eye(3), [1, 1, 1]), "box")
     with pytest.raises(ValueError):
         overlap_convex_sat(np.zeros((0, 3)), np.zeros((3, 3)))
+
+
+# --- touching hulls (issue 18): closed sets, touching counts as overlapping, as GJK's distance 0 -----------------
+
+def test_convex_sat_touching_boxes_at_a_non_binary_coordinate():
+    """B's face put on A's face x = -0.025 by a translation rounded in binary: B's face lands at
+    -0.02500000000000001, 1.7e-17 (of boxes of size 0.6) from A's. GJK's distance is 0 (below its OVERLAP_TOL of
+    the pair's size): SAT compared the projections exactly and called the pair separated."""
+    from properties.strategies.degenerate import SIGNS
+
+    a = SIGNS * [0.025, 0.01973981683858466, 0.22160007946468377]
+    b = np.array([[-0.14688025994948423, -0.20481289242630615, 0.22583840883939155],
+                  [-0.14688025994948423, 0.113071510929034, 0.32848948547141354],
+                  [-0.14688025994948423, -0.044821745051581874, -0.26961368084171344],
+                  [-0.14688025994948423, 0.2730626583037583, -0.1669626042096915],
+                  [-0.02500000000000001, -0.20481289242630615, 0.22583840883939155],
+                  [-0.02500000000000001, 0.113071510929034, 0.32848948547141354],
+                  [-0.02500000000000001, -0.044821745051581874, -0.26961368084171344],
+                  [-0.02500000000000001, 0.2730626583037583, -0.1669626042096915]])
+    assert gjk_distance(a, b)[0] == 0.0
+    assert overlap_convex_sat(a, b) and overlap_convex_sat(b, a)
+    # 1e-9 apart (well above the tolerance, 1e-10 of the pair's size): separated
+    assert not overlap_convex_sat(a, b - [1e-9, 0.0, 0.0])
+
+
+@settings(max_examples=100)
+@given(st.data())
+def test_convex_sat_on_placed_pairs_agrees_with_the_construction(data):
+    """A hull put on a face of a box (face, edge or vertex on the face, axes parallel or turned by quarter turns
+    ± 1e-9, sizes 1e-6..1e6): touching or overlapping pairs overlap, a gap of 1e-6 of the box's size separates;
+    GJK agrees: the gap, or (nearly) 0. GJK stops when |v|² − v·w <= REL_TOL |v|² + 1e-15 size(M)², and for hulls
+    that touch v·w <= 0: its distance there is at most sqrt(1e-15) size(M) = 3.2e-8 size(M), not always 0."""
+    from properties.geometry_checks import minkowski_size
+    from properties.strategies.degenerate import placed_pairs
+
+    pair = data.draw(placed_pairs(gaps=st.sampled_from([0.0, -1e-6, -0.3, 1e-6, 1e-3])))
+    d, _, _ = gjk_distance(pair.a, pair.b)
+    overlapping = pair.gap <= 0.0
+    assert overlap_convex_sat(pair.a, pair.b) == overlapping, (pair.gap, d)
+    assert overlap_convex_sat(pair.b, pair.a) == overlapping
+    if overlapping:
+        assert d <= 3.2e-8 * minkowski_size(pair.a, pair.b)
+    else:
+        # the construction's own round-off: B's coordinates rounded once after the move (a few u of them)
+        # and GJK's stop test |v|² − v·w <= ... + 1e-15 size(M)²: its distance is within 1e-15 size(M)² / d
+        size = minkowski_size(pair.a, pair.b)
+        assert abs(d - pair.gap) <= 1e-9 * pair.gap + 1e-12 * np.abs(pair.b).max() + 1e-15 * size * size / d

@@ -195,9 +195,9 @@ def _initial_polytope(pa, pb, W, IA, IB, n_simplex, V, VA, VB, F):
 
 
 @njit
-def _touching_answer(pa, pb, V, VA, nv, size2, dx, dy, dz, out):
+def _touching_answer(pa, pb, V, VA, VB, nv, size2, dx, dy, dz, out):
     """Depth 0 for the touching cases of ``_initial_polytope``, with the touching plane's normal, and the common
-    point (A's vertex of the first simplex point) as both witnesses."""
+    point of the simplex, on A and on B (``_touching_witnesses``) as the witnesses."""
     out[0] = 0.0
     out[1], out[2], out[3] = 1.0, 0.0, 0.0
     if nv == 1:
@@ -224,9 +224,41 @@ def _touching_answer(pa, pb, V, VA, nv, size2, dx, dy, dz, out):
             h = wx * nx + wy * ny + wz * nz
             s = 1.0 if h <= EPA_TOL * math.sqrt(size2) * length else -1.0
             out[1], out[2], out[3] = s * nx / length, s * ny / length, s * nz / length
+    _touching_witnesses(pa, pb, V, VA, VB, 1 if nv == 1 else (2 if nv == -2 else 3), out)
+
+
+@njit
+def _touching_witnesses(pa, pb, V, VA, VB, m, out):
+    """The witnesses of a touching case: the origin's barycentric weights μ in the simplex V[0:m] (m = 1, 2, 3;
+    Ericson 5.1.2 and 5.1.5 for its projection on the segment or the triangle, weights clamped to [0, 1]) applied
+    to A's vertices VA and to B's vertices VB: out[4:7] = Σ μ_k a_k lies on A, out[7:10] = Σ μ_k b_k on B, and
+    their difference Σ μ_k V_k is the origin's distance to the simplex (0 to round-off)."""
+    mu1, mu2 = 0.0, 0.0
+    if m == 2:
+        ex, ey, ez = V[1, 0] - V[0, 0], V[1, 1] - V[0, 1], V[1, 2] - V[0, 2]
+        ee = ex * ex + ey * ey + ez * ez
+        if ee > 0.0:
+            mu1 = min(max(-(V[0, 0] * ex + V[0, 1] * ey + V[0, 2] * ez) / ee, 0.0), 1.0)
+    if m == 3:
+        # normal equations of min |V0 + μ1 e1 + μ2 e2|: [e1·e1 e1·e2; e1·e2 e2·e2] μ = −[e1·V0; e2·V0]
+        e1 = (V[1, 0] - V[0, 0], V[1, 1] - V[0, 1], V[1, 2] - V[0, 2])
+        e2 = (V[2, 0] - V[0, 0], V[2, 1] - V[0, 1], V[2, 2] - V[0, 2])
+        g11 = e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]
+        g12 = e1[0] * e2[0] + e1[1] * e2[1] + e1[2] * e2[2]
+        g22 = e2[0] * e2[0] + e2[1] * e2[1] + e2[2] * e2[2]
+        r1 = -(e1[0] * V[0, 0] + e1[1] * V[0, 1] + e1[2] * V[0, 2])
+        r2 = -(e2[0] * V[0, 0] + e2[1] * V[0, 1] + e2[2] * V[0, 2])
+        det = g11 * g22 - g12 * g12
+        if det > 0.0:
+            mu1 = min(max((r1 * g22 - r2 * g12) / det, 0.0), 1.0)
+            mu2 = min(max((r2 * g11 - r1 * g12) / det, 0.0), 1.0 - mu1)
+    mu = (1.0 - mu1 - mu2, mu1, mu2)
     for c in range(3):
-        out[4 + c] = pa[VA[0], c]
-        out[7 + c] = pa[VA[0], c]
+        out[4 + c] = 0.0
+        out[7 + c] = 0.0
+        for k in range(m):  # only the m vertices set: VA[k], VB[k] beyond them are stale
+            out[4 + c] += mu[k] * pa[VA[k], c]
+            out[7 + c] += mu[k] * pb[VB[k], c]
 
 
 @njit
@@ -344,7 +376,7 @@ def epa_kernel(pa, pb, W, IA, IB, n_simplex, max_iter, poly, out):
     OVERLAP (depth found; 0 for touching hulls) or EPA_NOT_CONVERGED."""
     nv, size2, dx, dy, dz = _initial_polytope(pa, pb, W, IA, IB, n_simplex, poly.V, poly.VA, poly.VB, poly.F)
     if nv <= 1:
-        _touching_answer(pa, pb, poly.V, poly.VA, nv, size2, dx, dy, dz, out)
+        _touching_answer(pa, pb, poly.V, poly.VA, poly.VB, nv, size2, dx, dy, dz, out)
         return OVERLAP
     status, best, n_faces = _expand_polytope(pa, pb, poly, nv, size2, max_iter)
     if status != OVERLAP:

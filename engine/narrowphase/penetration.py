@@ -25,7 +25,7 @@ from .epa import EPA_TOL, epa_kernel, epa_polytope
 from .gjk import MAX_ITERATIONS, gjk_kernel, gjk_scratch
 from .rescale import largest_coordinate, rescale_unit
 from .status import EPA_NOT_CONVERGED, GJK_NOT_CONVERGED, OVERLAP, SEPARATED, raise_for_status
-from .touching_normal import touching_normal_at_vertex, unit_vector
+from .touching_normal import separated_normal_at_contact, touching_normal_at_vertex, unit_vector
 
 __all__ = ["penetration_kernel", "penetration_pairs_kernel", "penetration_pairs", "minkowski_fallback", "ONE_PAIR",
            "epa_penetration", "epa_penetration_pairs"]
@@ -71,7 +71,8 @@ def _chain(pa, pb, max_iter, scratch, poly, g, out):
         out[7 + c] = g[3 + c]
     if d > 0.0:
         out[0] = d
-        out[1], out[2], out[3] = _separated_normal(scratch.W, n_simplex, g)
+        nx, ny, nz = _separated_normal(scratch.W, n_simplex, g)
+        out[1], out[2], out[3] = separated_normal_at_contact(pa, pb, nx, ny, nz, d, EPA_TOL, g[0], g[1], g[2])
         return SEPARATED
     if status != OVERLAP:  # touching at distance exactly 0 without a full simplex: depth 0, a touching normal
         out[0] = 0.0

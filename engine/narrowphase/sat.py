@@ -8,7 +8,12 @@ parallel to an edge of B, their cross product is (near) zero and every term of t
 small epsilon to |R| (``PARALLEL_EPS``) makes such degenerate axes report overlap, never a false separation.
 
 The tests are closed: touching boxes overlap. For convex polyhedra the candidate axes are the face normals of
-both hulls and the cross products of their edges (Ericson 5.2.1 and Gottschalk's OBBTree paper).
+both hulls and the cross products of their edges (Ericson 5.2.1 and Gottschalk's OBBTree paper). Touching means
+what it means for ``gjk_distance`` (distance exactly 0): an axis separates two hulls only when the gap between
+their projections exceeds ``OVERLAP_TOL`` × R, with R = max|a − c| + max|b − c| (c the mean of the two centroids)
+an upper bound of the size of the Minkowski difference that GJK scales its own tolerance by, plus the round-off
+of the projections (``SAT_ROUNDOFF`` × the largest |coordinate|). Any unit axis L that separates the exact
+projections proves disjointness, however L was computed, so the axes' own round-off needs no allowance.
 
 Public functions:
 - ``obb_overlap(a, b) -> bool`` on two ``engine.bounding.obb.OBB``;
@@ -28,12 +33,16 @@ import numpy as np
 from .._config import njit
 from .._validate import as_float_array, check_offsets, check_pairs, pair_indices
 from ..bounding.obb import OBB, as_obbs
+from .gjk import OVERLAP_TOL
 
-__all__ = ["PARALLEL_EPS", "obb_overlap", "overlap_obb_obb_batch", "overlap_convex_sat", "overlap_convex_sat_pairs",
-           "convex_axes"]
+__all__ = ["PARALLEL_EPS", "SAT_ROUNDOFF", "obb_overlap", "overlap_obb_obb_batch", "overlap_convex_sat",
+           "overlap_convex_sat_pairs", "convex_axes"]
 
 #: added to |R| in the OBB test (Ericson 4.4.1) to absorb round-off on near-parallel edge pairs
 PARALLEL_EPS = 1e-9
+#: bound on the round-off of a gap between two computed projections p·L (|L| = 1), relative to the largest
+#: |coordinate| X: each dot product is off by at most γ3·Σ|p_k||L_k| <= 3u·√3·X (u = 2^-53), two of them 10.4u·X
+SAT_ROUNDOFF = 16.0 * 2.0 ** -53
 
 
 @njit
@@ -98,8 +107,33 @@ def _overlap_obb_obb_batch(ca, Aa, ea, cb, Ab, eb, index_a, index_b, out):
 
 
 @njit
+def _touching_tolerance(pa, pb):
+    """The gap along a unit axis below which two hulls touch: OVERLAP_TOL × R + SAT_ROUNDOFF × X, where
+    R = max|a − c| + max|b − c| >= |a − b| for every a, b (c the mean of the two centroids: R does not change when
+    both shapes move) bounds the size of the Minkowski difference, and X is the largest |coordinate|."""
+    cx, cy, cz = 0.0, 0.0, 0.0
+    for pts in (pa, pb):
+        for i in range(pts.shape[0]):
+            cx += pts[i, 0] / (2 * pts.shape[0])
+            cy += pts[i, 1] / (2 * pts.shape[0])
+            cz += pts[i, 2] / (2 * pts.shape[0])
+    big = 0.0
+    size = 0.0
+    for pts in (pa, pb):
+        r2 = 0.0
+        for i in range(pts.shape[0]):
+            dx, dy, dz = pts[i, 0] - cx, pts[i, 1] - cy, pts[i, 2] - cz
+            r2 = max(r2, dx * dx + dy * dy + dz * dz)
+            big = max(big, abs(pts[i, 0]), abs(pts[i, 1]), abs(pts[i, 2]))
+        size += math.sqrt(r2)
+    return OVERLAP_TOL * size + SAT_ROUNDOFF * big
+
+
+@njit
 def _overlap_along_axes(pa, pb, axes):
-    """SAT on given candidate axes (k, 3): False as soon as one axis separates the projections (closed test)."""
+    """SAT on given candidate axes (k, 3): False as soon as one axis separates the projections by more than
+    ``_touching_tolerance`` (closed test: touching hulls overlap, as GJK's distance 0)."""
+    tol = _touching_tolerance(pa, pb)
     for k in range(axes.shape[0]):
         lx = axes[k, 0]
         ly = axes[k, 1]
@@ -116,7 +150,7 @@ def _overlap_along_axes(pa, pb, axes):
             d = pb[i, 0] * lx + pb[i, 1] * ly + pb[i, 2] * lz
             min_b = min(min_b, d)
             max_b = max(max_b, d)
-        if max_a < min_b or max_b < min_a:
+        if min_b - max_a > tol or min_a - max_b > tol:
             return False
     return True
 

@@ -15,7 +15,8 @@ import numpy as np
 from .._config import njit
 from .support import support_minkowski
 
-__all__ = ["MAX_CONE_POINTS", "unit_vector", "touching_normal_at_vertex", "normal_cone_direction"]
+__all__ = ["MAX_CONE_POINTS", "SMALL_DISTANCE", "unit_vector", "touching_normal_at_vertex", "normal_cone_direction",
+           "separated_normal_at_contact"]
 
 
 #: the normal-cone search (``normal_cone_direction``) costs (n + m)³: beyond this many points it is skipped
@@ -158,3 +159,37 @@ def touching_normal_at_vertex(pa, pb, rel_tol, px, py, pz):
     if pa.shape[0] + pb.shape[0] <= MAX_CONE_POINTS:
         return normal_cone_direction(pa, pb, px, py, pz, tol)
     return 1.0, 0.0, 0.0, False
+
+
+#: a separated pair's normal is checked against M (``separated_normal_at_contact``) when its distance d is below
+#: this fraction of the shapes' size: the closest points' difference carries a round-off of 2^-52 × size, so its
+#: direction errs by about 2^-52 size / d and the shapes' projections on it by 2^-52 size² / d, more than the
+#: tolerance 1e-10 × size when d < 2^-52 / 1e-10 × size = 2.2e-6 size
+SMALL_DISTANCE = 1e-5
+
+
+@njit
+def separated_normal_at_contact(pa, pb, nx, ny, nz, d, rel_tol, px, py, pz):
+    """The normal (A towards B, unit) of hulls separated by a tiny distance d, given the candidate (nx, ny, nz)
+    from their closest points (p on A). The exact normal n minimises h(n) = max over M of m·n, to h = −d: the
+    candidate is kept when h <= −d + tol (tol = rel_tol × the shapes' size, as in ``touching_normal_at_vertex``);
+    else, the hulls being within round-off of touching at p, a direction of M's normal cone there
+    (``touching_normal_at_vertex``) is taken if its h is lower. Returns (nx, ny, nz)."""
+    scale = 0.0
+    for i in range(pa.shape[0]):
+        for c in range(3):
+            scale = max(scale, abs(pa[i, c] - pa[0, c]))
+    for i in range(pb.shape[0]):
+        for c in range(3):
+            scale = max(scale, abs(pb[i, c] - pa[0, c]))
+    if d > SMALL_DISTANCE * scale:
+        return nx, ny, nz
+    _, _, wx, wy, wz = support_minkowski(pa, pb, nx, ny, nz)
+    h = wx * nx + wy * ny + wz * nz
+    if h <= -d + rel_tol * max(scale, 1e-300):
+        return nx, ny, nz
+    cx, cy, cz, found = touching_normal_at_vertex(pa, pb, rel_tol, px, py, pz)
+    _, _, wx, wy, wz = support_minkowski(pa, pb, cx, cy, cz)
+    if found and wx * cx + wy * cy + wz * cz < h:
+        return cx, cy, cz
+    return nx, ny, nz
