@@ -9,6 +9,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
+sys.path.insert(0, str(ROOT / "docs"))  # gallery_scrapers (named by a string: the config stays picklable)
 os.environ.setdefault("MPLBACKEND", "Agg")
 os.environ.setdefault("COLLDET_COMPILE_NOTICE", "0")
 
@@ -47,7 +48,7 @@ sphinx_gallery_conf = {
     "download_all_examples": False,
     "remove_config_comments": True,
     "within_subsection_order": "FileNameSortKey",
-    "image_scrapers": ("matplotlib",),
+    "image_scrapers": ("matplotlib", "gallery_scrapers.bare_figure_scraper"),  # docs/gallery_scrapers.py
 }
 
 html_theme = "furo"
