@@ -20,7 +20,7 @@ import numpy as np
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
-from engine import ConvexPolyhedron, World
+from engine import Box, ConvexPolyhedron, World
 from engine.narrowphase import (
     contact_feature,
     contact_feature_pairs,
@@ -142,11 +142,12 @@ def test_contact_feature_points_and_normals_single_and_pairs(pair):
 @settings(max_examples=60)
 @given(placed_pairs(gaps=st.sampled_from([0.0, -1e-6, -1e-3, -0.3])), st.booleans())
 def test_world_contacts_points_normals_depths(pair, as_boxes):
-    # as_boxes is unused for now: World's box-box closed form puts a contact point 0.025 outside B on corner-to-corner
-    # touching boxes turned by a quarter turn + 1e-9 (reported, engine/narrowphase/box_box.py), hulls only here
-    del as_boxes
+    # as_boxes: the pair as World Boxes (the box-box closed form) when B is a box, else as hulls (GJK/EPA)
     world = World("brute")
-    ids = [world.add(ConvexPolyhedron(pair.a)), world.add(ConvexPolyhedron(pair.b))]
+    if as_boxes and pair.box_b is not None:
+        ids = [world.add(Box(*pair.box_a)), world.add(Box(*pair.box_b))]
+    else:
+        ids = [world.add(ConvexPolyhedron(pair.a)), world.add(ConvexPolyhedron(pair.b))]
     cs = world.contacts()
     # touching pairs (and pairs pushed into A across one of its edges, which may only touch) can be called apart
     assume(len(cs) == 1)

@@ -270,11 +270,21 @@ def _face_contact(cr, Rr, er, i, nrx, nry, nrz, ci, Ri, ei, ref_is_a, rows, p, f
             deep[count] = poly[v, 5]
             ids[count] = point_id(tags[v, 0], tags[v, 1]) if ref_is_a else point_id(tags[v, 1], tags[v, 0])
             count += 1
-    if count == 0:  # round-off clipped everything: the reference face's centre, at the SAT depth
-        count = 1
-        pts[0, 0] = cr[0] + er[i] * face_sign * Rr[0, i] - depth * nrx
-        pts[0, 1] = cr[1] + er[i] * face_sign * Rr[1, i] - depth * nry
-        pts[0, 2] = cr[2] + er[i] * face_sign * Rr[2, i] - depth * nrz
+    if count == 0:  # round-off clipped everything (e.g. corners touching): the incident face's deepest corner,
+        count = 1     # clamped onto the reference face, at the SAT depth
+        poly = scratch.poly
+        _incident_quad(cr, Rr, er, i, nrx, nry, nrz, ci, Ri, ei, poly, scratch.tags)
+        v = 0
+        for m in range(1, 4):
+            if poly[m, 5] > poly[v, 5]:
+                v = m
+        x = min(max(poly[v, 0], -er[j]), er[j])
+        y = min(max(poly[v, 1], -er[k]), er[k])
+        for c in range(3):
+            pts[0, c] = cr[c] + er[i] * face_sign * Rr[c, i] + x * Rr[c, j] + y * Rr[c, k]
+        pts[0, 0] -= depth * nrx
+        pts[0, 1] -= depth * nry
+        pts[0, 2] -= depth * nrz
         deep[0] = depth
         ref_face = _ref_face_key(Rr, i, nrx, nry, nrz)
         ids[0] = point_id(ref_face, inc_face) if ref_is_a else point_id(inc_face, ref_face)
