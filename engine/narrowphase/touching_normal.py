@@ -15,8 +15,8 @@ import numpy as np
 from .._config import njit
 from .support import support_minkowski
 
-__all__ = ["MAX_CONE_POINTS", "SMALL_DISTANCE", "unit_vector", "touching_normal_at_vertex", "normal_cone_direction",
-           "separated_normal_at_contact"]
+__all__ = ["MAX_CONE_POINTS", "SMALL_DISTANCE", "pair_size", "unit_vector", "touching_normal_at_vertex",
+           "normal_cone_direction", "separated_normal_at_contact"]
 
 
 #: the normal-cone search (``normal_cone_direction``) costs (n + m)³: beyond this many points it is skipped
@@ -110,12 +110,9 @@ def _unit_within(G, x, y, z, tol):
 
 
 @njit
-def touching_normal_at_vertex(pa, pb, rel_tol, px, py, pz):
-    """The origin is on the boundary of M = A − B, at the common point p of the two hulls (depth 0): a unit
-    direction n along which M does not extend, max over M of m·n <= tol (a normal of the touching plane).
-    Candidates: the direction from A's centroid to B's, then the six axis directions, then the normal cone of M
-    at the origin (``normal_cone_direction``, for up to MAX_CONE_POINTS points); returns (nx, ny, nz, found).
-    ``rel_tol`` is relative to the shapes' size."""
+def pair_size(pa, pb):
+    """The size of two point sets pa (n, 3), pb (m, 3) that the touching tolerances are relative to: the largest
+    coordinate difference of any of their points from pa[0]."""
     scale = 0.0
     for i in range(pa.shape[0]):
         for c in range(3):
@@ -123,6 +120,17 @@ def touching_normal_at_vertex(pa, pb, rel_tol, px, py, pz):
     for i in range(pb.shape[0]):
         for c in range(3):
             scale = max(scale, abs(pb[i, c] - pa[0, c]))
+    return scale
+
+
+@njit
+def touching_normal_at_vertex(pa, pb, rel_tol, px, py, pz):
+    """The origin is on the boundary of M = A − B, at the common point p of the two hulls (depth 0): a unit
+    direction n along which M does not extend, max over M of m·n <= tol (a normal of the touching plane).
+    Candidates: the direction from A's centroid to B's, then the six axis directions, then the normal cone of M
+    at the origin (``normal_cone_direction``, for up to MAX_CONE_POINTS points); returns (nx, ny, nz, found).
+    ``rel_tol`` is relative to the shapes' size."""
+    scale = pair_size(pa, pb)
     tol = rel_tol * max(scale, 1e-300)
     cx = 0.0
     cy = 0.0
@@ -175,13 +183,7 @@ def separated_normal_at_contact(pa, pb, nx, ny, nz, d, rel_tol, px, py, pz):
     candidate is kept when h <= −d + tol (tol = rel_tol × the shapes' size, as in ``touching_normal_at_vertex``);
     else, the hulls being within round-off of touching at p, a direction of M's normal cone there
     (``touching_normal_at_vertex``) is taken if its h is lower. Returns (nx, ny, nz)."""
-    scale = 0.0
-    for i in range(pa.shape[0]):
-        for c in range(3):
-            scale = max(scale, abs(pa[i, c] - pa[0, c]))
-    for i in range(pb.shape[0]):
-        for c in range(3):
-            scale = max(scale, abs(pb[i, c] - pa[0, c]))
+    scale = pair_size(pa, pb)
     if d > SMALL_DISTANCE * scale:
         return nx, ny, nz
     _, _, wx, wy, wz = support_minkowski(pa, pb, nx, ny, nz)
