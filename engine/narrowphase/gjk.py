@@ -153,17 +153,17 @@ def start_direction(dx, dy, dz):
     return dx, dy, dz
 
 
+# One body holds both loops of gjk_pairs_kernel: a call that passes arrays costs reference counting. Every caller
+# passes C-contiguous, writeable arrays of the documented ranks (views made by ``reshape``, never by ``np.newaxis``
+# or a strided slice), so numba compiles this large kernel once, not once per caller.
 @njit
 def gjk_pairs_kernel(PA, PB, pairs, offsets, max_iter, scratch, dist, closest_a, closest_b, status):
-    """GJK (Ericson 9.5) over k = ``status.shape[0]`` pairs in one compiled loop: dist (k,) (0.0 for overlapping
-    or touching hulls, NaN for invalid input), closest_a, closest_b (k, 3) (one common point when they overlap),
-    status (k,) int64. ``PA``, ``PB`` (S, N, 3) float64: with a pair list (``pairs`` (k, 2), ``offsets``
-    (S' + 1,) int64) pair p is shape ``pairs[p, 0]`` = rows ``offsets[s]:offsets[s + 1]`` of ``PA[0]`` against
-    shape ``pairs[p, 1]`` of ``PB[0]``; without (``scratch.no_pairs``, ``scratch.no_offsets``) ``PA[p]`` against
-    ``PB[p]``. ``scratch`` (``gjk_scratch``, largest shape) keeps the last pair's final simplex (for EPA), whose
-    size is returned. One body holds both loops: a call that passes arrays costs reference counting (comment
-    above). Every caller passes C-contiguous, writeable arrays of these ranks (views made by ``reshape``, never by
-    ``np.newaxis`` or a strided slice), so numba compiles this large kernel once, not once per caller."""
+    """GJK (Ericson 9.5) over k = ``status.shape[0]`` pairs in one compiled loop: dist (k,) (0.0 for overlapping or
+    touching hulls, NaN for invalid input), closest_a, closest_b (k, 3) (one common point when they overlap), status
+    (k,) int64. ``PA``, ``PB`` (S, N, 3) float64: with a pair list (``pairs`` (k, 2), ``offsets`` (S' + 1,) int64) pair
+    p is shape ``pairs[p, 0]`` = rows ``offsets[s]:offsets[s + 1]`` of ``PA[0]`` against shape ``pairs[p, 1]`` of
+    ``PB[0]``; without (``scratch.no_pairs``, ``scratch.no_offsets``) ``PA[p]`` against ``PB[p]``. ``scratch``
+    (``gjk_scratch``, largest shape) keeps the last pair's final simplex (for EPA), whose size is returned."""
     W, IA, IB, lam, S = scratch[:5]
     n = 0
     for p in range(status.shape[0]):
