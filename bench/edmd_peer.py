@@ -49,10 +49,10 @@ def peer_source(code: str = "Cell") -> pathlib.Path | None:
     """The folder holding md<code>.c (``$EDMD_C_SOURCE`` or its ``<code>`` subfolder), None when not set."""
     if code not in CODES:
         raise ValueError(f"code must be one of {CODES}, got {code!r}")
-    root = os.environ.get(ENV)
-    if not root:
+    value = os.environ.get(ENV)
+    if not value:
         return None
-    root = pathlib.Path(root).expanduser()
+    root = pathlib.Path(value).expanduser()
     files = _files(code)
     for folder in (root / code, root):
         if all((folder / f).is_file() for f in files):
@@ -120,14 +120,14 @@ def c_code_rate(folder: pathlib.Path, n: int, eta: float, rounds: int = 3, targe
         return best
 
 
-def engine_rate(n: int, eta: float, rounds: int = 3, box: float = 10.0, seed: int = 0) -> float:
-    """Collisions per second of process time of ``EventDrivenGas``, periodic, best of ``rounds`` rounds of about
-    ``n`` collisions each, after t = 1 of equilibration."""
+def engine_rate(n: int, eta: float, rounds: int = 3, box: float = 10.0, seed: int = 0, search: str = "cells") -> float:
+    """Collisions per second of process time of ``EventDrivenGas`` (its ``search``), periodic, best of ``rounds``
+    rounds of about ``n`` collisions each, after t = 1 of equilibration."""
     r = np.full(n, radius_for_packing(n, eta, box))
     m = np.ones(n)
     rng = np.random.default_rng(seed)
     gas = EventDrivenGas(place_spheres(n, r, box, "periodic", rng), draw_velocities(m, 1.0, "periodic", rng),
-                         r, m, box, periodic=True)
+                         r, m, box, periodic=True, search=search)
     gas.run(1.0)
     span = n / max(gas.collisions, 1)  # time units for about n collisions
     best = 0.0
