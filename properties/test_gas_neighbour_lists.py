@@ -87,9 +87,9 @@ def test_the_neighbour_lists_stay_complete_and_symmetric(n, eta, boundary, seed,
     gas.run(duration)
     nl, st_ = gas.lists, gas.st
     rad = st_[:, 7]
-    drift = np.sqrt(((st_[:, 0:3] - nl.centre) ** 2).sum(axis=1))
+    drift = np.sqrt(((st_[:, 0:3] - nl.centre[:, 0:3]) ** 2).sum(axis=1))
     assert (drift <= nl.skin * rad * (1.0 + 1e-12)).all()
-    d = nl.centre[:, None, :] - nl.centre[None, :, :]
+    d = nl.centre[:, None, 0:3] - nl.centre[None, :, 0:3]
     if periodic:
         d -= L * np.round(d / L)
     close = ((d * d).sum(-1) < ((1.0 + nl.skin) * (rad[:, None] + rad[None, :])) ** 2)

@@ -55,7 +55,8 @@ _INF = math.inf
 
 
 class NeighbourLists(NamedTuple):
-    """centre: (n, 3) float64 list centres x̂; sizes: (n,) int32 neighbours of each sphere; ids: (n, cap) int32,
+    """centre: (n, 4) float64 list centres x̂ and the radius (the 32 bytes a rebuild reads per candidate); sizes:
+    (n,) int32 neighbours of each sphere; ids: (n, cap) int32,
     row i's first sizes[i] entries its neighbours; found: (n,) int32 scratch of a rebuild; tally: (1,) int64
     rebuilds; skin: α (float)."""
 
@@ -69,7 +70,7 @@ class NeighbourLists(NamedTuple):
 
 def new_neighbour_lists(n: int, capacity: int, skin: float = SKIN) -> NeighbourLists:
     """Empty lists of ``capacity`` neighbours per sphere for n spheres (filled by ``neighbour_lists_init``)."""
-    return NeighbourLists(np.zeros((n, 3)), np.zeros(n, dtype=np.int32), np.full((n, capacity), -1, dtype=np.int32),
+    return NeighbourLists(np.zeros((n, 4)), np.zeros(n, dtype=np.int32), np.full((n, capacity), -1, dtype=np.int32),
                           np.zeros(n, dtype=np.int32), np.zeros(1, dtype=np.int64), float(skin))
 
 
@@ -147,7 +148,7 @@ def _predict(g, nl, i, t, box, periodic):
 def _gather(g, nl, cells, i):
     """The spheres j of the 27 cells around i with |x̂_i − x̂_j| < (1 + α)(r_i + r_j), into nl.found; their
     number."""
-    st, c, n, box, periodic = g.st, cells.links[i].cell, cells.ncell, cells.box, cells.periodic
+    c, n, box, periodic, centre = cells.links[i].cell, cells.ncell, cells.box, cells.periodic, nl.centre
     shell = 1.0 + nl.skin
     found = 0
     for dx in range(-1, 2):
@@ -161,9 +162,9 @@ def _gather(g, nl, cells, i):
                 j = cells.head[(cx * n + cy) * n + cz]
                 while j >= 0:
                     if j != i:
-                        rx, ry, rz = _separation(nl.centre[i, 0], nl.centre[i, 1], nl.centre[i, 2], nl.centre[j, 0],
-                                                 nl.centre[j, 1], nl.centre[j, 2], box, periodic)
-                        reach = shell * (st[i, 7] + st[j, 7])
+                        rx, ry, rz = _separation(centre[i, 0], centre[i, 1], centre[i, 2], centre[j, 0],
+                                                 centre[j, 1], centre[j, 2], box, periodic)
+                        reach = shell * (centre[i, 3] + centre[j, 3])
                         if rx * rx + ry * ry + rz * rz < reach * reach:
                             nl.found[found] = j
                             found += 1
@@ -220,6 +221,7 @@ def neighbour_lists_init(g, nl, cells):
     cells.head[:] = -1
     longest = 0
     for i in range(n):
+        nl.centre[i, 3] = st[i, 7]
         for k in range(3):
             nl.centre[i, k] = st[i, k]
             cells.links[i].cell[k] = min(cells.ncell - 1, max(0, int(math.floor((st[i, k] + cells.half)
