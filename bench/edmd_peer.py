@@ -123,7 +123,7 @@ def c_code_rate(folder: pathlib.Path, n: int, eta: float, rounds: int = 3, targe
 def engine_rate(n: int, eta: float, rounds: int = 3, box: float = 10.0, seed: int = 0, search: str = "cells") -> float:
     """Collisions per second of process time of ``EventDrivenGas`` (its ``search``), periodic, best of ``rounds``
     rounds of about ``n`` collisions each, after t = 1 of equilibration."""
-    r = np.full(n, radius_for_packing(n, eta, box))
+    r = np.full(n, radius_for_packing(n, eta, box, "periodic"))
     m = np.ones(n)
     rng = np.random.default_rng(seed)
     gas = EventDrivenGas(place_spheres(n, r, box, "periodic", rng), draw_velocities(m, 1.0, "periodic", rng),

@@ -21,7 +21,7 @@ L = 10.0
 
 
 def _scene(n, eta, seed=0, boundary="walls"):
-    r = np.full(n, radius_for_packing(n, eta, L))
+    r = np.full(n, radius_for_packing(n, eta, L, boundary))
     m = np.ones(n)
     rng = np.random.default_rng(seed)
     p = place_spheres(n, r, L, boundary, rng)
