@@ -15,13 +15,15 @@ nowhere; ``qnext`` and ``qprev``: its neighbours in that list.
 from __future__ import annotations
 
 import math
+import sys
 from typing import NamedTuple
 
 import numpy as np
 
 from engine.gas.kernels import state_kernel
 
-__all__ = ["ENTRY", "EventCalendar", "new_event_calendar", "calendar_build", "calendar_update", "calendar_top"]
+__all__ = ["ENTRY", "EventCalendar", "new_event_calendar", "sized_event_calendar", "BUCKET_EVENTS",
+           "calendar_build", "calendar_update", "calendar_top"]
 
 #: a sphere's place in the calendar
 ENTRY = np.dtype([("key", np.float64), ("where", np.int32), ("slot", np.int32), ("qnext", np.int32),
@@ -62,6 +64,22 @@ def new_event_calendar(n: int, width: float, nbuckets: int) -> EventCalendar:
     entries["qnext"] = entries["qprev"] = -1
     return EventCalendar(entries, np.zeros(n), np.zeros(n, dtype=np.int32), np.full(nbuckets + 1, -1, dtype=np.int32),
                          np.zeros(3, dtype=np.int64), float(width), int(nbuckets))
+
+
+#: events per bucket of a sized calendar
+BUCKET_EVENTS = 16
+
+
+def sized_event_calendar(times, per_bucket=BUCKET_EVENTS, turns=4.0):
+    """An event calendar for n = len(times) spheres ((n,) float64 first event times), sized from them: with H
+    the median time to a sphere's next event, events arrive at about n/H per unit time, so buckets of width
+    Δ = per_bucket · H/n hold about ``per_bucket`` events, and M buckets cover ``turns`` · H."""
+    n = times.shape[0]
+    ahead = np.sort(times[np.isfinite(times)]) - (times.min() if n else 0.0)
+    horizon = float(ahead[ahead.shape[0] // 2]) if ahead.shape[0] and ahead[ahead.shape[0] // 2] > 0 else 1.0
+    width = max(per_bucket * horizon / max(n, 1), sys.float_info.min)  # > 0 even if H/n underflows
+    return new_event_calendar(n, width, max(2, int(math.ceil(turns * horizon / width))))
+
 
 
 # ------------------------------------------------------------------------------------------------------------

@@ -7,9 +7,11 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from engine.gas.kernels import state_kernel
 
-__all__ = ["minimum_image", "wrap_coordinate"]
+__all__ = ["minimum_image", "wrap_coordinate", "wrapped_into_box"]
 
 
 @state_kernel
@@ -29,3 +31,17 @@ def wrap_coordinate(x, half):
     if x >= half:
         x -= box
     return x
+
+
+@state_kernel
+def _wrap_all(p, out, half):
+    for i in range(p.shape[0]):
+        for k in range(3):
+            out[i, k] = wrap_coordinate(p[i, k], half)
+
+
+def wrapped_into_box(positions: np.ndarray, box: float) -> np.ndarray:
+    """Centres (n, 3) float64 wrapped into [−L/2, L/2)³ (``wrap_coordinate`` on each), as a new array."""
+    out = np.empty((positions.shape[0], 3))
+    _wrap_all(positions, out, 0.5 * float(box))
+    return out
