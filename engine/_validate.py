@@ -22,6 +22,7 @@ __all__ = [
     "as_fraction",
     "as_float_array",
     "as_choice",
+    "check_callable",
     "as_count",
     "as_max_iterations",
     "as_radii",
@@ -263,6 +264,14 @@ def check_orthonormal_rows(axes: np.ndarray, name: str, tol: float) -> None:
         if (err > tol).any():
             i = int(np.argmax(err > tol))
             raise ValueError(f"{name}[{i}] must be orthonormal rows (max |A A^T - I| = {err[i]:.3g})")
+
+
+def check_callable(value, name: str, expected: str = "a callable"):
+    """``value`` itself when it is callable, else a TypeError "``name`` must be ``expected``, got <its type>"
+    (``expected`` says what the caller wants, e.g. "a callable f(t, y)")."""
+    if not callable(value):
+        raise TypeError(f"{name} must be {expected}, got {type(value).__name__}")
+    return value
 
 
 def as_choice(value, name: str, choices) -> str:

@@ -29,6 +29,7 @@ from .._validate import (
     as_float_array,
     as_nonnegative,
     as_radii,
+    check_callable,
     pair_indices,
 )
 from ..bounding.aabb import aabbs_touch, overlap_aabb_aabb
@@ -607,8 +608,7 @@ _DISTANCE = 1  # g(x) = (x − p_x)² + (f(x) − p_y)²: squared distance from 
 
 def _evaluate(f, x: np.ndarray) -> np.ndarray:
     """f on an array of abscissae, checked: same shape, real, finite (no NaN escapes)."""
-    if not callable(f):
-        raise TypeError(f"f must be a vectorised callable, got {type(f).__name__}")
+    check_callable(f, "f", "a vectorised callable")
     y = np.asarray(f(x))
     if y.shape != x.shape:
         y = np.broadcast_to(y, x.shape) if y.ndim == 0 else y
@@ -816,8 +816,7 @@ def max_on_intervals(f, lo_x, hi_x, *, samples: int = 64):
     lo_x = as_float_array(lo_x, "lo_x", ndim=1)
     hi_x = as_float_array(hi_x, "hi_x", shape=lo_x.shape)
     samples = _check_samples(samples)
-    if not callable(f):
-        raise TypeError(f"f must be a vectorised callable, got {type(f).__name__}")
+    check_callable(f, "f", "a vectorised callable")
     if (lo_x > hi_x).any():
         i = int(np.argmax(lo_x > hi_x))
         raise ValueError(f"lo_x must be <= hi_x: lo_x[{i}] = {float(lo_x[i])!r} > hi_x[{i}] = {float(hi_x[i])!r}")
@@ -908,8 +907,7 @@ def min_distance_to_curve(points, f, half_width, *, samples: int = 64):
     p = as_float_array(points, "points", shape=(None, 2))
     w = as_radii(half_width, "half_width", p.shape[0])
     samples = _check_samples(samples)
-    if not callable(f):
-        raise TypeError(f"f must be a vectorised callable, got {type(f).__name__}")
+    check_callable(f, "f", "a vectorised callable")
     if p.shape[0] == 0:
         return np.empty(0), np.empty(0)
     px = np.ascontiguousarray(p[:, 0])
