@@ -129,27 +129,26 @@ def _touching_tolerance(pa, pb):
     return OVERLAP_TOL * size + SAT_ROUNDOFF * big
 
 
+@njit(inline="always")
+def _projection(pts, lx, ly, lz):
+    """The interval [min, max] of p · L over the rows p of ``pts`` (n, 3), L = (lx, ly, lz)."""
+    lo = np.inf
+    hi = -np.inf
+    for i in range(pts.shape[0]):
+        d = pts[i, 0] * lx + pts[i, 1] * ly + pts[i, 2] * lz
+        lo = min(lo, d)
+        hi = max(hi, d)
+    return lo, hi
+
+
 @njit
 def _overlap_along_axes(pa, pb, axes):
     """SAT on given candidate axes (k, 3): False as soon as one axis separates the projections by more than
     ``_touching_tolerance`` (closed test: touching hulls overlap, as GJK's distance 0)."""
     tol = _touching_tolerance(pa, pb)
     for k in range(axes.shape[0]):
-        lx = axes[k, 0]
-        ly = axes[k, 1]
-        lz = axes[k, 2]
-        min_a = np.inf
-        max_a = -np.inf
-        for i in range(pa.shape[0]):
-            d = pa[i, 0] * lx + pa[i, 1] * ly + pa[i, 2] * lz
-            min_a = min(min_a, d)
-            max_a = max(max_a, d)
-        min_b = np.inf
-        max_b = -np.inf
-        for i in range(pb.shape[0]):
-            d = pb[i, 0] * lx + pb[i, 1] * ly + pb[i, 2] * lz
-            min_b = min(min_b, d)
-            max_b = max(max_b, d)
+        min_a, max_a = _projection(pa, axes[k, 0], axes[k, 1], axes[k, 2])
+        min_b, max_b = _projection(pb, axes[k, 0], axes[k, 1], axes[k, 2])
         if min_b - max_a > tol or min_a - max_b > tol:
             return False
     return True
