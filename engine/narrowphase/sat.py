@@ -64,32 +64,26 @@ def _face_axes_separate(t0, t1, t2, ea, eb, R, AbsR):
 
 @njit(inline="always")
 def _edge_axes_separate(t0, t1, t2, ea, eb, R, AbsR):
-    """Whether one of the 9 axes L = A_i x B_j separates the boxes (Ericson 4.4.1, the nine cross-product tests):
-    with i1, i2 = i+1, i+2 and j1, j2 = j+1, j+2 (mod 3), |t·L| = |t[i2] R[i1][j] − t[i1] R[i2][j]|,
-    r_A = e_A[i1] |R[i2][j]| + e_A[i2] |R[i1][j]|, r_B = e_B[j1] |R[i][j2]| + e_B[j2] |R[i][j1]|, each sum taken
-    over the lower index first and r_A + r_B summed left to right. Or-ed without short-circuit."""
-    # i = 0: L = A0 x B_j
-    s = abs(t2 * R[1, 0] - t1 * R[2, 0]) > ea[1] * AbsR[2, 0] + ea[2] * AbsR[1, 0] + eb[1] * AbsR[0, 2] \
-        + eb[2] * AbsR[0, 1]
-    s |= abs(t2 * R[1, 1] - t1 * R[2, 1]) > ea[1] * AbsR[2, 1] + ea[2] * AbsR[1, 1] + eb[0] * AbsR[0, 2] \
-        + eb[2] * AbsR[0, 0]
-    s |= abs(t2 * R[1, 2] - t1 * R[2, 2]) > ea[1] * AbsR[2, 2] + ea[2] * AbsR[1, 2] + eb[0] * AbsR[0, 1] \
-        + eb[1] * AbsR[0, 0]
-    # i = 1: L = A1 x B_j
-    s |= abs(t0 * R[2, 0] - t2 * R[0, 0]) > ea[0] * AbsR[2, 0] + ea[2] * AbsR[0, 0] + eb[1] * AbsR[1, 2] \
-        + eb[2] * AbsR[1, 1]
-    s |= abs(t0 * R[2, 1] - t2 * R[0, 1]) > ea[0] * AbsR[2, 1] + ea[2] * AbsR[0, 1] + eb[0] * AbsR[1, 2] \
-        + eb[2] * AbsR[1, 0]
-    s |= abs(t0 * R[2, 2] - t2 * R[0, 2]) > ea[0] * AbsR[2, 2] + ea[2] * AbsR[0, 2] + eb[0] * AbsR[1, 1] \
-        + eb[1] * AbsR[1, 0]
-    # i = 2: L = A2 x B_j
-    s |= abs(t1 * R[0, 0] - t0 * R[1, 0]) > ea[0] * AbsR[1, 0] + ea[1] * AbsR[0, 0] + eb[1] * AbsR[2, 2] \
-        + eb[2] * AbsR[2, 1]
-    s |= abs(t1 * R[0, 1] - t0 * R[1, 1]) > ea[0] * AbsR[1, 1] + ea[1] * AbsR[0, 1] + eb[0] * AbsR[2, 2] \
-        + eb[2] * AbsR[2, 0]
-    s |= abs(t1 * R[0, 2] - t0 * R[1, 2]) > ea[0] * AbsR[1, 2] + ea[1] * AbsR[0, 2] + eb[0] * AbsR[2, 1] \
-        + eb[1] * AbsR[2, 0]
-    return s
+    """Whether one of the 9 axes L = A_i x B_j separates the boxes (Ericson 4.4.1, the nine cross-product tests),
+    or-ed without short-circuit (the loops unroll at compile time)."""
+    # with i1, i2 = i+1, i+2 and j1, j2 = j+1, j+2 (mod 3), |t·L| = |t[i2] R[i1][j] − t[i1] R[i2][j]|,
+    # r_A = e_A[i1] |R[i2][j]| + e_A[i2] |R[i1][j]|, r_B = e_B[j1] |R[i][j2]| + e_B[j2] |R[i][j1]|. The sums run over
+    # the lower index first, as the book's unrolled lines do, so the rounding is the same as in those lines.
+    t = (t0, t1, t2)
+    sep = False
+    for i in range(3):
+        i1 = (i + 1) % 3
+        i2 = (i + 2) % 3
+        ilo = min(i1, i2)
+        ihi = max(i1, i2)
+        for j in range(3):
+            j1 = (j + 1) % 3
+            j2 = (j + 2) % 3
+            jlo = min(j1, j2)
+            jhi = max(j1, j2)
+            sep |= abs(t[i2] * R[i1, j] - t[i1] * R[i2, j]) > ea[ilo] * AbsR[ihi, j] + ea[ihi] * AbsR[ilo, j] \
+                + eb[jlo] * AbsR[i, jhi] + eb[jhi] * AbsR[i, jlo]
+    return sep
 
 
 @njit(inline="always")
