@@ -22,6 +22,7 @@ __all__ = [
     "as_fraction",
     "as_float_array",
     "as_choice",
+    "check_callable",
     "as_count",
     "as_max_iterations",
     "as_radii",
@@ -31,6 +32,7 @@ __all__ = [
     "check_index",
     "pair_indices",
     "check_orthonormal_rows",
+    "orthonormal_error",
 ]
 
 
@@ -240,18 +242,25 @@ def pair_indices(n_a: int, n_b: int, index_a, index_b):
     return ia, ib
 
 
+@njit(inline="always")
+def orthonormal_error(axes, n):
+    """max |A A^T − I| of block A = ``axes[n]`` of ``axes`` (m, 3, 3) float64: the measure that
+    ``check_orthonormal_rows`` compares with its tolerance (a compiled kernel, callable from other kernels)."""
+    worst = 0.0
+    for i in range(3):
+        for j in range(3):
+            d = axes[n, i, 0] * axes[n, j, 0] + axes[n, i, 1] * axes[n, j, 1] + axes[n, i, 2] * axes[n, j, 2]
+            if i == j:
+                d -= 1.0
+            worst = max(worst, abs(d))
+    return worst
+
+
 @njit
 def _orthonormal_errors(axes, err):
     """max |A A^T − I| of every (3, 3) block of ``axes`` (n, 3, 3), into err (n,)."""
     for n in range(axes.shape[0]):
-        worst = 0.0
-        for i in range(3):
-            for j in range(3):
-                d = axes[n, i, 0] * axes[n, j, 0] + axes[n, i, 1] * axes[n, j, 1] + axes[n, i, 2] * axes[n, j, 2]
-                if i == j:
-                    d -= 1.0
-                worst = max(worst, abs(d))
-        err[n] = worst
+        err[n] = orthonormal_error(axes, n)
 
 
 def check_orthonormal_rows(axes: np.ndarray, name: str, tol: float) -> None:
@@ -263,6 +272,14 @@ def check_orthonormal_rows(axes: np.ndarray, name: str, tol: float) -> None:
         if (err > tol).any():
             i = int(np.argmax(err > tol))
             raise ValueError(f"{name}[{i}] must be orthonormal rows (max |A A^T - I| = {err[i]:.3g})")
+
+
+def check_callable(value, name: str, expected: str = "a callable"):
+    """``value`` itself when it is callable, else a TypeError "``name`` must be ``expected``, got <its type>"
+    (``expected`` says what the caller wants, e.g. "a callable f(t, y)")."""
+    if not callable(value):
+        raise TypeError(f"{name} must be {expected}, got {type(value).__name__}")
+    return value
 
 
 def as_choice(value, name: str, choices) -> str:

@@ -375,10 +375,8 @@ def transform_kdop(lo: ArrayLike, hi: ArrayLike, k: int, rotation: ArrayLike,
     ----------
     lo, hi : array_like, shape (k/2,)
         The DOP's slab bounds, ``lo <= hi``, finite.
-    k : int
-        8 (2-D), 14, 18 or 26 (3-D).
-    rotation, translation : array_like, shapes (d, d) and (d,)
-        The motion x -> R x + t, see :ref:`bounding-arguments`.
+    k, rotation, translation : int, array_like (d, d), array_like (d,)
+        The DOP's kind and the motion x -> R x + t, as for :func:`update_kdop`.
 
     Returns
     -------

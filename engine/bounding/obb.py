@@ -10,7 +10,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .._config import njit
-from .._validate import as_float_array, as_half_extents, check_orthonormal_rows
+from .._validate import MAX_MAGNITUDE, as_float_array, as_half_extents, check_orthonormal_rows, orthonormal_error
 from .aabb import check_ordered
 
 #: how far ``axes @ axes.T`` may be from the identity before the axes are rejected as not orthonormal
@@ -171,8 +171,30 @@ class OBB:
 # ---------------------------------------------------------------------------------------------------------
 # fit, merge, update (Ericson 4.4.3: OBB from the covariance of the points, i.e. principal component analysis)
 # ---------------------------------------------------------------------------------------------------------
+@njit
+def _obbs_pass_checks(c, r, e, tol):
+    """Whether n stacked boxes, c (n, 3), r (n, 3, 3), e (n, 3) float64, pass every value check of ``as_obbs``
+    (each |value| <= MAX_MAGNITUDE, which NaN and ±inf fail; e >= 0; the rows of r[i] orthonormal to tol)."""
+    for i in range(c.shape[0]):
+        for k in range(3):
+            if not (abs(c[i, k]) <= MAX_MAGNITUDE and abs(e[i, k]) <= MAX_MAGNITUDE and e[i, k] >= 0.0):
+                return False
+            for m in range(3):
+                if not abs(r[i, k, m]) <= MAX_MAGNITUDE:
+                    return False
+        if orthonormal_error(r, i) > tol:
+            return False
+    return True
+
+
+def _stacked_float64(arr, shape) -> bool:
+    return (type(arr) is np.ndarray and arr.dtype == np.float64 and arr.flags.c_contiguous
+            and arr.shape == shape)
+
+
 def as_obbs(centers: ArrayLike, axes: ArrayLike, half_extents: ArrayLike,
-            names: tuple[str, str, str] = ("centers", "axes", "half_extents")) -> tuple[np.ndarray, ...]:
+            names: tuple[str, str, str] = ("centers", "axes", "half_extents"), *,
+            copy: bool = True) -> tuple[np.ndarray, ...]:
     """n oriented boxes as stacked arrays, checked as :class:`OBB` checks one: the batched boxes' argument check.
 
     Parameters
@@ -185,11 +207,16 @@ def as_obbs(centers: ArrayLike, axes: ArrayLike, half_extents: ArrayLike,
         The half widths, >= 0.
     names : tuple of 3 str, optional
         The argument names the errors quote, in the order above.
+    copy : bool, default True
+        False for a caller that only reads the boxes: arrays that are already float64, C-contiguous and of
+        these shapes are checked in one compiled pass and returned themselves (no copy); anything else is
+        copied and checked as with True.
 
     Returns
     -------
     centers, axes, half_extents : numpy.ndarray, float64
-        Fresh C-contiguous copies, shapes (n, 3), (n, 3, 3), (n, 3).
+        Fresh C-contiguous copies (or, with ``copy=False``, possibly the arguments), shapes (n, 3), (n, 3, 3),
+        (n, 3).
 
     Raises
     ------
@@ -199,6 +226,13 @@ def as_obbs(centers: ArrayLike, axes: ArrayLike, half_extents: ArrayLike,
     TypeError
         For non-numeric arrays.
     """
+    if (not copy and isinstance(centers, np.ndarray) and isinstance(axes, np.ndarray)
+            and isinstance(half_extents, np.ndarray) and centers.ndim == 2):
+        n = centers.shape[0]
+        if (_stacked_float64(centers, (n, 3)) and _stacked_float64(axes, (n, 3, 3))
+                and _stacked_float64(half_extents, (n, 3))
+                and _obbs_pass_checks(centers, axes, half_extents, ORTHONORMAL_TOL)):
+            return centers, axes, half_extents
     c = as_float_array(centers, names[0], shape=(None, 3))
     r = as_float_array(axes, names[1], shape=(c.shape[0], 3, 3))
     e = as_half_extents(half_extents, names[2], shape=(c.shape[0], 3), zero=True)

@@ -21,7 +21,7 @@ import math
 from collections.abc import Callable
 from dataclasses import dataclass
 
-from .._validate import as_float, as_positive
+from .._validate import as_float, as_positive, check_callable
 
 __all__ = ["bisect", "BisectionResult", "max_bisection_iterations"]
 
@@ -111,8 +111,7 @@ def bisect(f: Callable[[float], float], a: float, b: float, tol: float, *,
     TypeError
         When ``f`` is not callable.
     """
-    if not callable(f):
-        raise TypeError(f"f must be callable f(x) -> float, got {type(f).__name__}")
+    check_callable(f, "f", "callable f(x) -> float")
     a = as_float(a, "a")
     b = as_float(b, "b")
     tol = as_positive(tol, "tol")

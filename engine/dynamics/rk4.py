@@ -11,7 +11,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .._validate import as_float, as_float_array
+from .._validate import as_float, as_float_array, check_callable
 
 __all__ = ["rk4_step", "state_vector", "split_state"]
 
@@ -91,8 +91,7 @@ def rk4_step(f: Callable[[float, Any], Any], t: float, y: ArrayLike, dt: float) 
     TypeError
         When ``f`` is not callable.
     """
-    if not callable(f):
-        raise TypeError(f"f must be callable f(t, y), got {type(f).__name__}")
+    check_callable(f, "f", "callable f(t, y)")
     t = as_float(t, "t")
     dt = as_float(dt, "dt")
     scalar = np.ndim(y) == 0

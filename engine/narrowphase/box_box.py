@@ -36,10 +36,8 @@ from .contacts import (
     EDGE,
     FACE,
     VERTEX,
-    contact_rows,
-    contact_set_from_rows,
+    contact_of_one_pair,
     feature_key,
-    kernel_scratch,
     key_kind,
     point_id,
     reduce_manifold,
@@ -379,6 +377,4 @@ def contact_box_box_pair(center_a, rotation_a, half_extents_a, center_b, rotatio
         centers[row] = as_float_array(c, f"center_{tag}", shape=(3,))
         rotations[row] = as_rotation_matrix(r, f"rotation_{tag}")
         halves[row] = as_half_extents(e, f"half_extents_{tag}")
-    rows = contact_rows(1)
-    contact_box_box(centers, rotations, halves, 0, 1, rows, 0, False, kernel_scratch())
-    return contact_set_from_rows(rows, np.array([[0, 1]], np.int64), np.zeros(1), np.zeros(1), keep_apart=True)
+    return contact_of_one_pair(contact_box_box, (centers, rotations, halves, 0, 1))

@@ -43,7 +43,7 @@ __all__ = ["ContactSet", "PairFeatureNames", "feature_name", "FEATURE_NAMES", "R
            "feature_key", "point_id", "describe_point_id", "reduce_manifold", "mark_persisting", "empty_contacts",
            "ContactRows", "contact_rows", "APART", "TOUCHING", "DEFERRED", "write_pair", "write_point",
            "key_kind", "contact_set_from_rows", "swap_point_id", "unit_vector",
-           "Scratch", "kernel_scratch"]
+           "Scratch", "kernel_scratch", "contact_of_one_pair"]
 
 VERTEX, EDGE, FACE = 1, 2, 3
 #: feature codes (``feature_a``, ``feature_b``) -> names, for polytopes and for rounded shapes (radius > 0)
@@ -392,6 +392,21 @@ def contact_set_from_rows(rows: ContactRows, pairs, radius_a, radius_b, *, keep=
                       feature_b=rows.feature_b[sel], points=rows.points[sel][slot], point_offsets=offsets,
                       radius_a=np.asarray(radius_a)[sel], radius_b=np.asarray(radius_b)[sel],
                       point_ids=rows.ids[sel][slot], persists=np.zeros(int(offsets[-1]), np.bool_))
+
+
+def contact_of_one_pair(kernel, args, radius_a: float = 0.0, radius_b: float = 0.0,
+                        scratch_points: int | None = 9) -> ContactSet:
+    """The ContactSet of one pair (``pairs`` [[0, 1]], kept when apart too) from a contact kernel called as
+    ``kernel(*args, rows, 0, False, scratch)``: row 0 of fresh ContactRows, no flip, and a ``kernel_scratch``
+    for shapes of at most ``scratch_points`` core points (``None``: the kernel takes no scratch argument).
+    ``radius_a``, ``radius_b``: the rounding radii of the pair's first and second shape."""
+    rows = contact_rows(1)
+    if scratch_points is None:
+        kernel(*args, rows, 0, False)
+    else:
+        kernel(*args, rows, 0, False, kernel_scratch(scratch_points))
+    return contact_set_from_rows(rows, np.array([[0, 1]], np.int64), np.array([float(radius_a)]),
+                                 np.array([float(radius_b)]), keep_apart=True)
 
 
 def empty_contacts() -> ContactSet:

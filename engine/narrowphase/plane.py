@@ -23,10 +23,8 @@ from .contacts import (
     EDGE,
     FACE,
     VERTEX,
-    contact_rows,
-    contact_set_from_rows,
+    contact_of_one_pair,
     feature_key,
-    kernel_scratch,
     point_id,
     reduce_manifold,
     swap_point_id,
@@ -79,7 +77,5 @@ def contact_points_plane_pair(points, radius, altitude):
     r = as_nonnegative(radius, "radius")
     a = as_float_array([0.0, altitude, 0.0], "altitude", shape=(3,))
     m = pts.shape[0]
-    rows = contact_rows(1)
-    contact_points_plane(pts[None], np.array([m]), np.array([r]), 0, a, np.array([0.0, 1.0, 0.0]), rows, 0, False,
-                         kernel_scratch(m))
-    return contact_set_from_rows(rows, np.array([[0, 1]], np.int64), np.array([r]), np.zeros(1), keep_apart=True)
+    return contact_of_one_pair(contact_points_plane, (pts[None], np.array([m]), np.array([r]), 0, a,
+                                                      np.array([0.0, 1.0, 0.0])), radius_a=r, scratch_points=m)

@@ -29,6 +29,7 @@ from .._validate import (
     as_float_array,
     as_nonnegative,
     as_radii,
+    check_callable,
     pair_indices,
 )
 from ..bounding.aabb import aabbs_touch, overlap_aabb_aabb
@@ -180,6 +181,21 @@ def _one(value, name, d=None):
     return arr[None, :]
 
 
+def _balls(centers, radii, d, names=("centers", "radii")):
+    """Centres (n, d) (d None: any d) and their radii (n,) >= 0 (a scalar for all), checked."""
+    c = as_float_array(centers, names[0], ndim=2) if d is None else as_float_array(centers, names[0], shape=(None, d))
+    return c, as_radii(radii, names[1], c.shape[0])
+
+
+def _pair_batch(kernel, a_arrays, b_arrays, index_a, index_b):
+    """Pair the rows of the A and the B arrays (:ref:`batched-pairs`; the first array of each side gives its row
+    count) and run ``kernel(*a_arrays, *b_arrays, ia, ib, out)`` into a fresh ``out`` (k,) bool, returned."""
+    ia, ib = pair_indices(a_arrays[0].shape[0], b_arrays[0].shape[0], index_a, index_b)
+    out = np.empty(ia.shape[0], np.bool_)
+    kernel(*a_arrays, *b_arrays, ia, ib, out)
+    return out
+
+
 # ---------------------------------------------------------------------------------------------------------------
 # sphere–sphere, AABB–AABB, sphere–AABB, sphere–OBB
 # ---------------------------------------------------------------------------------------------------------------
@@ -208,14 +224,9 @@ def overlap_sphere_sphere_batch(centers_a, radii_a, centers_b, radii_b, index_a=
     numpy.ndarray, shape (k,), bool
         True where the spheres of pair p overlap or touch.
     """
-    ca = as_float_array(centers_a, "centers_a", shape=(None, 3))
-    cb = as_float_array(centers_b, "centers_b", shape=(None, 3))
-    ra = as_radii(radii_a, "radii_a", ca.shape[0])
-    rb = as_radii(radii_b, "radii_b", cb.shape[0])
-    ia, ib = pair_indices(ca.shape[0], cb.shape[0], index_a, index_b)
-    out = np.empty(ia.shape[0], np.bool_)
-    _overlap_sphere_sphere_batch(ca, ra, cb, rb, ia, ib, out)
-    return out
+    a = _balls(centers_a, radii_a, 3, ("centers_a", "radii_a"))
+    b = _balls(centers_b, radii_b, 3, ("centers_b", "radii_b"))
+    return _pair_batch(_overlap_sphere_sphere_batch, a, b, index_a, index_b)
 
 
 def overlap_aabb_aabb_batch(lo_a, hi_a, lo_b, hi_b, index_a=None, index_b=None):
@@ -244,10 +255,7 @@ def overlap_aabb_aabb_batch(lo_a, hi_a, lo_b, hi_b, index_a=None, index_b=None):
     lb, hb = _boxes(lo_b, hi_b, "lo_b", "hi_b")
     if la.shape[1] != lb.shape[1]:
         raise ValueError(f"lo_a and lo_b must have the same dimension, got {la.shape[1]} and {lb.shape[1]}")
-    ia, ib = pair_indices(la.shape[0], lb.shape[0], index_a, index_b)
-    out = np.empty(ia.shape[0], np.bool_)
-    _overlap_aabb_aabb_batch(la, ha, lb, hb, ia, ib, out)
-    return out
+    return _pair_batch(_overlap_aabb_aabb_batch, (la, ha), (lb, hb), index_a, index_b)
 
 
 def overlap_sphere_aabb_batch(centers, radii, lo, hi, index_a=None, index_b=None):
@@ -274,15 +282,11 @@ def overlap_sphere_aabb_batch(centers, radii, lo, hi, index_a=None, index_b=None
     ValueError
         Also when ``centers`` and ``lo`` differ in dimension.
     """
-    c = as_float_array(centers, "centers", ndim=2)
-    r = as_radii(radii, "radii", c.shape[0])
+    c, r = _balls(centers, radii, None)
     lo, hi = _boxes(lo, hi, "lo", "hi")
     if c.shape[1] != lo.shape[1]:
         raise ValueError(f"centers and lo must have the same dimension, got {c.shape[1]} and {lo.shape[1]}")
-    ia, ib = pair_indices(c.shape[0], lo.shape[0], index_a, index_b)
-    out = np.empty(ia.shape[0], np.bool_)
-    _overlap_sphere_aabb_batch(c, r, lo, hi, ia, ib, out)
-    return out
+    return _pair_batch(_overlap_sphere_aabb_batch, (c, r), (lo, hi), index_a, index_b)
 
 
 def overlap_sphere_aabb(center, radius, lo, hi) -> bool:
@@ -334,13 +338,9 @@ def overlap_sphere_obb_batch(centers, radii, box_centers, box_axes, box_half_ext
     ValueError
         Also for axes that are not orthonormal rows (named with the box index).
     """
-    c = as_float_array(centers, "centers", shape=(None, 3))
-    r = as_radii(radii, "radii", c.shape[0])
-    bc, ba, be = as_obbs(box_centers, box_axes, box_half_extents, ("box_centers", "box_axes", "box_half_extents"))
-    ia, ib = pair_indices(c.shape[0], bc.shape[0], index_a, index_b)
-    out = np.empty(ia.shape[0], np.bool_)
-    _overlap_sphere_obb_batch(c, r, bc, ba, be, ia, ib, out)
-    return out
+    spheres = _balls(centers, radii, 3)
+    boxes = as_obbs(box_centers, box_axes, box_half_extents, ("box_centers", "box_axes", "box_half_extents"))
+    return _pair_batch(_overlap_sphere_obb_batch, spheres, boxes, index_a, index_b)
 
 
 def overlap_sphere_obb(center, radius, box: OBB) -> bool:
@@ -427,13 +427,9 @@ def overlap_circle_segment_batch(centers, radii, p0, p1, index_a=None, index_b=N
     -------
     numpy.ndarray, shape (k,), bool
     """
-    c = as_float_array(centers, "centers", shape=(None, 2))
-    r = as_radii(radii, "radii", c.shape[0])
     a, b = _segments(p0, p1, 2)
-    ia, ib = pair_indices(c.shape[0], a.shape[0], index_a, index_b)
-    out = np.empty(ia.shape[0], np.bool_)
-    _overlap_sphere_segment_batch(c, r, a, b, np.zeros(a.shape[0]), ia, ib, out)
-    return out
+    return _pair_batch(_overlap_sphere_segment_batch, _balls(centers, radii, 2), (a, b, np.zeros(a.shape[0])),
+                       index_a, index_b)
 
 
 def overlap_circle_segment(center, radius, p0, p1) -> bool:
@@ -477,14 +473,10 @@ def overlap_sphere_capsule_batch(centers, radii, p0, p1, capsule_radii, index_a=
     -------
     numpy.ndarray, shape (k,), bool
     """
-    c = as_float_array(centers, "centers", shape=(None, 3))
-    r = as_radii(radii, "radii", c.shape[0])
+    spheres = _balls(centers, radii, 3)
     a, b = _segments(p0, p1, 3)
     rc = as_radii(capsule_radii, "capsule_radii", a.shape[0])
-    ia, ib = pair_indices(c.shape[0], a.shape[0], index_a, index_b)
-    out = np.empty(ia.shape[0], np.bool_)
-    _overlap_sphere_segment_batch(c, r, a, b, rc, ia, ib, out)
-    return out
+    return _pair_batch(_overlap_sphere_segment_batch, spheres, (a, b, rc), index_a, index_b)
 
 
 def overlap_sphere_capsule(center, radius, p0, p1, capsule_radius) -> bool:
@@ -616,8 +608,7 @@ _DISTANCE = 1  # g(x) = (x − p_x)² + (f(x) − p_y)²: squared distance from 
 
 def _evaluate(f, x: np.ndarray) -> np.ndarray:
     """f on an array of abscissae, checked: same shape, real, finite (no NaN escapes)."""
-    if not callable(f):
-        raise TypeError(f"f must be a vectorised callable, got {type(f).__name__}")
+    check_callable(f, "f", "a vectorised callable")
     y = np.asarray(f(x))
     if y.shape != x.shape:
         y = np.broadcast_to(y, x.shape) if y.ndim == 0 else y
@@ -825,8 +816,7 @@ def max_on_intervals(f, lo_x, hi_x, *, samples: int = 64):
     lo_x = as_float_array(lo_x, "lo_x", ndim=1)
     hi_x = as_float_array(hi_x, "hi_x", shape=lo_x.shape)
     samples = _check_samples(samples)
-    if not callable(f):
-        raise TypeError(f"f must be a vectorised callable, got {type(f).__name__}")
+    check_callable(f, "f", "a vectorised callable")
     if (lo_x > hi_x).any():
         i = int(np.argmax(lo_x > hi_x))
         raise ValueError(f"lo_x must be <= hi_x: lo_x[{i}] = {float(lo_x[i])!r} > hi_x[{i}] = {float(hi_x[i])!r}")
@@ -917,8 +907,7 @@ def min_distance_to_curve(points, f, half_width, *, samples: int = 64):
     p = as_float_array(points, "points", shape=(None, 2))
     w = as_radii(half_width, "half_width", p.shape[0])
     samples = _check_samples(samples)
-    if not callable(f):
-        raise TypeError(f"f must be a vectorised callable, got {type(f).__name__}")
+    check_callable(f, "f", "a vectorised callable")
     if p.shape[0] == 0:
         return np.empty(0), np.empty(0)
     px = np.ascontiguousarray(p[:, 0])
@@ -948,8 +937,7 @@ def overlap_circle_curve(centers, radii, f, *, samples: int = 64):
     -------
     numpy.ndarray, shape (n,), bool
     """
-    c = as_float_array(centers, "centers", shape=(None, 2))
-    r = as_radii(radii, "radii", c.shape[0])
+    c, r = _balls(centers, radii, 2)
     samples = _check_samples(samples)
     if c.shape[0] == 0:
         return np.empty(0, np.bool_)

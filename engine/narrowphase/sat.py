@@ -45,10 +45,51 @@ PARALLEL_EPS = 1e-9
 SAT_ROUNDOFF = 16.0 * 2.0 ** -53
 
 
-@njit
+@njit(inline="always")
+def _face_axes_separate(t0, t1, t2, ea, eb, R, AbsR):
+    """Whether one of the 6 face normals separates the boxes (Ericson 4.4.1, L = A0, A1, A2, then B0, B1, B2).
+
+    The six tests are or-ed without short-circuit: one well-predicted branch per pair instead of six
+    unpredictable ones (most pairs that are apart are separated by some face normal)."""
+    # L = A_i: |t_i| > e_A[i] + Σ_j e_B[j] |R[i][j]|
+    sep = (abs(t0) > ea[0] + (eb[0] * AbsR[0, 0] + eb[1] * AbsR[0, 1] + eb[2] * AbsR[0, 2])) \
+        | (abs(t1) > ea[1] + (eb[0] * AbsR[1, 0] + eb[1] * AbsR[1, 1] + eb[2] * AbsR[1, 2])) \
+        | (abs(t2) > ea[2] + (eb[0] * AbsR[2, 0] + eb[1] * AbsR[2, 1] + eb[2] * AbsR[2, 2]))
+    # L = B_j: |t · B_j| > Σ_i e_A[i] |R[i][j]| + e_B[j]
+    for j in range(3):
+        sep |= abs(t0 * R[0, j] + t1 * R[1, j] + t2 * R[2, j]) > \
+            (ea[0] * AbsR[0, j] + ea[1] * AbsR[1, j] + ea[2] * AbsR[2, j]) + eb[j]
+    return sep
+
+
+@njit(inline="always")
+def _edge_axes_separate(t0, t1, t2, ea, eb, R, AbsR):
+    """Whether one of the 9 axes L = A_i x B_j separates the boxes (Ericson 4.4.1, the nine cross-product tests),
+    or-ed without short-circuit (the loops unroll at compile time)."""
+    # with i1, i2 = i+1, i+2 and j1, j2 = j+1, j+2 (mod 3), |t·L| = |t[i2] R[i1][j] − t[i1] R[i2][j]|,
+    # r_A = e_A[i1] |R[i2][j]| + e_A[i2] |R[i1][j]|, r_B = e_B[j1] |R[i][j2]| + e_B[j2] |R[i][j1]|. The sums run over
+    # the lower index first, as the book's unrolled lines do, so the rounding is the same as in those lines.
+    t = (t0, t1, t2)
+    sep = False
+    for i in range(3):
+        i1 = (i + 1) % 3
+        i2 = (i + 2) % 3
+        ilo = min(i1, i2)
+        ihi = max(i1, i2)
+        for j in range(3):
+            j1 = (j + 1) % 3
+            j2 = (j + 2) % 3
+            jlo = min(j1, j2)
+            jhi = max(j1, j2)
+            sep |= abs(t[i2] * R[i1, j] - t[i1] * R[i2, j]) > ea[ilo] * AbsR[ihi, j] + ea[ihi] * AbsR[ilo, j] \
+                + eb[jlo] * AbsR[i, jhi] + eb[jhi] * AbsR[i, jlo]
+    return sep
+
+
+@njit(inline="always")
 def _overlap_obb_obb(ca, Aa, ea, cb, Ab, eb, R, AbsR):
     """Ericson 4.4.1 TestOBBOBB. Axes are ROWS of Aa, Ab; ea, eb half extents; R, AbsR (3, 3) scratch.
-    True when the boxes overlap."""
+    True when the boxes overlap (no separating axis among the 15)."""
     # rotation expressing B in A's frame: R[i][j] = A_i · B_j
     for i in range(3):
         for j in range(3):
@@ -62,38 +103,9 @@ def _overlap_obb_obb(ca, Aa, ea, cb, Ab, eb, R, AbsR):
     t0 = dx * Aa[0, 0] + dy * Aa[0, 1] + dz * Aa[0, 2]
     t1 = dx * Aa[1, 0] + dy * Aa[1, 1] + dz * Aa[1, 2]
     t2 = dx * Aa[2, 0] + dy * Aa[2, 1] + dz * Aa[2, 2]
-    t = (t0, t1, t2)
-    # axes L = A0, A1, A2
-    for i in range(3):
-        ra = ea[i]
-        rb = eb[0] * AbsR[i, 0] + eb[1] * AbsR[i, 1] + eb[2] * AbsR[i, 2]
-        if abs(t[i]) > ra + rb:
-            return False
-    # axes L = B0, B1, B2
-    for j in range(3):
-        ra = ea[0] * AbsR[0, j] + ea[1] * AbsR[1, j] + ea[2] * AbsR[2, j]
-        rb = eb[j]
-        if abs(t0 * R[0, j] + t1 * R[1, j] + t2 * R[2, j]) > ra + rb:
-            return False
-    # L = A_i x B_j (Ericson's nine cross-product tests, one per (i, j)): with i1, i2 = i+1, i+2 and j1, j2 = j+1,
-    # j+2 (mod 3), |t·L| = |t[i2] R[i1][j] − t[i1] R[i2][j]|, r_A = e_A[i1] |R[i2][j]| + e_A[i2] |R[i1][j]|,
-    # r_B = e_B[j1] |R[i][j2]| + e_B[j2] |R[i][j1]|. The sums run over the lower index first, as the book's
-    # unrolled lines do, so the rounding is the same as in those lines.
-    for i in range(3):
-        i1 = (i + 1) % 3
-        i2 = (i + 2) % 3
-        ilo = min(i1, i2)
-        ihi = max(i1, i2)
-        for j in range(3):
-            j1 = (j + 1) % 3
-            j2 = (j + 2) % 3
-            jlo = min(j1, j2)
-            jhi = max(j1, j2)
-            if abs(t[i2] * R[i1, j] - t[i1] * R[i2, j]) > ea[ilo] * AbsR[ihi, j] + ea[ihi] * AbsR[ilo, j] \
-                    + eb[jlo] * AbsR[i, jhi] + eb[jhi] * AbsR[i, jlo]:
-                return False
-    # no separating axis: the boxes overlap
-    return True
+    if _face_axes_separate(t0, t1, t2, ea, eb, R, AbsR):
+        return False
+    return not _edge_axes_separate(t0, t1, t2, ea, eb, R, AbsR)
 
 
 @njit
@@ -129,27 +141,26 @@ def _touching_tolerance(pa, pb):
     return OVERLAP_TOL * size + SAT_ROUNDOFF * big
 
 
+@njit(inline="always")
+def _projection(pts, lx, ly, lz):
+    """The interval [min, max] of p · L over the rows p of ``pts`` (n, 3), L = (lx, ly, lz)."""
+    lo = np.inf
+    hi = -np.inf
+    for i in range(pts.shape[0]):
+        d = pts[i, 0] * lx + pts[i, 1] * ly + pts[i, 2] * lz
+        lo = min(lo, d)
+        hi = max(hi, d)
+    return lo, hi
+
+
 @njit
 def _overlap_along_axes(pa, pb, axes):
     """SAT on given candidate axes (k, 3): False as soon as one axis separates the projections by more than
     ``_touching_tolerance`` (closed test: touching hulls overlap, as GJK's distance 0)."""
     tol = _touching_tolerance(pa, pb)
     for k in range(axes.shape[0]):
-        lx = axes[k, 0]
-        ly = axes[k, 1]
-        lz = axes[k, 2]
-        min_a = np.inf
-        max_a = -np.inf
-        for i in range(pa.shape[0]):
-            d = pa[i, 0] * lx + pa[i, 1] * ly + pa[i, 2] * lz
-            min_a = min(min_a, d)
-            max_a = max(max_a, d)
-        min_b = np.inf
-        max_b = -np.inf
-        for i in range(pb.shape[0]):
-            d = pb[i, 0] * lx + pb[i, 1] * ly + pb[i, 2] * lz
-            min_b = min(min_b, d)
-            max_b = max(max_b, d)
+        min_a, max_a = _projection(pa, axes[k, 0], axes[k, 1], axes[k, 2])
+        min_b, max_b = _projection(pb, axes[k, 0], axes[k, 1], axes[k, 2])
         if min_b - max_a > tol or min_a - max_b > tol:
             return False
     return True
@@ -200,6 +211,9 @@ def overlap_obb_obb_batch(centers_a, axes_a, half_extents_a, centers_b, axes_b, 
                           index_a=None, index_b=None) -> np.ndarray:
     """The 15-axis SAT of ``obb_overlap`` on k box pairs, in one compiled call.
 
+    float64 C-contiguous arrays are checked in one compiled pass and read in place (never copied, never
+    written); other array-likes are copied first.
+
     Parameters
     ----------
     centers_a : array_like, shape (n, 3), float64
@@ -223,8 +237,9 @@ def overlap_obb_obb_batch(centers_a, axes_a, half_extents_a, centers_b, axes_b, 
     ValueError
         Also for non-orthonormal axes or a negative half extent (named with the box index).
     """
-    ca, ra, ea = as_obbs(centers_a, axes_a, half_extents_a, ("centers_a", "axes_a", "half_extents_a"))
-    cb, rb, eb = as_obbs(centers_b, axes_b, half_extents_b, ("centers_b", "axes_b", "half_extents_b"))
+    # the kernel only reads the boxes: float64 C-contiguous arrays are checked in place, not copied
+    ca, ra, ea = as_obbs(centers_a, axes_a, half_extents_a, ("centers_a", "axes_a", "half_extents_a"), copy=False)
+    cb, rb, eb = as_obbs(centers_b, axes_b, half_extents_b, ("centers_b", "axes_b", "half_extents_b"), copy=False)
     ia, ib = pair_indices(ca.shape[0], cb.shape[0], index_a, index_b)
     out = np.empty(ia.shape[0], np.bool_)
     if out.shape[0]:

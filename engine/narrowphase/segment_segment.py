@@ -24,15 +24,12 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
-
 from .._config import njit
 from .._validate import as_float_array, as_nonnegative
 from .contacts import (
     EDGE,
     VERTEX,
-    contact_rows,
-    contact_set_from_rows,
+    contact_of_one_pair,
     feature_key,
     key_kind,
     unit_vector,
@@ -249,7 +246,5 @@ def contact_segments_pair(a0, a1, radius_a, b0, b1, radius_b):
     ends = [as_float_array(v, name, shape=(3,)) for v, name in ((a0, "a0"), (a1, "a1"), (b0, "b0"), (b1, "b1"))]
     ra = as_nonnegative(radius_a, "radius_a")
     rb = as_nonnegative(radius_b, "radius_b")
-    rows = contact_rows(1)
-    contact_round_cores(ends[0], ends[1], ra, ends[2], ends[3], rb, rows, 0, False)
-    return contact_set_from_rows(rows, np.array([[0, 1]], np.int64), np.array([ra]), np.array([rb]),
-                                 keep_apart=True)
+    return contact_of_one_pair(contact_round_cores, (ends[0], ends[1], ra, ends[2], ends[3], rb), radius_a=ra,
+                               radius_b=rb, scratch_points=None)

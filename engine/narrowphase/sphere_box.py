@@ -29,10 +29,8 @@ from .contacts import (
     EDGE,
     FACE,
     VERTEX,
-    contact_rows,
-    contact_set_from_rows,
+    contact_of_one_pair,
     feature_key,
-    kernel_scratch,
     unit_vector,
     write_pair,
     write_point,
@@ -120,7 +118,5 @@ def contact_sphere_box_pair(center, radius, box_center, box_rotation, half_exten
     r = as_positive(radius, "radius")
     rotations = np.stack([np.eye(3), as_rotation_matrix(box_rotation, "box_rotation")])
     e = as_half_extents(half_extents, "half_extents")
-    rows = contact_rows(1)
-    contact_sphere_box(centers, np.array([r, 0.0]), rotations, np.stack([np.zeros(3), e]), 0, 1, rows, 0, False,
-                       kernel_scratch())
-    return contact_set_from_rows(rows, np.array([[0, 1]], np.int64), np.array([r]), np.zeros(1), keep_apart=True)
+    return contact_of_one_pair(contact_sphere_box, (centers, np.array([r, 0.0]), rotations,
+                                                    np.stack([np.zeros(3), e]), 0, 1), radius_a=r)

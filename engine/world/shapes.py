@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from engine._validate import as_float, as_float_array, as_half_extents, as_positive
+from engine._validate import as_float, as_float_array, as_half_extents, as_positive, check_callable
 from engine.bounding.aabb import ROTATION_TOL, as_rotation_matrix
 from engine.bounding.hull import convex_hull
 
@@ -286,8 +286,7 @@ class HeightCurve(Shape):
     kind = CURVE
 
     def __init__(self, f, *, samples: int = 64):
-        if not callable(f):
-            raise TypeError(f"f must be a callable y = f(x), got {type(f).__name__}")
+        check_callable(f, "f", "a callable y = f(x)")
         if isinstance(samples, bool) or not isinstance(samples, int | np.integer) or samples < 8:
             raise ValueError(f"samples must be an int >= 8, got {samples!r}")
         probe = np.asarray(f(np.linspace(-1.0, 1.0, 3)), dtype=float)
