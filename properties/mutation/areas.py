@@ -98,6 +98,8 @@ AREAS: dict[str, dict[str, list[str]]] = {
             # written against the open survivors of the run on 25efdba and the run on 2988a19 (properties/MUTATION.md)
             "properties/test_flat_vertex_removal.py",
             "properties/test_touching_depth_sign.py",
+            "properties/test_box_box_face_clipping_edges.py",
+            "properties/test_sat_gaps_and_names.py",
         ],
         "sample": 64,
     },
