@@ -100,6 +100,7 @@ AREAS: dict[str, dict[str, list[str]]] = {
             "properties/test_touching_depth_sign.py",
             "properties/test_box_box_face_clipping_edges.py",
             "properties/test_sat_gaps_and_names.py",
+            "properties/test_epa_touching_witnesses_and_trace.py",
         ],
         "sample": 64,
     },
