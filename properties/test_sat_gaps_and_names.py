@@ -9,6 +9,8 @@ round-off allowance, and the names of their arguments.
   edge, crossing at right angles): the separation is the gap between the edges and the normal is the unit edge
   axis, from A towards B.
 - ``overlap_obb_obb_batch`` names each bad array (README: errors start with the argument's name).
+- ``convex_axes`` (the candidate axes of ``overlap_convex_sat``) lists every edge direction of a hull once, up to
+  sign: for points in general position, exactly the edge directions of scipy's hull.
 """
 from __future__ import annotations
 
@@ -70,3 +72,35 @@ def test_overlap_obb_obb_batch_names_the_bad_array(position, name):
     with pytest.raises(ValueError) as info:
         overlap_obb_obb_batch(*args)
     assert re.match(rf"{name}\b", str(info.value)), str(info.value)
+
+
+def _same_direction_sets(got, expected, tol):
+    """Every row of each is ±(a row of the other) within tol."""
+    def covered(x, y):
+        return all(min(np.abs(y - v).max(axis=1).min(), np.abs(y + v).max(axis=1).min()) <= tol for v in x)
+    return covered(got, expected) and covered(expected, got)
+
+
+@given(seed=st.integers(0, 2**32 - 1), n=st.integers(4, 16))
+def test_convex_axes_lists_each_edge_direction_of_the_hull_once(seed, n):
+    """For points in general position (a hull of triangles only, the same for any quickhull), the edge
+    directions are those of scipy's hull, each once up to sign; the face normals are scipy's."""
+    from scipy.spatial import ConvexHull
+
+    from engine.narrowphase.sat import convex_axes
+
+    pts = np.random.default_rng(seed).normal(size=(n, 3))
+    hull = ConvexHull(pts)
+    edges = np.concatenate([pts[hull.simplices[:, k]] - pts[hull.simplices[:, (k + 1) % 3]] for k in range(3)])
+    edges /= np.linalg.norm(edges, axis=1)[:, None]
+    normals, directions = convex_axes(pts)
+    assert _same_direction_sets(directions, edges, 1e-9)
+    # no direction twice (u and -u count once)
+    for i in range(directions.shape[0]):
+        others = np.delete(directions, i, axis=0)
+        if others.shape[0]:
+            assert min(np.abs(others - directions[i]).max(axis=1).min(),
+                       np.abs(others + directions[i]).max(axis=1).min()) > 1e-9
+    assert np.allclose(np.linalg.norm(directions, axis=1), 1.0) and np.allclose(np.linalg.norm(normals, axis=1), 1.0)
+    unique_normals = hull.equations[:, :3]
+    assert all(np.abs(unique_normals - v).max(axis=1).min() <= 1e-9 for v in normals)
