@@ -101,6 +101,7 @@ AREAS: dict[str, dict[str, list[str]]] = {
             "properties/test_box_box_face_clipping_edges.py",
             "properties/test_sat_gaps_and_names.py",
             "properties/test_epa_touching_witnesses_and_trace.py",
+            "properties/test_simplex_edge_boundaries.py",
         ],
         "sample": 64,
     },
