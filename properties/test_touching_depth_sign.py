@@ -1,10 +1,10 @@
 """Hulls that only touch have depth 0.0 — the positive zero — from ``epa_penetration`` and
 ``epa_penetration_pairs`` alike (engine/narrowphase/penetration.py).
 
-EPA's depth for a touching pair is the distance of a face of the Minkowski difference through the origin, a dot
-product that can come out as −0.0 (a face normal with three negative components times a vertex at the origin);
-both public functions turn the chain's signed distance into a depth that must not carry that sign (``1 / depth``,
-``copysign`` and printing would tell them apart). The pinned pairs below share points with integer coordinates
+EPA's depth for a touching pair is the distance of a face of the Minkowski difference through the origin, a sum
+of products that can come out as −0.0 (products of zeros and negative normal components); both public functions
+turn the chain's signed distance into a depth that must not carry that sign (``1 / depth``, ``copysign`` and
+printing would tell them apart). The pinned pairs below share points with integer coordinates
 and are known to reach that −0.0; the property runs the same check on touching pairs of the same family."""
 from __future__ import annotations
 
