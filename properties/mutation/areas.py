@@ -95,6 +95,13 @@ AREAS: dict[str, dict[str, list[str]]] = {
             "properties/test_box_box_manifold.py",
             "properties/test_plane_contact_features.py",
             "properties/test_round_core_contacts.py",
+            # written against the open survivors of the run on 25efdba and the run on 2988a19 (properties/MUTATION.md)
+            "properties/test_flat_vertex_removal.py",
+            "properties/test_touching_depth_sign.py",
+            "properties/test_box_box_face_clipping_edges.py",
+            "properties/test_sat_gaps_and_names.py",
+            "properties/test_epa_touching_witnesses_and_trace.py",
+            "properties/test_simplex_edge_boundaries.py",
         ],
         "sample": 64,
     },
