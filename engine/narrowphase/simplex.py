@@ -304,7 +304,7 @@ def refine_on_face(l0, l1, l2, px, py, pz, qx, qy, qz, rx, ry, rz):
     return l0, l1, l2
 
 
-@njit(inline="always")
+@njit
 def refine_on_simplex(m, s0, s1, s2, l0, l1, l2, ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz):
     """The weights (l0, l1, l2) of ``closest_on_simplex``'s answer (m supporting vertices s0 < s1 < s2 among a, b,
     c, d), refined by ``refine_on_edge`` (m = 2) or ``refine_on_face`` (m = 3); unchanged for m = 1 or 4."""
