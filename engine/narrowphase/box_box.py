@@ -10,7 +10,8 @@
    minimum over face normals and edge–edge cross products is the minimum translation distance); a cross product
    shorter than ``EDGE_AXIS_MIN`` is not a candidate normal (its parallel edges are covered by the faces), and a
    later axis replaces an earlier one only when it is smaller by more than ``TIE`` × the boxes' size (faces of
-   A, then of B, then edges: the order breaks round-off ties).
+   A, then of B, then edges: the order breaks round-off ties), an edge axis by that margin over |A_i × B_j| (its
+   overlap is divided by that length, and so is its round-off).
 2. A face axis: that face is the *reference* face, the most anti-parallel face of the other box the *incident*
    face. The incident quad is clipped by the four side planes of the reference face (Sutherland–Hodgman,
    Ericson 8.3.4), its points below the reference face are kept (at most 8), reduced to 4 (deepest first, then
@@ -121,7 +122,9 @@ def sat_box_box(centers, rotations, halves, i, j, R, t):
                 return False, 6 + 3 * a + b, (reach - abs(tl)) / length, nx, ny, nz
             if length > EDGE_AXIS_MIN:
                 overlap = max(reach - abs(tl), 0.0) / length
-                if overlap < best - tie:
+                # reach − |tl| carries the round-off of the face tests (a few u × the sizes); the division by
+                # |A_a × B_b| magnifies it by 1 / length, and so is the margin an edge must win by
+                if overlap < best - tie / length:
                     best, axis = overlap, 6 + 3 * a + b
                     s = (1.0 if tl >= 0.0 else -1.0) / length
                     lx = 0.0 if a == 0 else (-s * R[a2, b] if a1 == 0 else s * R[a1, b])

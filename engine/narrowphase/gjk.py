@@ -17,7 +17,8 @@ turn v = Σ λ_i (a_i − b_i) into the closest points Σ λ_i a_i and Σ λ_i b
 
 Kernels (public within the package; shapes and dtypes in each docstring): ``gjk_scratch`` (the one allocation of
 GJK's scratch, ``GJKScratch``), ``gjk_pairs_kernel`` (k pairs in one compiled loop, shapes addressed by row ranges
-of (S, N, 3) arrays), ``gjk_kernel`` (one pair of (n, 3) arrays), ``copy_shape``, ``scale_rows``.
+of (S, N, 3) arrays), ``gjk_walk`` (GJK's loop on one pair), ``gjk_kernel`` (one pair of (n, 3) arrays),
+``copy_shape``, ``scale_rows``.
 
 Public functions:
 - ``gjk_distance(points_a, points_b) -> (distance, closest_a, closest_b)``;
@@ -40,12 +41,14 @@ import numpy as np
 from .._config import njit
 from .._validate import MAX_MAGNITUDE, as_count, as_float_array, as_max_iterations, check_offsets, check_pairs
 from .rescale import rescale_unit
-from .simplex import closest_on_simplex
+from .simplex import closest_on_simplex, refine_on_simplex
 from .status import GJK_NOT_CONVERGED, INVALID_INPUT, OVERLAP, SEPARATED, GJKNotConverged, raise_for_status
 
 __all__ = [
     "GJKNotConverged",
     "MAX_ITERATIONS",
+    "MAX_STALLS",
+    "NEAR",
     "OVERLAP_TOL",
     "REL_TOL",
     "GJKScratch",
@@ -54,6 +57,7 @@ __all__ = [
     "scale_rows",
     "start_direction",
     "gjk_kernel",
+    "gjk_walk",
     "gjk_pairs_kernel",
     "gjk_distance",
     "gjk_distance_pairs",
@@ -68,6 +72,10 @@ MAX_ITERATIONS = 128
 REL_TOL = 1e-12
 #: distances below OVERLAP_TOL × (size of the Minkowski difference) count as contact (distance 0)
 OVERLAP_TOL = 1e-10
+#: below NEAR × size(M)², |v|² is near touching: the weights of v are refined (see ``gjk_walk``)
+NEAR = 1e-2
+#: GJK steps allowed that do not decrease |v| (round-off hides the progress; see ``gjk_walk``)
+MAX_STALLS = 8
 
 
 # ---------------------------------------------------------------------------------------------------------------
@@ -153,9 +161,78 @@ def start_direction(dx, dy, dz):
     return dx, dy, dz
 
 
-# One body holds both loops of gjk_pairs_kernel: a call that passes arrays costs reference counting. Every caller
-# passes C-contiguous, writeable arrays of the documented ranks (views made by ``reshape``, never by ``np.newaxis``
-# or a strided slice), so numba compiles this large kernel once, not once per caller.
+# Compiled without numba's runtime (NRT): it allocates nothing, and its five array arguments then cost no reference
+# counting per call (the atomic increments of a plain call made the batches ~10 % slower).
+@njit(_nrt=False)
+def gjk_walk(S, na, nb, a0, b0, vx, vy, vz, max_iter, W, IA, IB, lam):
+    """GJK's loop (Ericson 9.5) on the scratch copies ``S`` (6, n) of A (rows 0–2, ``na`` points) and B (rows 3–5,
+    ``nb`` points), from the search direction v: the final simplex in ``W`` (4, 3), ``IA``, ``IB`` (4,) int64 (rows
+    offset by ``a0``, ``b0``: those of the caller's arrays) and ``lam`` (4,). Returns ``(n, vv, status)``: the
+    simplex size, |v|² (in S's units) and OVERLAP, SEPARATED or GJK_NOT_CONVERGED."""
+    # iteration -1 takes the support point towards the centroids unconditionally (then every simplex vertex lies
+    # on M's boundary, as EPA assumes, and the first point is already close to the answer)
+    n, vv, size2, stalls = 0, 0.0, 0.0, 0
+    for it in range(-1, max_iter):
+        if it >= 0 and vv <= (OVERLAP_TOL * OVERLAP_TOL) * size2:
+            return n, vv, OVERLAP
+        # w <- s_A(-v) - s_B(v): the first vertex of A with the least a·v, of B with the greatest b·v (plain scans,
+        # the tie going to the lower row: they compile to branch-free min/max loops)
+        ia, lo = 0, np.inf
+        for i in range(na):
+            d = S[0, i] * vx + S[1, i] * vy + S[2, i] * vz
+            if d < lo:
+                ia, lo = i, d
+        ib, hi = 0, -np.inf
+        for i in range(nb):
+            d = S[3, i] * vx + S[4, i] * vy + S[5, i] * vz
+            if d > hi:
+                ib, hi = i, d
+        wx, wy, wz = S[0, ia] - S[3, ib], S[1, ia] - S[4, ib], S[2, ia] - S[5, ib]
+        ia, ib = ia + a0, ib + b0
+        if it >= 0:
+            size2 = max(size2, wx * wx + wy * wy + wz * wz)
+            # stop: w is no closer to the origin along v than v itself (to round-off), or w repeats a vertex
+            stop = vv - (vx * wx + vy * wy + vz * wz) <= REL_TOL * vv + 1e-15 * size2
+            for k in range(n):
+                stop = stop or (IA[k] == ia and IB[k] == ib)
+            if stop:
+                return n, vv, SEPARATED
+        W[n, 0], W[n, 1], W[n, 2], IA[n], IB[n], lam[n] = wx, wy, wz, ia, ib, 1.0
+        n += 1
+        if n > 1:
+            # W <- the smallest subset of W holding its closest point to the origin, with its weights λ
+            m, s0, s1, s2, l0, l1, l2, l3 = closest_on_simplex(n, W[0, 0], W[0, 1], W[0, 2], W[1, 0], W[1, 1],
+                                                               W[1, 2], W[2, 0], W[2, 1], W[2, 2], W[3, 0], W[3, 1],
+                                                               W[3, 2])
+            if m == 4:  # the origin is inside (or on) the tetrahedron
+                lam[0], lam[1], lam[2], lam[3] = l0, l1, l2, l3
+                return 4, vv, OVERLAP
+            if vv < NEAR * size2:  # near touching, λ's round-off times size(M) / |v| would tilt v: refined
+                l0, l1, l2 = refine_on_simplex(m, s0, s1, s2, l0, l1, l2, W[0, 0], W[0, 1], W[0, 2], W[1, 0], W[1, 1],
+                                               W[1, 2], W[2, 0], W[2, 1], W[2, 2], W[3, 0], W[3, 1], W[3, 2])
+            for k in range(m):  # s0 < s1 < s2: copying forward in place never overwrites one still to read
+                src = s0 if k == 0 else (s1 if k == 1 else s2)
+                W[k, 0], W[k, 1], W[k, 2], IA[k], IB[k] = W[src, 0], W[src, 1], W[src, 2], IA[src], IB[src]
+                lam[k] = l0 if k == 0 else (l1 if k == 1 else l2)
+            n = m
+        # v <- Σ λ_k W_k. |v| not decreasing means round-off hides the progress, not that there is none: the new
+        # simplex may still turn v (near touching, by far more than |v| changes), and the next support point
+        # judges it. GJK stops when v no longer moves, or after MAX_STALLS such steps.
+        nx, ny, nz = 0.0 + lam[0] * W[0, 0], 0.0 + lam[0] * W[0, 1], 0.0 + lam[0] * W[0, 2]
+        for k in range(1, n):
+            nx, ny, nz = nx + lam[k] * W[k, 0], ny + lam[k] * W[k, 1], nz + lam[k] * W[k, 2]
+        if it >= 0 and nx * nx + ny * ny + nz * nz >= vv:
+            stalls += 1
+            if (nx == vx and ny == vy and nz == vz) or stalls > MAX_STALLS:
+                return n, nx * nx + ny * ny + nz * nz, SEPARATED
+        vx, vy, vz, vv = nx, ny, nz, nx * nx + ny * ny + nz * nz
+        size2 = vv if it < 0 else size2
+    return n, vv, OVERLAP if vv <= (OVERLAP_TOL * OVERLAP_TOL) * size2 else GJK_NOT_CONVERGED
+
+
+# One body holds the loop over pairs (a call that passes arrays costs reference counting). Every caller passes
+# C-contiguous, writeable arrays of the documented ranks (views made by ``reshape``, never by ``np.newaxis`` or a
+# strided slice), so numba compiles this kernel once, not once per caller.
 @njit
 def gjk_pairs_kernel(PA, PB, pairs, offsets, max_iter, scratch, dist, closest_a, closest_b, status):
     """GJK (Ericson 9.5) over k = ``status.shape[0]`` pairs in one compiled loop: dist (k,) (0.0 for overlapping or
@@ -183,76 +260,26 @@ def gjk_pairs_kernel(PA, PB, pairs, offsets, max_iter, scratch, dist, closest_a,
         unit = rescale_unit(max(big_a, big_b))
         if unit != 1.0:
             scale_rows(S, na, nb, unit)
-        # v <- the first support point of M, towards M's centroid (then every simplex vertex lies on M's boundary,
-        # as EPA assumes, and the first point is already close to the answer); iteration -1 takes it unconditionally
         vx, vy, vz = start_direction(cax - cbx, cay - cby, caz - cbz)
-        n, vv, size2, st = 0, 0.0, 0.0, GJK_NOT_CONVERGED
-        for it in range(-1, max_iter):
-            if it >= 0 and vv <= (OVERLAP_TOL * OVERLAP_TOL) * size2:
-                st = OVERLAP
-                break
-            # w <- s_A(-v) - s_B(v): the first vertex of A with the least a·v, of B with the greatest b·v (plain
-            # scans, the tie going to the lower row: they compile to branch-free min/max loops)
-            ia, lo = 0, np.inf
-            for i in range(na):
-                d = S[0, i] * vx + S[1, i] * vy + S[2, i] * vz
-                if d < lo:
-                    ia, lo = i, d
-            ib, hi = 0, -np.inf
-            for i in range(nb):
-                d = S[3, i] * vx + S[4, i] * vy + S[5, i] * vz
-                if d > hi:
-                    ib, hi = i, d
-            wx, wy, wz = S[0, ia] - S[3, ib], S[1, ia] - S[4, ib], S[2, ia] - S[5, ib]
-            ia, ib = ia + a0, ib + b0
-            if it >= 0:
-                size2 = max(size2, wx * wx + wy * wy + wz * wz)
-                # stop: w is no closer to the origin along v than v itself (to round-off), or w repeats a vertex
-                stop = vv - (vx * wx + vy * wy + vz * wz) <= REL_TOL * vv + 1e-15 * size2
-                for k in range(n):
-                    stop = stop or (IA[k] == ia and IB[k] == ib)
-                if stop:
-                    st = SEPARATED
-                    break
-            W[n, 0], W[n, 1], W[n, 2], IA[n], IB[n], lam[n] = wx, wy, wz, ia, ib, 1.0
-            n += 1
-            if n > 1:
-                # W <- the smallest subset of W holding its closest point to the origin, with its weights λ
-                m, s0, s1, s2, l0, l1, l2, l3 = closest_on_simplex(n, W[0, 0], W[0, 1], W[0, 2], W[1, 0], W[1, 1],
-                                                                   W[1, 2], W[2, 0], W[2, 1], W[2, 2], W[3, 0],
-                                                                   W[3, 1], W[3, 2])
-                if m == 4:  # the origin is inside (or on) the tetrahedron
-                    lam[0], lam[1], lam[2], lam[3] = l0, l1, l2, l3
-                    n, st = 4, OVERLAP
-                    break
-                for k in range(m):  # s0 < s1 < s2: copying forward in place never overwrites one still to read
-                    src = s0 if k == 0 else (s1 if k == 1 else s2)
-                    W[k, 0], W[k, 1], W[k, 2], IA[k], IB[k] = W[src, 0], W[src, 1], W[src, 2], IA[src], IB[src]
-                    lam[k] = l0 if k == 0 else (l1 if k == 1 else l2)
-                n = m
-            # v <- Σ λ_k W_k; no progress means round-off has the last word: v is as close as this simplex gets
-            nx, ny, nz = 0.0 + lam[0] * W[0, 0], 0.0 + lam[0] * W[0, 1], 0.0 + lam[0] * W[0, 2]
-            for k in range(1, n):
-                nx, ny, nz = nx + lam[k] * W[k, 0], ny + lam[k] * W[k, 1], nz + lam[k] * W[k, 2]
-            if it >= 0 and nx * nx + ny * ny + nz * nz >= vv:
-                vv, st = nx * nx + ny * ny + nz * nz, SEPARATED
-                break
-            vx, vy, vz, vv = nx, ny, nz, nx * nx + ny * ny + nz * nz
-            size2 = vv if it < 0 else size2
-        if st == GJK_NOT_CONVERGED and vv <= (OVERLAP_TOL * OVERLAP_TOL) * size2:
-            st = OVERLAP
-        # the closest points Σ λ_k a_k, Σ λ_k b_k; overlapping, they agree to round-off: both get their mean
+        n, vv, st = gjk_walk(S, na, nb, a0, b0, vx, vy, vz, max_iter, W, IA, IB, lam)
+        # the closest points Σ λ_k a_k, Σ λ_k b_k (Σ λ_k = 1) as offsets from the first vertex: their round-off is
+        # that of the offsets (the shapes' size), not that of the coordinates; overlapping, both get their mean
+        ax, ay, az = PA[sa, IA[0], 0], PA[sa, IA[0], 1], PA[sa, IA[0], 2]
+        bx, by, bz = PB[sb, IB[0], 0], PB[sb, IB[0], 1], PB[sb, IB[0], 2]
         qx, qy, qz, rx, ry, rz = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
-        for k in range(n):
-            qx, qy, qz = qx + lam[k] * PA[sa, IA[k], 0], qy + lam[k] * PA[sa, IA[k], 1], qz + lam[k] * PA[sa, IA[k], 2]
-            rx, ry, rz = rx + lam[k] * PB[sb, IB[k], 0], ry + lam[k] * PB[sb, IB[k], 1], rz + lam[k] * PB[sb, IB[k], 2]
-            if unit != 1.0:  # the simplex goes on (to EPA) in the shapes' own units
-                W[k, 0], W[k, 1], W[k, 2] = W[k, 0] / unit, W[k, 1] / unit, W[k, 2] / unit
+        for k in range(1, n):
+            ia, ib, lk = IA[k], IB[k], lam[k]
+            qx, qy, qz = qx + lk * (PA[sa, ia, 0] - ax), qy + lk * (PA[sa, ia, 1] - ay), qz + lk * (PA[sa, ia, 2] - az)
+            rx, ry, rz = rx + lk * (PB[sb, ib, 0] - bx), ry + lk * (PB[sb, ib, 1] - by), rz + lk * (PB[sb, ib, 2] - bz)
+        qx, qy, qz, rx, ry, rz = ax + qx, ay + qy, az + qz, bx + rx, by + ry, bz + rz
         if st == OVERLAP:
             qx, qy, qz = 0.5 * (qx + rx), 0.5 * (qy + ry), 0.5 * (qz + rz)
             rx, ry, rz = qx, qy, qz
         closest_a[p, 0], closest_a[p, 1], closest_a[p, 2] = qx, qy, qz
         closest_b[p, 0], closest_b[p, 1], closest_b[p, 2] = rx, ry, rz
+        if unit != 1.0:  # the simplex goes on (to EPA) in the shapes' own units
+            for k in range(n):
+                W[k, 0], W[k, 1], W[k, 2] = W[k, 0] / unit, W[k, 1] / unit, W[k, 2] / unit
         dist[p] = 0.0 if st == OVERLAP else math.sqrt(vv) / unit
         status[p] = st
     return n
@@ -448,6 +475,19 @@ def run_in_chunks(run, k: int, threads: int) -> None:
             future.result()
 
 
+def _solve_in_chunks(k: int, threads: int, solve):
+    """The outputs of k pairs, distance (k,), closest_a, closest_b (k, 3) float64 and status (k,) int64, filled by
+    ``solve(lo, hi, distance[lo:hi], closest_a[lo:hi], closest_b[lo:hi], status[lo:hi])`` on each chunk of
+    ``run_in_chunks``."""
+    dist = np.empty(k)
+    ca = np.empty((k, 3))
+    cb = np.empty((k, 3))
+    status = np.empty(k, np.int64)
+    if k:
+        run_in_chunks(lambda lo, hi: solve(lo, hi, dist[lo:hi], ca[lo:hi], cb[lo:hi], status[lo:hi]), k, threads)
+    return dist, ca, cb, status
+
+
 def gjk_distance_pairs(points, offsets, pairs, *, max_iterations: int = MAX_ITERATIONS, threads: int = 1):
     """GJK for k pairs of packed convex shapes, in one compiled call (or one per thread).
 
@@ -482,14 +522,9 @@ def gjk_distance_pairs(points, offsets, pairs, *, max_iterations: int = MAX_ITER
     pr = check_pairs(pairs, off.shape[0] - 1)
     max_iter = as_max_iterations(max_iterations)
     n_threads = as_count(threads, "threads", minimum=1, maximum=MAX_THREADS)
-    k = pr.shape[0]
-    dist = np.empty(k)
-    ca = np.empty((k, 3))
-    cb = np.empty((k, 3))
-    status = np.empty(k, np.int64)
-    if k:
-        run_in_chunks(lambda lo, hi: _gjk_pairs(pts, off, pr[lo:hi], max_iter, dist[lo:hi], ca[lo:hi], cb[lo:hi],
-                                                status[lo:hi]), k, n_threads)
+    dist, ca, cb, status = _solve_in_chunks(pr.shape[0], n_threads,
+                                            lambda lo, hi, *out: _gjk_pairs(pts, off, pr[lo:hi], max_iter, *out))
+    if status.size:
         _raise_invalid(status, {"points": points}, (None, 3))
         raise_for_status(status, max_iter, "pairs")
     return dist, ca, cb
@@ -534,14 +569,9 @@ def gjk_distance_batch(points_a, points_b, *, max_iterations: int = MAX_ITERATIO
         raise ValueError("every shape needs at least one point")
     max_iter = as_max_iterations(max_iterations)
     n_threads = as_count(threads, "threads", minimum=1, maximum=MAX_THREADS)
-    k = pa.shape[0]
-    dist = np.empty(k)
-    ca = np.empty((k, 3))
-    cb = np.empty((k, 3))
-    status = np.empty(k, np.int64)
-    if k:
-        run_in_chunks(lambda lo, hi: _gjk_batch(pa[lo:hi], pb[lo:hi], max_iter, dist[lo:hi], ca[lo:hi], cb[lo:hi],
-                                                status[lo:hi]), k, n_threads)
+    dist, ca, cb, status = _solve_in_chunks(pa.shape[0], n_threads,
+                                            lambda lo, hi, *out: _gjk_batch(pa[lo:hi], pb[lo:hi], max_iter, *out))
+    if status.size:
         _raise_invalid(status, {"points_a": points_a, "points_b": points_b}, (None, None, 3))
         raise_for_status(status, max_iter, "points_a")
     return dist, ca, cb

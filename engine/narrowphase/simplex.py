@@ -19,6 +19,7 @@ import numpy as np
 from .._config import njit
 
 __all__ = ["closest_on_segment", "closest_on_triangle", "closest_on_triangle_any", "closest_on_tetrahedron",
+           "refine_on_edge", "refine_on_face", "refine_on_simplex",
            "closest_on_simplex"]
 
 
@@ -256,11 +257,73 @@ def closest_on_tetrahedron(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz):
     return m, s0, s1, s2, l0, l1, l2, 0.0
 
 
+# One step of iterative refinement (Higham, *Accuracy and Stability of Numerical Algorithms*, 12.1) of the weights
+# of the closest point x = Σ λ_k p_k on the affine hull of the supporting vertices p_0, p_1 (, p_2). There x is
+# orthogonal to the edges e_j = p_j − p_0: the residuals r_j = x·e_j and the Gram matrix G_jk = e_j·e_k give the
+# correction G δ = −r of (λ_1, λ_2), λ_0 taking −Σ δ. The closed forms above (Ericson's ratios of products of dot
+# products, degree 4 in the coordinates) leave errors of 10–100 u in λ; near touching (|x| << size) that error
+# times the size tilts x by λ_err · size / |x|, which misleads the support search and the closest points'
+# direction. The residuals are of degree 2, so one step brings λ to a few u. A weight pushed below 0 (the origin
+# on the border of its Voronoi region, to round-off) keeps the closed form's value.
+@njit(inline="always")
+def refine_on_edge(l0, l1, px, py, pz, qx, qy, qz):
+    """Refined weights (l0, l1) of the closest point of the line through p, q to the origin."""
+    ex, ey, ez = qx - px, qy - py, qz - pz
+    ee = ex * ex + ey * ey + ez * ez
+    if not ee > 0.0:
+        return l0, l1
+    xx, xy, xz = l0 * px + l1 * qx, l0 * py + l1 * qy, l0 * pz + l1 * qz
+    d = (xx * ex + xy * ey + xz * ez) / ee
+    if l0 + d >= 0.0 and l1 - d >= 0.0:
+        return l0 + d, l1 - d
+    return l0, l1
+
+
+@njit(inline="always")
+def refine_on_face(l0, l1, l2, px, py, pz, qx, qy, qz, rx, ry, rz):
+    """Refined weights (l0, l1, l2) of the closest point of the plane through p, q, r to the origin."""
+    e1x, e1y, e1z = qx - px, qy - py, qz - pz
+    e2x, e2y, e2z = rx - px, ry - py, rz - pz
+    xx = l0 * px + l1 * qx + l2 * rx
+    xy = l0 * py + l1 * qy + l2 * ry
+    xz = l0 * pz + l1 * qz + l2 * rz
+    r1 = xx * e1x + xy * e1y + xz * e1z
+    r2 = xx * e2x + xy * e2y + xz * e2z
+    g11 = e1x * e1x + e1y * e1y + e1z * e1z
+    g12 = e1x * e2x + e1y * e2y + e1z * e2z
+    g22 = e2x * e2x + e2y * e2y + e2z * e2z
+    nx, ny, nz = e1y * e2z - e1z * e2y, e1z * e2x - e1x * e2z, e1x * e2y - e1y * e2x
+    det = nx * nx + ny * ny + nz * nz  # = g11 g22 − g12², without its cancellation
+    if not det > 0.0:
+        return l0, l1, l2
+    d1 = (g12 * r2 - g22 * r1) / det
+    d2 = (g12 * r1 - g11 * r2) / det
+    m0, m1, m2 = l0 - d1 - d2, l1 + d1, l2 + d2
+    if m0 >= 0.0 and m1 >= 0.0 and m2 >= 0.0:
+        return m0, m1, m2
+    return l0, l1, l2
+
+
+@njit
+def refine_on_simplex(m, s0, s1, s2, l0, l1, l2, ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz):
+    """The weights (l0, l1, l2) of ``closest_on_simplex``'s answer (m supporting vertices s0 < s1 < s2 among a, b,
+    c, d), refined by ``refine_on_edge`` (m = 2) or ``refine_on_face`` (m = 3); unchanged for m = 1 or 4."""
+    if m == 2 or m == 3:
+        px, py, pz = _pick4(s0, ax, bx, cx, dx), _pick4(s0, ay, by, cy, dy), _pick4(s0, az, bz, cz, dz)
+        qx, qy, qz = _pick4(s1, ax, bx, cx, dx), _pick4(s1, ay, by, cy, dy), _pick4(s1, az, bz, cz, dz)
+        if m == 2:
+            l0, l1 = refine_on_edge(l0, l1, px, py, pz, qx, qy, qz)
+        else:
+            rx, ry, rz = _pick4(s2, ax, bx, cx, dx), _pick4(s2, ay, by, cy, dy), _pick4(s2, az, bz, cz, dz)
+            l0, l1, l2 = refine_on_face(l0, l1, l2, px, py, pz, qx, qy, qz, rx, ry, rz)
+    return l0, l1, l2
+
+
 @njit(inline="always")
 def closest_on_simplex(n, ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz):
     """The closest point to the origin of the simplex of the first n (2, 3 or 4) of the vertices a, b, c, d (the
     others are ignored): ``(m, s0, s1, s2, l0, l1, l2, l3)`` as ``closest_on_tetrahedron`` (m = 4: the origin is
-    inside the tetrahedron)."""
+    inside the tetrahedron). ``refine_on_simplex`` refines the weights of an edge or face point."""
     if n == 2:
         m, s0, s1, l0, l1 = closest_on_segment(ax, ay, az, bx, by, bz)
         return m, s0, s1, 0, l0, l1, 0.0, 0.0
