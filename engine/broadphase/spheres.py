@@ -106,7 +106,7 @@ def _sphere_grid_pairs(c: np.ndarray, r: np.ndarray, large: np.ndarray, cell_siz
         count = buf.shape[0]
     if not equal_radii:
         buf, count = _large_sphere_pairs(c, r, large, buf, count)
-    return pair_buffer.canonicalise_pairs(buf, count, n)
+    return pair_buffer.canonicalise_buffer(buf, count, n)
 
 
 def _sweep_chunk(grid: tuple, chunk: tuple[int, int], buf: np.ndarray) -> tuple[np.ndarray, int]:

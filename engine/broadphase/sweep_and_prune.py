@@ -219,14 +219,19 @@ ColumnGrid = namedtuple("ColumnGrid", ["o1", "inv1", "k1", "o2", "inv2", "k2"])
 
 
 @njit
-def _axis_range(order, lo, hi, a):
-    """(smallest lo, largest hi) of the boxes along axis a."""
-    origin = np.inf
-    top = -np.inf
+def _box_bounds(order, lo, hi):
+    """(smallest lo, largest hi, sum of the extents hi − lo) of the boxes ``order`` along each axis, (3,) each,
+    in one pass."""
+    origin = np.full(3, np.inf)
+    top = np.full(3, -np.inf)
+    extent = np.zeros(3)
     for p in range(order.shape[0]):
-        origin = min(origin, lo[order[p], a])
-        top = max(top, hi[order[p], a])
-    return origin, top
+        o = order[p]
+        for a in range(3):
+            origin[a] = min(origin[a], lo[o, a])
+            top[a] = max(top[a], hi[o, a])
+            extent[a] += hi[o, a] - lo[o, a]
+    return origin, top, extent
 
 
 @njit
@@ -240,7 +245,7 @@ def _column_count(span, extent_sum, m, kmax):
 
 
 @njit
-def _choose_columns(order, lo, hi, a1, a2, ranges):
+def _choose_columns(order, lo, hi, a1, a2, bounds, ranges):
     """The column grid (Terdiman's multi box pruning): columns about twice the mean box size, halved on both
     axes until a box enters 4 columns on average. ``ranges`` (4, m) int64 receives the first and last column of
     each box on a1 and a2 (in sweep order); returns (grid, number of (box, column) entries, sparse).
@@ -248,16 +253,12 @@ def _choose_columns(order, lo, hi, a1, a2, ranges):
     At most ~m/8 columns are stored as a table (dense); when the boxes would need more than 4 times the
     ~sqrt(m/8) of that table along an axis (far-apart clusters: fewer columns would put a cluster in one
     column), the columns keep their size, up to 2^30 per axis, and only the occupied ones are stored (sparse:
-    sorted 64-bit column keys), from SPARSE_MIN_BOXES boxes on.
+    sorted 64-bit column keys), from SPARSE_MIN_BOXES boxes on. ``bounds``: the boxes' ``_box_bounds``.
     """
     m = order.shape[0]
-    ext1 = 0.0
-    ext2 = 0.0
-    for p in range(m):
-        ext1 += hi[order[p], a1] - lo[order[p], a1]
-        ext2 += hi[order[p], a2] - lo[order[p], a2]
-    o1, t1 = _axis_range(order, lo, hi, a1)
-    o2, t2 = _axis_range(order, lo, hi, a2)
+    origin, top, extent = bounds
+    o1, t1, ext1 = origin[a1], top[a1], extent[a1]
+    o2, t2, ext2 = origin[a2], top[a2], extent[a2]
     span1 = t1 - o1
     span2 = t2 - o2
     kmax = max(1, int(np.sqrt(m / 8.0)))
@@ -292,10 +293,9 @@ SweepKeys = namedtuple("SweepKeys", ["origin", "scale"])
 
 
 @njit
-def sweep_keys(order, lo, hi, axis):
-    """The SweepKeys of the boxes ``order`` ((m,) int64 rows of lo, hi (n, 3) float64) along ``axis``: their range
-    mapped onto 0 .. KEY_STEPS − 1."""
-    origin, top = _axis_range(order, lo, hi, axis)
+def sweep_keys(origin, top):
+    """The SweepKeys of boxes whose range along the sweep axis is [origin, top]: that range mapped onto
+    0 .. KEY_STEPS − 1."""
     span = top - origin
     return SweepKeys(origin, KEY_STEPS / span if span > 0.0 else 0.0)
 
@@ -307,16 +307,25 @@ ENTRY_WIDTH = 8
 
 
 @njit
-def _write_entry(rec, t, o, lo, hi, axis, a1, a2, keys, home):
-    """Entry record t: box o in a column; ``home`` bit 0 (bit 1): the column is the box's first along a1 (a2)."""
-    rec[t, B0] = lo[o, axis]
-    rec[t, E0] = hi[o, axis]
-    rec[t, B1] = lo[o, a1]
-    rec[t, E1] = hi[o, a1]
-    rec[t, B2] = lo[o, a2]
-    rec[t, E2] = hi[o, a2]
-    rec[t, KEY] = cell_of(lo[o, axis], keys.origin, keys.scale, KEY_STEPS)
-    rec[t, TAG] = 4 * o + home
+def _box_record(o, lo, hi, axis, a1, a2, keys, row):
+    """The record of box o, ``row`` (ENTRY_WIDTH,) float64, with home flags 0."""
+    row[B0] = lo[o, axis]
+    row[E0] = hi[o, axis]
+    row[B1] = lo[o, a1]
+    row[E1] = hi[o, a1]
+    row[B2] = lo[o, a2]
+    row[E2] = hi[o, a2]
+    row[KEY] = cell_of(lo[o, axis], keys.origin, keys.scale, KEY_STEPS)
+    row[TAG] = 4 * o
+
+
+@njit(inline="always")
+def _write_entry(rec, t, row, home):
+    """Entry record t: the box record ``row`` in a column; ``home`` bit 0 (bit 1): the column is the box's first
+    along a1 (a2)."""
+    for k in range(TAG):
+        rec[t, k] = row[k]
+    rec[t, TAG] = row[TAG] + home
 
 
 @njit
@@ -339,13 +348,14 @@ def _fill_columns(order, lo, hi, axis, a1, a2, grid, ranges, keys, rec):
     for c in range(n_cells):
         start[c + 1] += start[c]
     fill = start[:n_cells].copy()
+    row = np.empty(ENTRY_WIDTH)
     for p in range(m):
+        _box_record(order[p], lo, hi, axis, a1, a2, keys, row)
         for c1 in range(ranges[0, p], ranges[1, p] + 1):
             for c2 in range(ranges[2, p], ranges[3, p] + 1):
                 t = fill[c1 * grid.k2 + c2]
                 fill[c1 * grid.k2 + c2] = t + 1
-                home = np.int64(c1 == ranges[0, p]) + 2 * np.int64(c2 == ranges[2, p])
-                _write_entry(rec, t, order[p], lo, hi, axis, a1, a2, keys, home)
+                _write_entry(rec, t, row, (c1 == ranges[0, p]) + 2 * (c2 == ranges[2, p]))
     for c in range(n_cells):
         rec[start[c + 1] - 1, KEY] = SENTINEL
     return start
@@ -368,6 +378,7 @@ def _fill_columns_sparse(order, lo, hi, axis, a1, a2, grid, ranges, entries, key
     column_of, source = radix_sort_pairs(column_of, source, np.empty(entries, dtype=np.int64),
                                          np.empty(entries, dtype=np.int64), entries)
     start = np.empty(entries + 1, dtype=np.int64)
+    row = np.empty(ENTRY_WIDTH)
     columns = 0
     for t in range(entries):
         if t == 0 or column_of[t] != column_of[t - 1]:
@@ -378,8 +389,8 @@ def _fill_columns_sparse(order, lo, hi, axis, a1, a2, grid, ranges, entries, key
         p = source[t]
         c1 = column_of[t] // grid.k2
         c2 = column_of[t] - c1 * grid.k2
-        home = np.int64(c1 == ranges[0, p]) + 2 * np.int64(c2 == ranges[2, p])
-        _write_entry(rec, t + columns - 1, order[p], lo, hi, axis, a1, a2, keys, home)
+        _box_record(order[p], lo, hi, axis, a1, a2, keys, row)
+        _write_entry(rec, t + columns - 1, row, (c1 == ranges[0, p]) + 2 * (c2 == ranges[2, p]))
     rec[entries + columns - 1, KEY] = SENTINEL
     start[columns] = entries + columns
     return start[: columns + 1].copy()
@@ -431,9 +442,10 @@ def _prepare_columns(order, lo, hi, axis):
     # stays short. Returns (grid, keys, ranges, entries, sparse) for _fill_columns / _fill_columns_sparse.
     a1 = (axis + 1) % 3
     a2 = (axis + 2) % 3
-    keys = sweep_keys(order, lo, hi, axis)
+    bounds = _box_bounds(order, lo, hi)
+    keys = sweep_keys(bounds[0][axis], bounds[1][axis])
     ranges = np.empty((4, order.shape[0]), dtype=np.int64)
-    grid, entries, sparse = _choose_columns(order, lo, hi, a1, a2, ranges)
+    grid, entries, sparse = _choose_columns(order, lo, hi, a1, a2, bounds, ranges)
     return grid, keys, ranges, entries, sparse
 
 
@@ -443,7 +455,12 @@ def sweep_order(lo, hi, axis):
     one radix sort of 31-bit keys (Terdiman's integer-mapped keys) instead of a comparison sort of floats."""
     n = lo.shape[0]
     everyone = np.arange(n)
-    keys = sweep_keys(everyone, lo, hi, axis)
+    origin = np.inf
+    top = -np.inf
+    for i in range(n):
+        origin = min(origin, lo[i, axis])
+        top = max(top, hi[i, axis])
+    keys = sweep_keys(origin, top)
     key_b = np.empty(n, dtype=np.int64)
     for i in range(n):
         key_b[i] = cell_of(lo[i, axis], keys.origin, keys.scale, KEY_STEPS)
