@@ -9,7 +9,8 @@ test's outcome to the count, and sweep again with a buffer of that count (:func:
 short; it is written out in them, since any helper call that takes the buffer costs a reference-count update per
 pair (measured 2.5x slower). The kernel hands the buffer to :func:`canonicalise_pairs`, which puts the rows in
 that one form in O(k): one integer key per pair, a radix sort, repeats dropped. :func:`canonical_pairs` is the
-same operation at the public boundary (validated).
+same operation at the public boundary (validated); :func:`canonicalise_buffer` runs it with the keys in this
+thread's reusable work arrays (:func:`work_array`, which the sweeps also use for their sorted data).
 :func:`split_work` and :func:`run_split` share a kernel's work among threads and merge their buffers.
 
 This module also holds the checks shared by the broad phases: :func:`as_boxes` validates ``lo``/``hi`` box
