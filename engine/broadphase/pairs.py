@@ -9,7 +9,8 @@ test's outcome to the count, and sweep again with a buffer of that count (:func:
 short; it is written out in them, since any helper call that takes the buffer costs a reference-count update per
 pair (measured 2.5x slower). The kernel hands the buffer to :func:`canonicalise_pairs`, which puts the rows in
 that one form in O(k): one integer key per pair, a radix sort, repeats dropped. :func:`canonical_pairs` is the
-same operation at the public boundary (validated).
+same operation at the public boundary (validated); :func:`canonicalise_buffer` runs it with the keys in this
+thread's reusable work arrays (:func:`work_array`, which the sweeps also use for their sorted data).
 :func:`split_work` and :func:`run_split` share a kernel's work among threads and merge their buffers.
 
 This module also holds the checks shared by the broad phases: :func:`as_boxes` validates ``lo``/``hi`` box
@@ -24,7 +25,7 @@ from concurrent.futures import ThreadPoolExecutor
 from typing import Any
 
 import numpy as np
-from numpy.typing import ArrayLike
+from numpy.typing import ArrayLike, DTypeLike
 
 from engine._config import njit
 from engine._validate import as_count, as_float_array
@@ -35,8 +36,9 @@ MAX_THREADS = 256
 
 __all__ = ["canonical_pairs", "empty_pairs", "as_boxes", "as_boxes_3d", "as_one_box", "as_live_id", "boxes_overlap",
            "with_tests",
-           "new_pair_buffer", "grow_pair_buffer", "push_pair", "canonicalise_pairs",
-           "as_threads", "split_work", "run_split", "work_pair_buffer"]
+           "new_pair_buffer", "grow_pair_buffer", "push_pair", "canonicalise_pairs", "canonicalise_pairs_with",
+           "canonicalise_buffer",
+           "as_threads", "split_work", "run_split", "work_pair_buffer", "work_array"]
 
 
 def empty_pairs() -> np.ndarray:
@@ -89,10 +91,17 @@ def canonicalise_pairs(candidates, count, n):
     radix-sorted (``counting_sort.radix_sort_pairs``: a few linear passes, no comparison sort), repeats dropped
     and the rows decoded. Rows with a == b (a self-test, which the chapter excludes) are dropped.
     """
+    return canonicalise_pairs_with(candidates, count, n, np.empty(count, dtype=np.int64),
+                                   np.empty(count, dtype=np.int64))
+
+
+@njit
+def canonicalise_pairs_with(candidates, count, n, keys, keys_tmp):
+    """:func:`canonicalise_pairs` with the keys sorted in the given work arrays (int64, at least ``count``
+    each; overwritten)."""
     shift = 1
     while (1 << shift) < n:
         shift += 1
-    keys = np.empty(count, dtype=np.int64)
     k = 0
     for t in range(count):
         a = candidates[t, 0]
@@ -101,8 +110,11 @@ def canonicalise_pairs(candidates, count, n):
             keys[k] = (min(a, b) << shift) | max(a, b)
             k += 1
     no_values = np.empty(0, dtype=np.int64)
-    keys, _ = radix_sort_pairs(keys, no_values, np.empty(k, dtype=np.int64), no_values, k)
-    out = np.empty((k, 2), dtype=np.int64)
+    keys, _ = radix_sort_pairs(keys, no_values, keys_tmp, no_values, k)
+    rows = 0
+    for t in range(k):
+        rows += t == 0 or keys[t] != keys[t - 1]
+    out = np.empty((rows, 2), dtype=np.int64)
     rows = 0
     low = (1 << shift) - 1
     for t in range(k):
@@ -110,7 +122,15 @@ def canonicalise_pairs(candidates, count, n):
             out[rows, 0] = keys[t] >> shift
             out[rows, 1] = keys[t] & low
             rows += 1
-    return out[:rows].copy()
+    return out
+
+
+def canonicalise_buffer(buffer: np.ndarray, count: int, n: int) -> np.ndarray:
+    """:func:`canonicalise_pairs` of the pair buffer's first ``count`` rows, its keys sorted in this thread's
+    reusable work arrays (fresh ones would cost a page fault every 512 pairs)."""
+    keys = work_array("canonical_keys", count, np.int64)
+    keys_tmp = work_array("canonical_keys_tmp", count, np.int64)
+    return canonicalise_pairs_with(buffer, count, n, keys, keys_tmp)
 
 
 def canonical_pairs(pairs: ArrayLike, n: int | None = None) -> np.ndarray:
@@ -242,7 +262,7 @@ def boxes_overlap(lo, hi, i, j):
     return True
 
 
-_WORK = threading.local()  # per-thread pair buffers of the two-try sweeps, reused between calls
+_WORK = threading.local()  # per-thread pair buffers of the two-try sweeps and work arrays, reused between calls
 
 
 def work_pair_buffer(rows: int) -> np.ndarray:
@@ -254,6 +274,17 @@ def work_pair_buffer(rows: int) -> np.ndarray:
         buf = np.empty((max(16, rows + rows // 4), 2), dtype=np.int64)
         _WORK.pairs = buf
     return buf
+
+
+def work_array(name: str, size: int, dtype: DTypeLike) -> np.ndarray:
+    """This thread's reusable 1-D work array ``name`` of at least ``size`` elements of ``dtype`` (grown by 25 %,
+    never shrunk): reusing it saves the page faults of fresh allocations, a large share of a sweep's time from
+    1e5 objects on. Its contents are overwritten by the next call on this thread that uses ``name``."""
+    arr = getattr(_WORK, name, None)
+    if arr is None or arr.shape[0] < size or arr.dtype != dtype:
+        arr = np.empty(max(16, size + size // 4), dtype=dtype)
+        setattr(_WORK, name, arr)
+    return arr
 
 
 def as_threads(threads: Any) -> int:
@@ -286,7 +317,7 @@ def run_split(sweep: Callable[[int, int], tuple[np.ndarray, int, int]], ranges: 
         return pairs, tests + tests_extra
     if len(ranges) == 1 and extra is None:
         buf, count, tests = sweep(*ranges[0])
-        return canonicalise_pairs(buf, count, n), int(tests)
+        return canonicalise_buffer(buf, count, n), int(tests)
     if len(ranges) == 1:
         parts = [sweep(*ranges[0])]
     else:
@@ -295,4 +326,4 @@ def run_split(sweep: Callable[[int, int], tuple[np.ndarray, int, int]], ranges: 
     if extra is not None:
         parts.append(extra)
     merged = np.concatenate([buf[:count] for buf, count, _ in parts])
-    return canonicalise_pairs(merged, merged.shape[0], n), int(sum(t for _, _, t in parts))
+    return canonicalise_buffer(merged, merged.shape[0], n), int(sum(t for _, _, t in parts))

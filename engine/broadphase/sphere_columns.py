@@ -220,7 +220,8 @@ def sweep_columns(layout, keys, m, sx, sy, sz, sr, sid, col_ids, col_start, firs
                     s = pr + sr[q]
                     hit = ((ddx * ddx + ddy * ddy + ddz * ddz <= s * s) & (abs(ddx) <= s) & (abs(ddy) <= s)
                            & (abs(ddz) <= s))
-                    if hit and s < TINY_REACH:  # squares of these magnitudes underflow: test at scale
+                    # the rare test first: a branch on `hit` itself would be mispredicted at every other pair
+                    if s < TINY_REACH and hit:  # squares of these magnitudes underflow: test at scale
                         hit = touching_at_scale(ddx, ddy, ddz, s)
                     if count < capacity:  # the two-try record of engine.broadphase.pairs
                         buf[count, 0] = sid[p]

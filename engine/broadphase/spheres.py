@@ -21,11 +21,10 @@ round-off margin so no touching pair is lost) and then applies the same exact te
 """
 from __future__ import annotations
 
-import threading
 from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
-from numpy.typing import ArrayLike, DTypeLike
+from numpy.typing import ArrayLike
 
 import engine.broadphase.pairs as pair_buffer
 from engine._config import njit
@@ -80,18 +79,6 @@ def _large_sphere_pairs(c, r, large, out, count):
     return out, count
 
 
-_WORK = threading.local()  # per-thread work arrays of the sphere grid, reused between calls
-
-
-def _work_array(name: str, size: int, dtype: DTypeLike) -> np.ndarray:
-    """A per-thread work array of at least ``size`` elements (grown by 25 %, never shrunk): reusing it saves
-    the page faults of fresh allocations, a large share of the time at 1e5-1e6 spheres."""
-    arr = getattr(_WORK, name, None)
-    if arr is None or arr.shape[0] < size:
-        arr = np.empty(max(16, size + size // 4), dtype=dtype)
-        setattr(_WORK, name, arr)
-    return arr
-
 
 def _sphere_grid_pairs(c: np.ndarray, r: np.ndarray, large: np.ndarray, cell_size: float, equal_radii: bool,
                        threads: int) -> np.ndarray:
@@ -100,9 +87,10 @@ def _sphere_grid_pairs(c: np.ndarray, r: np.ndarray, large: np.ndarray, cell_siz
     n = c.shape[0]
     layout = column_layout(*_point_bounds(c), cell_size, n)
     key_type = np.int32 if layout.dense else np.int64
-    keys, keys_tmp = (_work_array(f"{name}_{key_type.__name__}", n + 1, key_type) for name in ("keys", "keys_tmp"))
-    index, index_tmp = (_work_array(name, n, np.int64) for name in ("index", "index_tmp"))
-    sorted_arrays = [_work_array(name, n, np.float64) for name in ("sx", "sy", "sz", "sr")]
+    keys, keys_tmp = (pair_buffer.work_array(f"{name}_{key_type.__name__}", n + 1, key_type)
+                      for name in ("keys", "keys_tmp"))
+    index, index_tmp = (pair_buffer.work_array(name, n, np.int64) for name in ("index", "index_tmp"))
+    sorted_arrays = [pair_buffer.work_array(name, n, np.float64) for name in ("sx", "sy", "sz", "sr")]
     m, skeys, sid = sort_into_columns(c, r, large, layout, keys, index, keys_tmp, index_tmp, *sorted_arrays,
                                       np.iinfo(key_type).max)
     col_ids, col_start = home_columns(skeys, m, layout)
@@ -118,7 +106,7 @@ def _sphere_grid_pairs(c: np.ndarray, r: np.ndarray, large: np.ndarray, cell_siz
         count = buf.shape[0]
     if not equal_radii:
         buf, count = _large_sphere_pairs(c, r, large, buf, count)
-    return pair_buffer.canonicalise_pairs(buf, count, n)
+    return pair_buffer.canonicalise_buffer(buf, count, n)
 
 
 def _sweep_chunk(grid: tuple, chunk: tuple[int, int], buf: np.ndarray) -> tuple[np.ndarray, int]:

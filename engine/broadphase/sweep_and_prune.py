@@ -219,14 +219,19 @@ ColumnGrid = namedtuple("ColumnGrid", ["o1", "inv1", "k1", "o2", "inv2", "k2"])
 
 
 @njit
-def _axis_range(order, lo, hi, a):
-    """(smallest lo, largest hi) of the boxes along axis a."""
-    origin = np.inf
-    top = -np.inf
+def _box_bounds(order, lo, hi):
+    """(smallest lo, largest hi, sum of the extents hi − lo) of the boxes ``order`` along each axis, (3,) each,
+    in one pass."""
+    origin = np.full(3, np.inf)
+    top = np.full(3, -np.inf)
+    extent = np.zeros(3)
     for p in range(order.shape[0]):
-        origin = min(origin, lo[order[p], a])
-        top = max(top, hi[order[p], a])
-    return origin, top
+        o = order[p]
+        for a in range(3):
+            origin[a] = min(origin[a], lo[o, a])
+            top[a] = max(top[a], hi[o, a])
+            extent[a] += hi[o, a] - lo[o, a]
+    return origin, top, extent
 
 
 @njit
@@ -240,7 +245,7 @@ def _column_count(span, extent_sum, m, kmax):
 
 
 @njit
-def _choose_columns(order, lo, hi, a1, a2, ranges):
+def _choose_columns(order, lo, hi, a1, a2, bounds, ranges):
     """The column grid (Terdiman's multi box pruning): columns about twice the mean box size, halved on both
     axes until a box enters 4 columns on average. ``ranges`` (4, m) int64 receives the first and last column of
     each box on a1 and a2 (in sweep order); returns (grid, number of (box, column) entries, sparse).
@@ -248,16 +253,12 @@ def _choose_columns(order, lo, hi, a1, a2, ranges):
     At most ~m/8 columns are stored as a table (dense); when the boxes would need more than 4 times the
     ~sqrt(m/8) of that table along an axis (far-apart clusters: fewer columns would put a cluster in one
     column), the columns keep their size, up to 2^30 per axis, and only the occupied ones are stored (sparse:
-    sorted 64-bit column keys), from SPARSE_MIN_BOXES boxes on.
+    sorted 64-bit column keys), from SPARSE_MIN_BOXES boxes on. ``bounds``: the boxes' ``_box_bounds``.
     """
     m = order.shape[0]
-    ext1 = 0.0
-    ext2 = 0.0
-    for p in range(m):
-        ext1 += hi[order[p], a1] - lo[order[p], a1]
-        ext2 += hi[order[p], a2] - lo[order[p], a2]
-    o1, t1 = _axis_range(order, lo, hi, a1)
-    o2, t2 = _axis_range(order, lo, hi, a2)
+    origin, top, extent = bounds
+    o1, t1, ext1 = origin[a1], top[a1], extent[a1]
+    o2, t2, ext2 = origin[a2], top[a2], extent[a2]
     span1 = t1 - o1
     span2 = t2 - o2
     kmax = max(1, int(np.sqrt(m / 8.0)))
@@ -292,34 +293,49 @@ SweepKeys = namedtuple("SweepKeys", ["origin", "scale"])
 
 
 @njit
-def sweep_keys(order, lo, hi, axis):
-    """The SweepKeys of the boxes ``order`` ((m,) int64 rows of lo, hi (n, 3) float64) along ``axis``: their range
-    mapped onto 0 .. KEY_STEPS − 1."""
-    origin, top = _axis_range(order, lo, hi, axis)
+def sweep_keys(origin, top):
+    """The SweepKeys of boxes whose range along the sweep axis is [origin, top]: that range mapped onto
+    0 .. KEY_STEPS − 1."""
     span = top - origin
     return SweepKeys(origin, KEY_STEPS / span if span > 0.0 else 0.0)
 
 
-@njit
-def _gather_entry(t, o, lo, hi, axis, a1, a2, keys, ident, key_b, soa):
-    ident[t] = o
-    key_b[t] = cell_of(lo[o, axis], keys.origin, keys.scale, KEY_STEPS)
-    soa[0, t] = lo[o, axis]
-    soa[1, t] = hi[o, axis]
-    soa[2, t] = lo[o, a1]
-    soa[3, t] = hi[o, a1]
-    soa[4, t] = lo[o, a2]
-    soa[5, t] = hi[o, a2]
+#: the columns of an entry record (one row of 8 float64, one cache line): b, e on the sweep axis, on a1, on a2, the
+#: integer key of b (exact in float64: keys are below 2^31, the sentinel is 2^62), and the tag 4 · box + home flags
+B0, E0, B1, E1, B2, E2, KEY, TAG = range(8)
+ENTRY_WIDTH = 8
 
 
 @njit
-def _fill_columns(order, lo, hi, axis, a1, a2, grid, ranges, entries, keys):
+def _box_record(o, lo, hi, axis, a1, a2, keys, row):
+    """The record of box o, ``row`` (ENTRY_WIDTH,) float64, with home flags 0."""
+    row[B0] = lo[o, axis]
+    row[E0] = hi[o, axis]
+    row[B1] = lo[o, a1]
+    row[E1] = hi[o, a1]
+    row[B2] = lo[o, a2]
+    row[E2] = hi[o, a2]
+    row[KEY] = cell_of(lo[o, axis], keys.origin, keys.scale, KEY_STEPS)
+    row[TAG] = 4 * o
+
+
+@njit(inline="always")
+def _write_entry(rec, t, row, home):
+    """Entry record t: the box record ``row`` in a column; ``home`` bit 0 (bit 1): the column is the box's first
+    along a1 (a2)."""
+    for k in range(TAG):
+        rec[t, k] = row[k]
+    rec[t, TAG] = row[TAG] + home
+
+
+@njit
+def _fill_columns(order, lo, hi, axis, a1, a2, grid, ranges, keys, rec):
     """Counting sort of the (box, column) entries by column, keeping the sweep order inside each column.
 
-    Returns (start, ident, key_b, soa): column c holds entries start[c] .. start[c + 1] − 2 and a sentinel at
-    start[c + 1] − 1 (key_b = SENTINEL: it ends every sweep of the column without a bounds check); ident[t] is
-    the box of entry t, key_b[t] the integer key of its b on the sweep axis, soa (6, slots) its b, e on the sweep
-    axis, then on a1, then on a2 (structure of arrays: each column's intervals are contiguous).
+    Writes the entry records ``rec`` ((entries + columns, ENTRY_WIDTH) float64; one record per entry, a cache
+    line, so the scatter writes one line per entry and the sweep reads one per candidate) and returns start:
+    column c holds entries start[c] .. start[c + 1] − 2 and a sentinel at start[c + 1] − 1 (KEY = SENTINEL: it
+    ends every sweep of the column without a bounds check).
     """
     m = order.shape[0]
     n_cells = grid.k1 * grid.k2
@@ -332,26 +348,24 @@ def _fill_columns(order, lo, hi, axis, a1, a2, grid, ranges, entries, keys):
     for c in range(n_cells):
         start[c + 1] += start[c]
     fill = start[:n_cells].copy()
-    slots = entries + n_cells
-    ident = np.empty(slots, dtype=np.int64)
-    key_b = np.empty(slots, dtype=np.int64)
-    soa = np.zeros((6, slots))
+    row = np.empty(ENTRY_WIDTH)
     for p in range(m):
+        _box_record(order[p], lo, hi, axis, a1, a2, keys, row)
         for c1 in range(ranges[0, p], ranges[1, p] + 1):
             for c2 in range(ranges[2, p], ranges[3, p] + 1):
                 t = fill[c1 * grid.k2 + c2]
                 fill[c1 * grid.k2 + c2] = t + 1
-                _gather_entry(t, order[p], lo, hi, axis, a1, a2, keys, ident, key_b, soa)
+                _write_entry(rec, t, row, (c1 == ranges[0, p]) + 2 * (c2 == ranges[2, p]))
     for c in range(n_cells):
-        key_b[start[c + 1] - 1] = SENTINEL
-    return start, ident, key_b, soa
+        rec[start[c + 1] - 1, KEY] = SENTINEL
+    return start
 
 
 @njit
-def _fill_columns_sparse(order, lo, hi, axis, a1, a2, grid, ranges, entries, keys):
+def _fill_columns_sparse(order, lo, hi, axis, a1, a2, grid, ranges, entries, keys, rec):
     """``_fill_columns`` storing only the occupied columns: the entries' column keys c1 · k2 + c2 radix-sorted
-    (stable, so the sweep order is kept inside each column). Returns (column keys, start, ident, key_b, soa),
-    column i holding entries start[i] .. start[i + 1] − 2 and its sentinel."""
+    (stable, so the sweep order is kept inside each column). Fills rec ((2 · entries, ENTRY_WIDTH)) and returns
+    start, occupied column i holding entries start[i] .. start[i + 1] − 2 and its sentinel."""
     column_of = np.empty(entries, dtype=np.int64)
     source = np.empty(entries, dtype=np.int64)
     t = 0
@@ -363,61 +377,65 @@ def _fill_columns_sparse(order, lo, hi, axis, a1, a2, grid, ranges, entries, key
                 t += 1
     column_of, source = radix_sort_pairs(column_of, source, np.empty(entries, dtype=np.int64),
                                          np.empty(entries, dtype=np.int64), entries)
-    column_key = np.empty(entries, dtype=np.int64)
     start = np.empty(entries + 1, dtype=np.int64)
-    ident = np.empty(2 * entries, dtype=np.int64)
-    key_b = np.empty(2 * entries, dtype=np.int64)
-    soa = np.zeros((6, 2 * entries))
+    row = np.empty(ENTRY_WIDTH)
     columns = 0
     for t in range(entries):
         if t == 0 or column_of[t] != column_of[t - 1]:
             if columns > 0:
-                key_b[t + columns - 1] = SENTINEL  # ends the previous column
-            column_key[columns] = column_of[t]
+                rec[t + columns - 1, KEY] = SENTINEL  # ends the previous column
             start[columns] = t + columns
             columns += 1
-        _gather_entry(t + columns - 1, order[source[t]], lo, hi, axis, a1, a2, keys, ident, key_b, soa)
-    key_b[entries + columns - 1] = SENTINEL
+        p = source[t]
+        c1 = column_of[t] // grid.k2
+        c2 = column_of[t] - c1 * grid.k2
+        _box_record(order[p], lo, hi, axis, a1, a2, keys, row)
+        _write_entry(rec, t + columns - 1, row, (c1 == ranges[0, p]) + 2 * (c2 == ranges[2, p]))
+    rec[entries + columns - 1, KEY] = SENTINEL
     start[columns] = entries + columns
-    return column_key[:columns].copy(), start[: columns + 1].copy(), ident, key_b, soa
+    return start[: columns + 1].copy()
 
 
 @njit
-def _sweep_columns(grid, keys, column_key, start, ident, key_b, soa, first, last, out):
+def _sweep_columns(keys, start, rec, first, last, out):
     # Chapter SAP slide, box-pruning form: in each column, for entry p the entries q after it with b_q <= e_p
     # are exactly those in the active list when p enters; test the two other axes, and report the pair only in
-    # the column holding the lower corner (max b^1, max b^2) of the two boxes, so exactly once. The entries are
-    # in the order of their integer keys, so the sweep runs while key(b_q) <= key(e_p) (a superset, as the key
-    # map is monotone) and tests the sweep axis exactly too; the column's sentinel stops it.
-    # Columns first .. last − 1 (column i has key column_key[i] = c1 · k2 + c2); the pairs are recorded in out
-    # (the two-try record); returns (count, tests), count > len(out) when out was too small.
-    b0, e0, b1, e1, b2, e2 = soa[0], soa[1], soa[2], soa[3], soa[4], soa[5]
+    # the column holding the lower corner (max b^1, max b^2) of the two boxes, so exactly once: as the column
+    # map is monotone, that column is the first column of p or of q along a1, and along a2 (the home flags).
+    # The entries are in the order of their integer keys, so the sweep runs while key(b_q) <= key(e_p) (a
+    # superset, as the key map is monotone) and tests the sweep axis exactly too; the column's sentinel stops it.
+    # Columns first .. last − 1; the pairs are recorded in out (the two-try record); returns (count, tests),
+    # count > len(out) when out was too small.
+    # The records are read through a flat view at offsets q · ENTRY_WIDTH + field (a constant stride: no
+    # multiplication by a run-time row stride per candidate, measured 8 % of the sweep).
+    flat = rec.reshape(rec.size)
     count = 0
     tests = 0  # box tests on the two other axes: the pairs whose intervals overlap on the sweep axis
     capacity = out.shape[0]
     for cell in range(first, last):
-        c1 = column_key[cell] // grid.k2
-        c2 = column_key[cell] - c1 * grid.k2
         for p in range(start[cell], start[cell + 1] - 1):
-            lo0 = b0[p]
-            end0 = e0[p]
-            lo1 = b1[p]
-            hi1 = e1[p]
-            lo2 = b2[p]
-            hi2 = e2[p]
-            key_end = cell_of(end0, keys.origin, keys.scale, KEY_STEPS)
-            q = p + 1
-            while key_b[q] <= key_end:
-                overlap0 = (b0[q] <= end0) & (lo0 <= e0[q])
+            rp = p * ENTRY_WIDTH
+            lo0 = flat[rp + B0]
+            end0 = flat[rp + E0]
+            lo1 = flat[rp + B1]
+            hi1 = flat[rp + E1]
+            lo2 = flat[rp + B2]
+            hi2 = flat[rp + E2]
+            tag_p = np.int64(flat[rp + TAG])
+            box_p = tag_p >> 2
+            key_end = np.float64(cell_of(end0, keys.origin, keys.scale, KEY_STEPS))
+            rq = rp + ENTRY_WIDTH
+            while flat[rq + KEY] <= key_end:
+                tag_q = np.int64(flat[rq + TAG])
+                overlap0 = (flat[rq + B0] <= end0) & (lo0 <= flat[rq + E0])
                 tests += overlap0
-                keep = (overlap0 & (b1[q] <= hi1) & (lo1 <= e1[q]) & (b2[q] <= hi2) & (lo2 <= e2[q])
-                        & (cell_of(max(lo1, b1[q]), grid.o1, grid.inv1, grid.k1) == c1)
-                        & (cell_of(max(lo2, b2[q]), grid.o2, grid.inv2, grid.k2) == c2))
+                keep = (overlap0 & (flat[rq + B1] <= hi1) & (lo1 <= flat[rq + E1]) & (flat[rq + B2] <= hi2)
+                        & (lo2 <= flat[rq + E2]) & (((tag_p | tag_q) & 3) == 3))
                 if count < capacity:  # the two-try record of engine.broadphase.pairs
-                    out[count, 0] = ident[p]
-                    out[count, 1] = ident[q]
+                    out[count, 0] = box_p
+                    out[count, 1] = tag_q >> 2
                 count += np.int64(keep)
-                q += 1
+                rq += ENTRY_WIDTH
     return count, tests
 
 
@@ -425,16 +443,14 @@ def _sweep_columns(grid, keys, column_key, start, ident, key_b, soa, first, last
 def _prepare_columns(order, lo, hi, axis):
     # Chapter SAP slide in 3-D, box-pruning form (Ericson 7.5.2): boxes in the order of their key on `axis`,
     # swept per column of a coarse grid over the two other axes (Terdiman's multi box pruning) so that each run
-    # stays short.
+    # stays short. Returns (grid, keys, ranges, entries, sparse) for _fill_columns / _fill_columns_sparse.
     a1 = (axis + 1) % 3
     a2 = (axis + 2) % 3
-    keys = sweep_keys(order, lo, hi, axis)
+    bounds = _box_bounds(order, lo, hi)
+    keys = sweep_keys(bounds[0][axis], bounds[1][axis])
     ranges = np.empty((4, order.shape[0]), dtype=np.int64)
-    grid, entries, sparse = _choose_columns(order, lo, hi, a1, a2, ranges)
-    if sparse:
-        return (grid, keys, *_fill_columns_sparse(order, lo, hi, axis, a1, a2, grid, ranges, entries, keys))
-    start, ident, key_b, soa = _fill_columns(order, lo, hi, axis, a1, a2, grid, ranges, entries, keys)
-    return grid, keys, np.arange(grid.k1 * grid.k2), start, ident, key_b, soa
+    grid, entries, sparse = _choose_columns(order, lo, hi, a1, a2, bounds, ranges)
+    return grid, keys, ranges, entries, sparse
 
 
 @njit
@@ -443,7 +459,12 @@ def sweep_order(lo, hi, axis):
     one radix sort of 31-bit keys (Terdiman's integer-mapped keys) instead of a comparison sort of floats."""
     n = lo.shape[0]
     everyone = np.arange(n)
-    keys = sweep_keys(everyone, lo, hi, axis)
+    origin = np.inf
+    top = -np.inf
+    for i in range(n):
+        origin = min(origin, lo[i, axis])
+        top = max(top, hi[i, axis])
+    keys = sweep_keys(origin, top)
     key_b = np.empty(n, dtype=np.int64)
     for i in range(n):
         key_b[i] = cell_of(lo[i, axis], keys.origin, keys.scale, KEY_STEPS)
@@ -454,11 +475,24 @@ def sweep_order(lo, hi, axis):
 MIN_ENTRIES_PER_THREAD = 4096
 
 
+def _column_entries(order: np.ndarray, lo: np.ndarray, hi: np.ndarray, axis: int) -> tuple:
+    """The swept columns of the boxes in sweep order: (keys, start, entry records); the records live in this
+    thread's work array (reused by the next sweep on this thread)."""
+    grid, keys, ranges, entries, sparse = _prepare_columns(order, lo, hi, axis)
+    a1, a2 = (axis + 1) % 3, (axis + 2) % 3
+    slots = 2 * entries if sparse else entries + grid.k1 * grid.k2
+    rec = pair_buffer.work_array("sap_entries", slots * ENTRY_WIDTH, np.float64)[: slots * ENTRY_WIDTH]
+    rec = rec.reshape(slots, ENTRY_WIDTH)
+    if sparse:
+        return keys, _fill_columns_sparse(order, lo, hi, axis, a1, a2, grid, ranges, entries, keys, rec), rec
+    return keys, _fill_columns(order, lo, hi, axis, a1, a2, grid, ranges, keys, rec), rec
+
+
 def _sweep_sorted(order: np.ndarray, lo: np.ndarray, hi: np.ndarray, axis: int, n_objects: int,
                   threads: int = 1) -> tuple[np.ndarray, int]:
     """Sweep-and-prune of the boxes (n, 3) lo, hi in sweep-key order ``order`` along ``axis``: (canonical
     pairs, tests); ``threads`` > 1 sweeps disjoint ranges of columns on that many threads."""
-    grid, keys, column_key, start, ident, key_b, soa = _prepare_columns(order, lo, hi, axis)
+    keys, start, rec = _column_entries(order, lo, hi, axis)
     ranges = pair_buffer.split_work(start, threads, MIN_ENTRIES_PER_THREAD)
     # one range: this thread's reusable buffer; several: a buffer of its own per range (a pool thread may run
     # two ranges one after the other, and the merge reads every range's buffer at the end)
@@ -466,10 +500,10 @@ def _sweep_sorted(order: np.ndarray, lo: np.ndarray, hi: np.ndarray, axis: int, 
 
     def sweep(first, last):
         out = buffer(start[last] - start[first])
-        count, tests = _sweep_columns(grid, keys, column_key, start, ident, key_b, soa, first, last, out)
+        count, tests = _sweep_columns(keys, start, rec, first, last, out)
         if count > out.shape[0]:  # too many pairs for the buffer: again, with room for all of them
             out = buffer(count)
-            count, tests = _sweep_columns(grid, keys, column_key, start, ident, key_b, soa, first, last, out)
+            count, tests = _sweep_columns(keys, start, rec, first, last, out)
         return out, count, tests
 
     return pair_buffer.run_split(sweep, ranges, n_objects)
