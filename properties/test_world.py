@@ -389,9 +389,16 @@ def test_move_and_back_restores_pairs_and_contacts(shapes, data, broad_phase):
     assert after.kind == before.kind
 
 
+#: a turn that puts one of a box's edges over the crest of the curve, below it, while its corners stay above
+EDGE_OVER_CREST = np.array([[0.9015481978307106, -0.43031098623017633, 0.04520289944030692],
+                            [-0.10918636188339109, -0.12516943265442537, 0.9861089957543426],
+                            [-0.4186755132162217, -0.8939603281234475, -0.1598303674980167]])
+
+
 @given(bodies, st.floats(0.2, 1.5), st.floats(0.3, 3.0), st.floats(-3.0, 3.0))
 @settings(max_examples=60)
 @example(Box([0.0, 2.0, 0.0], [1.0, 0.625, 1.0]), 1.5, 2.0, 0.0)  # f's crest between the bottom corners
+@example(Box([2.5, 2.0, 0.0], [0.5, 1.0, 1.0], EDGE_OVER_CREST), 0.90625, 0.875, 0.0)  # an edge 3.5e-4 under f
 def test_curve_ground_against_dense_sampling(shape, amplitude, wavenumber, level):
     def f(x):
         return level + amplitude * np.sin(wavenumber * x)
@@ -399,13 +406,24 @@ def test_curve_ground_against_dense_sampling(shape, amplitude, wavenumber, level
     w = World()
     b = w.add(shape)
     g = w.add(HeightCurve(f, samples=128))
-    # oracle: dense random points of the shape (convex combinations of the core + a ball), min of y - f(x)
+    # oracle: dense points of the shape, min of y - f(x). Along x = const the height y - f(x) is linear, so on a
+    # polytope core its minimum lies on a segment between two core points (an edge): those are sampled densely
+    # (random convex combinations alone miss the inside of edges: a box's edge over the curve's crest dipped
+    # 3.5e-4 under it while every sample stayed 0.054 above). Each core sample also carries its ball's point
+    # along the curve's downward normal at its x, next to random points of the ball.
     rng = np.random.default_rng(0)
     core = w.world_points(b)
     weights = rng.dirichlet(np.ones(core.shape[0]) * 0.3, size=20000)
+    i, j = np.triu_indices(core.shape[0], 1)
+    t = np.linspace(0.0, 1.0, max(2, 60000 // max(len(i), 1)))[:, None, None]
+    edges = (core[i] + t * (core[j] - core[i])).reshape(-1, 3)
+    cloud = np.concatenate([weights @ core, edges, core])
+    slope = amplitude * wavenumber * np.cos(wavenumber * cloud[:, 0])
+    down = np.stack([slope, -np.ones_like(slope), np.zeros_like(slope)], axis=1)
+    down /= np.linalg.norm(down, axis=1)[:, None]
     ball = rng.normal(size=(20000, 3))
     ball *= (shape.radius * rng.random(20000) ** (1 / 3) / np.linalg.norm(ball, axis=1))[:, None]
-    pts = np.concatenate([weights @ core + ball, core])
+    pts = np.concatenate([weights @ core + ball, cloud + shape.radius * down])
     lowest = (pts[:, 1] - f(pts[:, 0])).min()
     got = (b, g) in {tuple(p) for p in w.pairs().tolist()}
     if lowest <= 0:
