@@ -96,12 +96,13 @@ GJKScratch = namedtuple("GJKScratch", ["W", "IA", "IB", "lam", "S", "status", "n
 def gjk_scratch(n_max):
     """GJK's scratch, allocated here and nowhere else, for shapes of up to ``n_max`` points: the simplex ``W``
     (4, 3) float64 (support points of M), ``IA``, ``IB`` (4,) int64 (their rows in A's and B's arrays), ``lam`` (4,)
-    float64 (the barycentric weights of v), and ``S`` (6, n_max) float64: the pair's two shapes copied as x, y, z
-    rows (A in rows 0–2, B in rows 3–5) for unit-stride support scans; ``status`` (1,) int64 (``gjk_kernel``'s
-    answer); ``no_pairs`` (0, 2) and ``no_offsets`` (1,) int64, the empty pair list that tells ``gjk_pairs_kernel``
-    its pairs are aligned. After a call, W, IA, IB and lam hold the final simplex (what EPA starts from)."""
+    float64 (the barycentric weights of v), and ``S`` (8, n_max) float64: the pair's two shapes copied as x, y, z
+    rows (A in rows 0–2, B in rows 3–5) for unit-stride support scans, rows 6 and 7 their products with the search
+    direction; ``status`` (1,) int64 (``gjk_kernel``'s answer); ``no_pairs`` (0, 2) and ``no_offsets`` (1,) int64,
+    the empty pair list that tells ``gjk_pairs_kernel`` its pairs are aligned. After a call, W, IA, IB and lam
+    hold the final simplex (what EPA starts from)."""
     return GJKScratch(np.empty((4, 3)), np.empty(4, np.int64), np.empty(4, np.int64), np.empty(4),
-                      np.empty((6, max(n_max, 1))), np.empty(1, np.int64), np.empty((0, 2), np.int64),
+                      np.empty((8, max(n_max, 1))), np.empty(1, np.int64), np.empty((0, 2), np.int64),
                       np.zeros(1, np.int64))
 
 
@@ -142,7 +143,7 @@ def copy_shape(P, s, r0, n, S, row):
 
 @njit
 def scale_rows(S, na, nb, unit):
-    """Multiply the scratch copies S (6, n) of A (rows 0–2, na points) and B (rows 3–5, nb points) by ``unit``."""
+    """Multiply the scratch copies S (8, n) of A (rows 0–2, na points) and B (rows 3–5, nb points) by ``unit``."""
     for i in range(na):
         S[0, i] *= unit
         S[1, i] *= unit
@@ -165,26 +166,32 @@ def start_direction(dx, dy, dz):
 # counting per call (the atomic increments of a plain call made the batches ~10 % slower).
 @njit(_nrt=False)
 def gjk_walk(S, na, nb, a0, b0, vx, vy, vz, max_iter, W, IA, IB, lam):
-    """GJK's loop (Ericson 9.5) on the scratch copies ``S`` (6, n) of A (rows 0–2, ``na`` points) and B (rows 3–5,
-    ``nb`` points), from the search direction v: the final simplex in ``W`` (4, 3), ``IA``, ``IB`` (4,) int64 (rows
-    offset by ``a0``, ``b0``: those of the caller's arrays) and ``lam`` (4,). Returns ``(n, vv, status)``: the
-    simplex size, |v|² (in S's units) and OVERLAP, SEPARATED or GJK_NOT_CONVERGED."""
+    """GJK's loop (Ericson 9.5) on the scratch copies ``S`` (8, n) of A (rows 0–2, ``na`` points) and B (rows 3–5,
+    ``nb`` points; rows 6 and 7 are overwritten), from the search direction v: the final simplex in ``W`` (4, 3),
+    ``IA``, ``IB`` (4,) int64 (rows offset by ``a0``, ``b0``: those of the caller's arrays) and ``lam`` (4,).
+    Returns ``(n, vv, status)``: the simplex size, |v|² (in S's units) and OVERLAP, SEPARATED or
+    GJK_NOT_CONVERGED."""
     # iteration -1 takes the support point towards the centroids unconditionally (then every simplex vertex lies
     # on M's boundary, as EPA assumes, and the first point is already close to the answer)
     n, vv, size2, stalls = 0, 0.0, 0.0, 0
     for it in range(-1, max_iter):
         if it >= 0 and vv <= (OVERLAP_TOL * OVERLAP_TOL) * size2:
             return n, vv, OVERLAP
-        # w <- s_A(-v) - s_B(v): the first vertex of A with the least a·v, of B with the greatest b·v (plain scans,
-        # the tie going to the lower row: they compile to branch-free min/max loops)
+        # w <- s_A(-v) - s_B(v): the first vertex of A with the least a·v, of B with the greatest b·v, the tie going
+        # to the lower row. Two passes: the products a·v, b·v into rows 6 and 7 (a loop without a reduction, which
+        # LLVM vectorises), then branch-free min/max scans over them (the scan alone is a shorter chain per point)
+        for i in range(na):
+            S[6, i] = S[0, i] * vx + S[1, i] * vy + S[2, i] * vz
+        for i in range(nb):
+            S[7, i] = S[3, i] * vx + S[4, i] * vy + S[5, i] * vz
         ia, lo = 0, np.inf
         for i in range(na):
-            d = S[0, i] * vx + S[1, i] * vy + S[2, i] * vz
+            d = S[6, i]
             if d < lo:
                 ia, lo = i, d
         ib, hi = 0, -np.inf
         for i in range(nb):
-            d = S[3, i] * vx + S[4, i] * vy + S[5, i] * vz
+            d = S[7, i]
             if d > hi:
                 ib, hi = i, d
         wx, wy, wz = S[0, ia] - S[3, ib], S[1, ia] - S[4, ib], S[2, ia] - S[5, ib]
