@@ -57,7 +57,7 @@ module: kernels                   what they compute (shapes)
 ``largest_coordinate``
 ``simplex``: ``closest_on_*``     GJK's sub-algorithm: closest point of a segment / triangle / tetrahedron to the
                                   origin (scalars in: the vertices; out: supporting vertices and weights)
-``gjk``: ``gjk_scratch``,         ``GJKScratch`` (W (4, 3), IA, IB (4,), lam (4,), S (6, n), status (1,), the
+``gjk``: ``gjk_scratch``,         ``GJKScratch`` (W (4, 3), IA, IB (4,), lam (4,), S (8, n), status (1,), the
 ``gjk_pairs_kernel``,             empty pair list no_pairs (0, 2), no_offsets (1,)); GJK on k pairs, shapes
 ``gjk_kernel``                    addressed by row ranges of (S, N, 3) arrays (packed with a pair list, or
                                   aligned), or on one pair pa (n, 3), pb (m, 3) (out (7,): closest points,

@@ -19,7 +19,7 @@ import numpy as np
 from .._config import njit
 
 __all__ = ["closest_on_segment", "closest_on_triangle", "closest_on_triangle_any", "closest_on_tetrahedron",
-           "refine_on_edge", "refine_on_face", "refine_on_simplex",
+           "pick4", "refine_on_edge", "refine_on_face", "refine_on_simplex",
            "closest_on_simplex"]
 
 
@@ -186,7 +186,7 @@ def _opposite_signs(u, v):
 
 
 @njit(inline="always")
-def _pick4(s, a, b, c, d):
+def pick4(s, a, b, c, d):
     """Component ``s`` (0, 1, 2, 3) of (a, b, c, d)."""
     if s == 0:
         return a
@@ -243,9 +243,9 @@ def closest_on_tetrahedron(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz):
         i = 1 if f == 3 else 0
         j = 1 if f <= 1 else 2
         k = 2 if f == 0 else 3
-        px, py, pz = _pick4(i, ax, bx, cx, dx), _pick4(i, ay, by, cy, dy), _pick4(i, az, bz, cz, dz)
-        qx, qy, qz = _pick4(j, ax, bx, cx, dx), _pick4(j, ay, by, cy, dy), _pick4(j, az, bz, cz, dz)
-        rx, ry, rz = _pick4(k, ax, bx, cx, dx), _pick4(k, ay, by, cy, dy), _pick4(k, az, bz, cz, dz)
+        px, py, pz = pick4(i, ax, bx, cx, dx), pick4(i, ay, by, cy, dy), pick4(i, az, bz, cz, dz)
+        qx, qy, qz = pick4(j, ax, bx, cx, dx), pick4(j, ay, by, cy, dy), pick4(j, az, bz, cz, dz)
+        rx, ry, rz = pick4(k, ax, bx, cx, dx), pick4(k, ay, by, cy, dy), pick4(k, az, bz, cz, dz)
         fm, t0, t1, t2, w0, w1, w2 = closest_on_triangle_any(px, py, pz, qx, qy, qz, rx, ry, rz)
         d = _triangle_distance2(fm, t0, t1, t2, w0, w1, w2, px, py, pz, qx, qy, qz, rx, ry, rz)
         if d < best_d:
@@ -309,12 +309,12 @@ def refine_on_simplex(m, s0, s1, s2, l0, l1, l2, ax, ay, az, bx, by, bz, cx, cy,
     """The weights (l0, l1, l2) of ``closest_on_simplex``'s answer (m supporting vertices s0 < s1 < s2 among a, b,
     c, d), refined by ``refine_on_edge`` (m = 2) or ``refine_on_face`` (m = 3); unchanged for m = 1 or 4."""
     if m == 2 or m == 3:
-        px, py, pz = _pick4(s0, ax, bx, cx, dx), _pick4(s0, ay, by, cy, dy), _pick4(s0, az, bz, cz, dz)
-        qx, qy, qz = _pick4(s1, ax, bx, cx, dx), _pick4(s1, ay, by, cy, dy), _pick4(s1, az, bz, cz, dz)
+        px, py, pz = pick4(s0, ax, bx, cx, dx), pick4(s0, ay, by, cy, dy), pick4(s0, az, bz, cz, dz)
+        qx, qy, qz = pick4(s1, ax, bx, cx, dx), pick4(s1, ay, by, cy, dy), pick4(s1, az, bz, cz, dz)
         if m == 2:
             l0, l1 = refine_on_edge(l0, l1, px, py, pz, qx, qy, qz)
         else:
-            rx, ry, rz = _pick4(s2, ax, bx, cx, dx), _pick4(s2, ay, by, cy, dy), _pick4(s2, az, bz, cz, dz)
+            rx, ry, rz = pick4(s2, ax, bx, cx, dx), pick4(s2, ay, by, cy, dy), pick4(s2, az, bz, cz, dz)
             l0, l1, l2 = refine_on_face(l0, l1, l2, px, py, pz, qx, qy, qz, rx, ry, rz)
     return l0, l1, l2
 
