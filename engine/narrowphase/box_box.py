@@ -244,6 +244,14 @@ def _clip_side(poly, tags, n, side, bound, j, k, face_axis, face_sign, inc_face,
     return m
 
 
+@njit(inline="always")
+def _within(pts, k, x, y, z, tol):
+    """Whether (x, y, z) is within tol of pts[k] in every coordinate. A vertex of the incident face lying on a
+    side of the reference face comes out of Sutherland–Hodgman twice (kept, then as the crossing at u ≈ 0): one
+    contact point, not two."""
+    return abs(pts[k, 0] - x) <= tol and abs(pts[k, 1] - y) <= tol and abs(pts[k, 2] - z) <= tol
+
+
 @njit
 def _face_contact(cr, Rr, er, i, nrx, nry, nrz, ci, Ri, ei, ref_is_a, rows, p, flip, depth, scratch):
     """The manifold of a face axis: reference face i of box r (outward normal nr, towards box i), incident face
@@ -265,12 +273,15 @@ def _face_contact(cr, Rr, er, i, nrx, nry, nrz, ci, Ri, ei, ref_is_a, rows, p, f
     slop = FACE_SLOP * (max(abs(cr[0]), abs(cr[1]), abs(cr[2])) + max(abs(ci[0]), abs(ci[1]), abs(ci[2]))
                         + er[0] + er[1] + er[2] + ei[0] + ei[1] + ei[2])
     count = 0
-    for v in range(n):  # the points below the reference face
-        if poly[v, 5] >= -slop:
+    for v in range(n):  # the points below the reference face, each once
+        if poly[v, 5] >= -slop and not (count > 0 and _within(pts, count - 1, poly[v, 2], poly[v, 3], poly[v, 4],
+                                                              slop)):
             pts[count, 0], pts[count, 1], pts[count, 2] = poly[v, 2], poly[v, 3], poly[v, 4]
             deep[count] = poly[v, 5]
             ids[count] = point_id(tags[v, 0], tags[v, 1]) if ref_is_a else point_id(tags[v, 1], tags[v, 0])
             count += 1
+    if count > 1 and _within(pts, 0, pts[count - 1, 0], pts[count - 1, 1], pts[count - 1, 2], slop):
+        count -= 1  # the polygon closes on its first point
     if count == 0:  # round-off clipped everything (e.g. corners touching): the incident face's deepest corner,
         count = 1     # clamped onto the reference face, at the SAT depth
         poly = scratch.poly
