@@ -6,15 +6,18 @@
 distinct points touch.
 
 The default method, "grid", is a uniform grid specialised to spheres (Ericson, *Real-Time Collision Detection*
-7.1, and the chapter's "absolue" spatial subdivision) and swept like box pruning: each sphere is stored once, in
-the column (along y and z) of its centre, columns at least one largest diameter wide (plus a round-off margin) and
-sorted along x, so that two touching spheres lie in the same or adjacent columns and are met by short sweeps
-(``engine.broadphase.sphere_columns``: one radix sort of integer keys, sorted coordinate arrays, sentinel-ended
-sweeps). Columns are also at least ``SPACING_FACTOR`` × the mean spacing (V/n)^(1/3) wide, so a sparse scene does
-not pay for empty columns. Far-apart clusters keep fine columns (the keys become 64-bit and columns are found by
-binary search instead of a table), so they cost no more than each cluster alone. Spheres much larger than the
-typical one (radius > 4 × median) are kept out of the grid and tested against every sphere. ``threads`` > 1
-sweeps disjoint ranges of columns on that many threads (the pairs are the same: they are put in canonical form).
+7.1, and the chapter's "absolue" spatial subdivision): each sphere is stored once, in the cell of its centre,
+cells at least one largest diameter wide (plus a round-off margin), so that two touching spheres lie in the same
+or adjacent cells. When the scene is dense enough (at most ``sphere_cells.MAX_CELLS_PER_SPHERE`` cells per
+sphere) the cells form a padded grid whose forward half stencil is five contiguous ranges of sorted spheres
+(``engine.broadphase.sphere_cells``: one radix sort of cell keys, sorted coordinate arrays, a table of cell
+ends, one flat loop per sphere). Sparser scenes use columns along x, sorted and swept like box pruning
+(``engine.broadphase.sphere_columns``): columns are also at least ``SPACING_FACTOR`` × the mean spacing
+(V/n)^(1/3) wide, so a sparse scene does not pay for empty columns, and far-apart clusters keep fine columns
+(the keys become 64-bit and columns are found by binary search instead of a table), so they cost no more than
+each cluster alone. Spheres much larger than the typical one (radius > 4 × median) are kept out of the grid and
+tested against every sphere. ``threads`` > 1 sweeps disjoint ranges of spheres (cells) or of columns on that many
+threads (the pairs are the same: they are put in canonical form).
 
 Any other method of ``BROAD_PHASES`` runs that broad phase on the spheres' bounding boxes (widened by a
 round-off margin so no touching pair is lost) and then applies the same exact test.
@@ -31,6 +34,7 @@ from engine._config import njit
 from engine._validate import MAX_MAGNITUDE, as_choice, as_float_array, as_radii
 from engine.bounding.sphere import spheres_touch
 from engine.broadphase.pairs import as_threads, canonical_pairs, empty_pairs
+from engine.broadphase.sphere_cells import CellLayout, cell_ends, cell_layout, sort_into_cells, sweep_cells
 from engine.broadphase.sphere_columns import column_layout, home_columns, sort_into_columns, sweep_columns
 
 __all__ = ["sphere_pairs", "spheres_overlap_pairs"]
@@ -80,12 +84,55 @@ def _large_sphere_pairs(c, r, large, out, count):
 
 
 
-def _sphere_grid_pairs(c: np.ndarray, r: np.ndarray, large: np.ndarray, cell_size: float, equal_radii: bool,
-                       threads: int) -> np.ndarray:
-    """Column broad phase + exact test of spheres (n, 3), radii (n,); canonical pairs (engine.broadphase.
-    sphere_columns); ``threads`` > 1 sweeps disjoint ranges of columns on that many threads."""
+def _sphere_grid_pairs(c: np.ndarray, r: np.ndarray, large: np.ndarray, bounds: tuple, cell_size: float,
+                       equal_radii: bool, threads: int) -> np.ndarray:
+    """Grid broad phase + exact test of spheres (n, 3), radii (n,), centres within bounds = (lo, hi): the
+    padded cells of engine.broadphase.sphere_cells when there are few enough cells, the sorted columns of
+    engine.broadphase.sphere_columns otherwise; canonical pairs. ``threads`` > 1 sweeps disjoint ranges of
+    spheres (cells) or of columns on that many threads."""
     n = c.shape[0]
-    layout = column_layout(*_point_bounds(c), cell_size, n)
+    cells = cell_layout(*bounds, cell_size, n)
+    if cells.n_cells > 0:
+        grid, items, cumulative = _cell_grid(c, r, large, equal_radii, cells)
+        sweep = sweep_cells
+    else:
+        grid, items, cumulative = _column_grid(c, r, large, bounds, cell_size)
+        sweep = sweep_columns
+    # the cumulative work of the sweep items (spheres or home columns), made only when it is to be shared
+    chunks = pair_buffer.split_work(cumulative(), threads, MIN_SPHERES_PER_THREAD) if threads > 1 else [(0, items)]
+    if len(chunks) == 1:
+        buf, count = _sweep_chunk(sweep, grid, chunks[0], pair_buffer.work_pair_buffer(max(16, n)))
+    else:
+        with ThreadPoolExecutor(max_workers=len(chunks)) as pool:
+            rows = n // len(chunks)
+            parts = list(pool.map(lambda chunk: _sweep_chunk(sweep, grid, chunk, pair_buffer.new_pair_buffer(rows)),
+                                  chunks))
+        buf = np.concatenate([b[:k] for b, k in parts])
+        count = buf.shape[0]
+    if not equal_radii:
+        buf, count = _large_sphere_pairs(c, r, large, buf, count)
+    return pair_buffer.canonicalise_buffer(buf, count, n)
+
+
+def _cell_grid(c: np.ndarray, r: np.ndarray, large: np.ndarray, equal_radii: bool, layout: CellLayout) -> tuple:
+    """The sorted spheres of the padded cell grid and its table of cell ends: (grid arguments of sweep_cells,
+    its number of sweep items (spheres), a function giving their cumulative work for split_work)."""
+    n = c.shape[0]
+    keys, keys_tmp, index, index_tmp = (pair_buffer.work_array(name, n, np.int32)
+                                        for name in ("cell_keys", "cell_keys_tmp", "cell_index", "cell_index_tmp"))
+    sorted_arrays = [pair_buffer.work_array(name, n, np.float64) for name in ("sx", "sy", "sz", "sr")]
+    m, skeys, sid = sort_into_cells(c, r, large, equal_radii, layout, keys, index, keys_tmp, index_tmp,
+                                    *sorted_arrays)
+    ends = pair_buffer.work_array("cell_ends", layout.n_cells, np.int32)
+    cell_ends(skeys, m, layout.n_cells, ends)
+    return (layout, skeys, ends, *sorted_arrays, sid), m, lambda: np.arange(m + 1)
+
+
+def _column_grid(c: np.ndarray, r: np.ndarray, large: np.ndarray, bounds: tuple, cell_size: float) -> tuple:
+    """The sorted columns of engine.broadphase.sphere_columns: (grid arguments of sweep_columns, its number of
+    sweep items (home columns), a function giving their cumulative work (spheres) for split_work)."""
+    n = c.shape[0]
+    layout = column_layout(*bounds, cell_size, n)
     key_type = np.int32 if layout.dense else np.int64
     keys, keys_tmp = (pair_buffer.work_array(f"{name}_{key_type.__name__}", n + 1, key_type)
                       for name in ("keys", "keys_tmp"))
@@ -94,28 +141,16 @@ def _sphere_grid_pairs(c: np.ndarray, r: np.ndarray, large: np.ndarray, cell_siz
     m, skeys, sid = sort_into_columns(c, r, large, layout, keys, index, keys_tmp, index_tmp, *sorted_arrays,
                                       np.iinfo(key_type).max)
     col_ids, col_start = home_columns(skeys, m, layout)
-    grid = (layout, skeys, m, *sorted_arrays, sid, col_ids, col_start)
-    chunks = pair_buffer.split_work(col_start, threads, MIN_SPHERES_PER_THREAD)
-    if len(chunks) == 1:
-        buf, count = _sweep_chunk(grid, chunks[0], pair_buffer.work_pair_buffer(max(16, n)))
-    else:
-        with ThreadPoolExecutor(max_workers=len(chunks)) as pool:
-            rows = n // len(chunks)
-            parts = list(pool.map(lambda chunk: _sweep_chunk(grid, chunk, pair_buffer.new_pair_buffer(rows)), chunks))
-        buf = np.concatenate([b[:k] for b, k in parts])
-        count = buf.shape[0]
-    if not equal_radii:
-        buf, count = _large_sphere_pairs(c, r, large, buf, count)
-    return pair_buffer.canonicalise_buffer(buf, count, n)
+    return (layout, skeys, m, *sorted_arrays, sid, col_ids, col_start), col_ids.shape[0], lambda: col_start
 
 
-def _sweep_chunk(grid: tuple, chunk: tuple[int, int], buf: np.ndarray) -> tuple[np.ndarray, int]:
-    """The sweeps from the home columns chunk = (first, last) of grid; returns (buffer, pair count), with a
-    buffer grown to the count and swept again when the one given was too small."""
-    count = sweep_columns(*grid, chunk[0], chunk[1], buf, 0)
+def _sweep_chunk(sweep, grid: tuple, chunk: tuple[int, int], buf: np.ndarray) -> tuple[np.ndarray, int]:
+    """The sweeps of the items chunk = (first, last) of grid; returns (buffer, pair count), with a buffer grown
+    to the count and swept again when the one given was too small."""
+    count = sweep(*grid, chunk[0], chunk[1], buf, 0)
     if count > buf.shape[0]:
         buf = np.empty((count, 2), dtype=np.int64)
-        count = sweep_columns(*grid, chunk[0], chunk[1], buf, 0)
+        count = sweep(*grid, chunk[0], chunk[1], buf, 0)
     return buf, count
 
 
@@ -163,7 +198,8 @@ def _as_spheres(centers: ArrayLike, radii: ArrayLike) -> tuple[np.ndarray, np.nd
 
 @njit
 def _scene_stats(c, r, large):
-    """(largest |coordinate| + largest radius, largest radius outside ``large``, mean spacing (V/n)^(1/k))."""
+    """(largest |coordinate| + largest radius, largest radius outside ``large``, mean spacing (V/n)^(1/k),
+    lowest and highest centre coordinates (3,) each)."""
     n = c.shape[0]
     lo, hi = _point_bounds(c)
     r_all = 0.0
@@ -181,7 +217,7 @@ def _scene_stats(c, r, large):
             volume *= hi[k] - lo[k]
             used += 1
     spacing = (volume / n) ** (1.0 / used) if used > 0 else 0.0
-    return scale + r_all, r_small, spacing
+    return scale + r_all, r_small, spacing, lo, hi
 
 
 def sphere_pairs(centers: ArrayLike, radii: ArrayLike, method: str = "grid", *, threads: int = 1) -> np.ndarray:
@@ -242,11 +278,11 @@ def sphere_pairs(centers: ArrayLike, radii: ArrayLike, method: str = "grid", *, 
         large = r > 4.0 * float(np.median(r))
         if large.all():
             large[:] = False
-    scale, r_cell, spacing = _scene_stats(c, r, large)
+    scale, r_cell, spacing, lo, hi = _scene_stats(c, r, large)
     margin = 16.0 * _EPS * scale  # covers the rounding of coordinate differences and radius sums
     if method == "grid":
         cell = max(2.0 * r_cell * (1.0 + 1e-9) + margin, SPACING_FACTOR * spacing)
-        return _sphere_grid_pairs(c, r, large, cell if cell > 0.0 else 1.0, equal, threads)
+        return _sphere_grid_pairs(c, r, large, (lo, hi), cell if cell > 0.0 else 1.0, equal, threads)
     widen = r + margin
     candidates = find_pairs(c - widen[:, None], c + widen[:, None], method=method, threads=threads)
     return _exact_filter_kernel(candidates, c, r)
