@@ -16,9 +16,10 @@ comparison:
 - the three cells (iy, ix + 1, iz − 1 .. iz + 1);
 - for dx = −1, 0, 1 the three cells (iy + 1, ix + dx, iz − 1 .. iz + 1).
 
-Data-oriented passes: one 32-bit key per sphere (its cell), one stable radix sort of the keys carrying 32-bit
-sphere ids (``counting_sort.radix_sort_pairs``), one gather of the coordinates into sorted float arrays
-(structure of arrays), the table of cell ends (a histogram of the sorted keys and its prefix sum), the sweep.
+Data-oriented passes: one 64-bit word per sphere, its cell · 2^32 + its id, one stable radix sort of the words
+by cell (``counting_sort.radix_sort_packed``: the key and the id move as one word), one gather of the
+coordinates into sorted float arrays (structure of arrays), the table of cell ends (a histogram of the sorted
+cells and its prefix sum), the sweep.
 The table has one entry per cell, so the grid is used only when there are at most ``MAX_CELLS_PER_SPHERE`` cells
 per sphere (``cell_layout`` says so); sparser scenes use the sorted columns of ``sphere_columns``.
 """
@@ -29,16 +30,19 @@ from collections import namedtuple
 import numpy as np
 
 from engine._config import njit
-from engine.broadphase.counting_sort import cell_of, radix_sort_pairs
+from engine.broadphase.counting_sort import cell_of, radix_sort_packed
 from engine.broadphase.sphere_columns import pair_hit
 
-__all__ = ["MAX_CELLS_PER_SPHERE", "CellLayout", "cell_layout", "sort_into_cells", "cell_ends", "sweep_cells"]
+__all__ = ["MAX_CELLS_PER_SPHERE", "ID_MASK", "CellLayout", "cell_layout", "sort_into_cells", "cell_ends",
+           "sweep_cells"]
 
 #: the most cells (padding included) per sphere for which the padded grid is used (its table of cell ends is
 #: one int32 per cell)
 MAX_CELLS_PER_SPHERE = 16
 #: the largest cell number (32-bit keys)
 _KEY_LIMIT = (1 << 31) - 2
+#: the sphere id in the low 32 bits of a sorted word cell · 2^32 + id
+ID_MASK = (1 << 32) - 1
 
 #: the grid: its origin, 1/h, the cells along each axis (without padding) and the padded row lengths NX = nx + 2
 #: and NZ = nz + 2; n_cells is the padded count (ny + 1) · NX · NZ, or 0 when the grid would be too large
@@ -54,15 +58,15 @@ def cell_layout(lo, hi, h, n):
     for k in range(3):
         counts[k] = np.floor((hi[k] - lo[k]) / h) + 1.0
     total = (counts[1] + 1.0) * (counts[0] + 2.0) * (counts[2] + 2.0)
-    if not (total <= MAX_CELLS_PER_SPHERE * n + 4096 and total <= _KEY_LIMIT):
+    if not (total <= MAX_CELLS_PER_SPHERE * n + 4096 and total <= _KEY_LIMIT and n <= ID_MASK):
         return CellLayout(lo[0], lo[1], lo[2], 1.0 / h, 1, 1, 1, 3, 3, 0)
     nx, ny, nz = int(counts[0]), int(counts[1]), int(counts[2])
     return CellLayout(lo[0], lo[1], lo[2], 1.0 / h, nx, ny, nz, nx + 2, nz + 2, (ny + 1) * (nx + 2) * (nz + 2))
 
 
 @njit
-def _cell_keys(c, large, layout, keys, index):
-    """keys[m] = the padded cell number of sphere i and index[m] = i for each sphere i in the grid; returns m."""
+def _cell_keys(c, large, layout, order):
+    """order[m] = (padded cell number of sphere i) · 2^32 + i for each sphere i in the grid; returns m."""
     m = 0
     for i in range(c.shape[0]):
         if large[i]:
@@ -70,37 +74,44 @@ def _cell_keys(c, large, layout, keys, index):
         iy = cell_of(c[i, 1], layout.y0, layout.inv_h, layout.ny)
         ix = cell_of(c[i, 0], layout.x0, layout.inv_h, layout.nx) + 1
         iz = cell_of(c[i, 2], layout.z0, layout.inv_h, layout.nz) + 1
-        keys[m] = (iy * layout.row_x + ix) * layout.row_z + iz
-        index[m] = i
+        order[m] = (np.int64((iy * layout.row_x + ix) * layout.row_z + iz) << 32) | i
         m += 1
     return m
 
 
+#: from this many spheres on, the sort's digits are 8 bits (its arrays no longer fit in the L2 cache)
+_SMALL_DIGITS_FROM = 1 << 17
+
+
 @njit
-def sort_into_cells(c, r, large, equal, layout, keys, index, keys_tmp, index_tmp, sx, sy, sz, sr):
-    """Sort the spheres of the grid by cell: returns (m, sorted keys, sorted sphere ids), both (m,) int32 (each
-    is one of the two buffers given), and fills sx, sy, sz, sr[:m] (the sorted centres and radii, float64;
-    ``equal``: every radius is r[0], which is then not gathered). keys, keys_tmp, index, index_tmp: int32 work
-    arrays of at least n entries."""
-    m = _cell_keys(c, large, layout, keys, index)
-    skeys, sid = radix_sort_pairs(keys, index, keys_tmp, index_tmp, m)
+def sort_into_cells(c, r, large, equal, layout, order, order_tmp, sx, sy, sz, sr):
+    """Sort the spheres of the grid by cell: returns (m, order) with order[:m] (int64, one of the two buffers
+    given) the sorted words cell · 2^32 + sphere id, and fills sx, sy, sz, sr[:m] (the sorted centres and radii,
+    float64; ``equal``: every radius is r[0], which is then not gathered). order, order_tmp: int64 work arrays
+    of at least n entries."""
+    m = _cell_keys(c, large, layout, order)
+    bits = 0
+    while ((layout.n_cells - 1) >> bits) > 0:
+        bits += 1
+    order = radix_sort_packed(order, order_tmp, m, 32, bits, 8 if m >= _SMALL_DIGITS_FROM else 11)
     r0 = r[0]
     for p in range(m):  # the one random-access pass: each sphere's centre read once, written in cell order
-        i = sid[p]
+        i = order[p] & ID_MASK
         sx[p] = c[i, 0]
         sy[p] = c[i, 1]
         sz[p] = c[i, 2]
         sr[p] = r0 if equal else r[i]
-    return m, skeys, sid
+    return m, order
 
 
 @njit
-def cell_ends(skeys, m, n_cells, ends):
-    """Fill ends[:n_cells] (int32) with ends[k] = the number of sorted keys <= k, so that cell k holds the sorted
-    spheres ends[k − 1] .. ends[k] − 1: a histogram of the keys, then its running sum (no branch per cell)."""
+def cell_ends(order, m, n_cells, ends):
+    """Fill ends[:n_cells] (int32) with ends[k] = the number of sorted spheres in cells <= k (order: the sorted
+    words of ``sort_into_cells``), so that cell k holds the sorted spheres ends[k − 1] .. ends[k] − 1: a
+    histogram of the cells, then its running sum (no branch per cell)."""
     ends[:n_cells] = 0
     for p in range(m):
-        ends[skeys[p]] += 1
+        ends[order[p] >> 32] += 1
     total = 0
     for k in range(n_cells):
         total += ends[k]
@@ -127,14 +138,14 @@ def _run_bounds(key, p, nz, row, ends):
 
 
 @njit
-def sweep_cells(layout, skeys, ends, sx, sy, sz, sr, sid, first, last, buf, count):
+def sweep_cells(layout, order, ends, sx, sy, sz, sr, first, last, buf, count):
     """The sweeps of the sorted spheres first .. last − 1 against their forward half stencil (see the module's
     description).
 
-    The arguments are the layout, the outputs of ``sort_into_cells`` (skeys, sid (m,) int32; sx, sy, sz, sr
-    (m,) float64) and the table of ``cell_ends``. Records the touching pairs (original sphere ids) in ``buf``
-    (int64 (capacity, 2)) from row ``count`` on (the two-try record of ``engine.broadphase.pairs``) and returns
-    the new count, which exceeds ``capacity`` when buf was too small.
+    The arguments are the layout, the outputs of ``sort_into_cells`` (order (m,) int64: cell · 2^32 + sphere id;
+    sx, sy, sz, sr (m,) float64) and the table of ``cell_ends``. Records the touching pairs (original sphere
+    ids) in ``buf`` (int64 (capacity, 2)) from row ``count`` on (the two-try record of ``engine.broadphase.pairs``)
+    and returns the new count, which exceeds ``capacity`` when buf was too small.
 
     The five ranges are walked as one flat loop (t counts the candidates, the jumps between ranges are added
     by selects), so a sphere ends one loop, not five: each loop's exit is a mispredicted branch about as often
@@ -145,18 +156,18 @@ def sweep_cells(layout, skeys, ends, sx, sy, sz, sr, sid, first, last, buf, coun
     flat = buf.reshape(-1)  # row `count` at 2 · count: no stride multiply per record
     capacity = buf.shape[0]
     for p in range(first, last):
-        a0, c1, c2, c3, c4, total, d1, d2, d3, d4 = _run_bounds(skeys[p], p, nz, row, ends)
+        a0, c1, c2, c3, c4, total, d1, d2, d3, d4 = _run_bounds(order[p] >> 32, p, nz, row, ends)
         px = sx[p]
         py = sy[p]
         pz = sz[p]
         pr = sr[p]
-        ip = np.int64(sid[p])
+        ip = order[p] & ID_MASK
         for t in range(total):
             q = np.uint64(a0 + t + (d1 if t >= c1 else 0) + (d2 if t >= c2 else 0) + (d3 if t >= c3 else 0)
                           + (d4 if t >= c4 else 0))
             hit = pair_hit(px - sx[q], py - sy[q], pz - sz[q], pr + sr[q])
             if count < capacity:  # the two-try record of engine.broadphase.pairs
                 flat[2 * count] = ip
-                flat[2 * count + 1] = sid[q]
+                flat[2 * count + 1] = order[q] & ID_MASK
             count += np.int64(hit)
     return count

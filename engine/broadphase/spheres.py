@@ -118,14 +118,12 @@ def _cell_grid(c: np.ndarray, r: np.ndarray, large: np.ndarray, equal_radii: boo
     """The sorted spheres of the padded cell grid and its table of cell ends: (grid arguments of sweep_cells,
     its number of sweep items (spheres), a function giving their cumulative work for split_work)."""
     n = c.shape[0]
-    keys, keys_tmp, index, index_tmp = (pair_buffer.work_array(name, n, np.int32)
-                                        for name in ("cell_keys", "cell_keys_tmp", "cell_index", "cell_index_tmp"))
+    order, order_tmp = (pair_buffer.work_array(name, n, np.int64) for name in ("cell_order", "cell_order_tmp"))
     sorted_arrays = [pair_buffer.work_array(name, n, np.float64) for name in ("sx", "sy", "sz", "sr")]
-    m, skeys, sid = sort_into_cells(c, r, large, equal_radii, layout, keys, index, keys_tmp, index_tmp,
-                                    *sorted_arrays)
+    m, order = sort_into_cells(c, r, large, equal_radii, layout, order, order_tmp, *sorted_arrays)
     ends = pair_buffer.work_array("cell_ends", layout.n_cells, np.int32)
-    cell_ends(skeys, m, layout.n_cells, ends)
-    return (layout, skeys, ends, *sorted_arrays, sid), m, lambda: np.arange(m + 1)
+    cell_ends(order, m, layout.n_cells, ends)
+    return (layout, order, ends, *sorted_arrays), m, lambda: np.arange(m + 1)
 
 
 def _column_grid(c: np.ndarray, r: np.ndarray, large: np.ndarray, bounds: tuple, cell_size: float) -> tuple:
