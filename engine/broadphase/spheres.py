@@ -162,26 +162,37 @@ def _exact_filter_kernel(candidates, c, r):
 
 
 @njit
-def _all_within(a, limit):
-    """Whether every |a[i, k]| <= limit (False on a NaN): the finiteness check of as_float_array, without a copy."""
+def _bounds_within(a, limit):
+    """(whether every |a[i, k]| <= limit (False on a NaN), the lowest and the highest coordinate along each axis
+    (3,) each) of a (n, 3): the finiteness check of as_float_array and the centres' bounds in one pass, without a
+    copy (the bounds are meaningful only when the check passes)."""
+    lo = np.full(3, np.inf)
+    hi = np.full(3, -np.inf)
     for i in range(a.shape[0]):
-        for k in range(a.shape[1]):
-            if not abs(a[i, k]) <= limit:
-                return False
-    return True
+        for k in range(3):
+            v = a[i, k]
+            if not abs(v) <= limit:
+                return False, lo, hi
+            lo[k] = min(lo[k], v)
+            hi[k] = max(hi[k], v)
+    return True, lo, hi
 
 
-def _as_centres(centers: ArrayLike) -> np.ndarray:
-    """The checked centres: a caller's C-contiguous float64 (n, 3) array of finite values is used as it is (no
-    kernel writes to it), anything else gets as_float_array's copy and checks (and its error messages)."""
+def _as_centres(centers: ArrayLike) -> tuple[np.ndarray, tuple | None]:
+    """The checked centres and, when known already, their bounds (lo, hi): a caller's C-contiguous float64
+    (n, 3) array of finite values is used as it is (no kernel writes to it), its bounds found by the same pass
+    as the check; anything else gets as_float_array's copy and checks (and its error messages), and no bounds."""
     if (isinstance(centers, np.ndarray) and centers.dtype == np.float64 and centers.ndim == 2
-            and centers.shape[1] == 3 and centers.flags.c_contiguous and _all_within(centers, MAX_MAGNITUDE)):
-        return centers
-    return as_float_array(centers, "centers", ndim=2)
+            and centers.shape[1] == 3 and centers.flags.c_contiguous):
+        within, lo, hi = _bounds_within(centers, MAX_MAGNITUDE)
+        if within:
+            return centers, (lo, hi)
+    return as_float_array(centers, "centers", ndim=2), None
 
 
-def _as_spheres(centers: ArrayLike, radii: ArrayLike) -> tuple[np.ndarray, np.ndarray, bool]:
-    c = _as_centres(centers)
+def _as_spheres(centers: ArrayLike, radii: ArrayLike) -> tuple[np.ndarray, np.ndarray, bool, tuple]:
+    """(centres (n, 3), radii (n,), whether the radii were one scalar, the centres' bounds (lo, hi))."""
+    c, bounds = _as_centres(centers)
     if c.shape[1] not in (1, 2, 3):
         raise ValueError(f"centers must have shape (n, d) with d = 1, 2 or 3, got {c.shape}")
     n = c.shape[0]
@@ -191,15 +202,14 @@ def _as_spheres(centers: ArrayLike, radii: ArrayLike) -> tuple[np.ndarray, np.nd
         c3 = np.zeros((n, 3))
         c3[:, : c.shape[1]] = c
         c = c3
-    return c, r, equal
+    return c, r, equal, bounds if bounds is not None else _point_bounds(c)
 
 
 @njit
-def _scene_stats(c, r, large):
-    """(largest |coordinate| + largest radius, largest radius outside ``large``, mean spacing (V/n)^(1/k),
-    lowest and highest centre coordinates (3,) each)."""
-    n = c.shape[0]
-    lo, hi = _point_bounds(c)
+def _scene_stats(r, large, lo, hi):
+    """(largest |coordinate| + largest radius, largest radius outside ``large``, mean spacing (V/n)^(1/k)) of
+    the n spheres of radii r whose centres lie within the bounds lo, hi ((3,) each)."""
+    n = r.shape[0]
     r_all = 0.0
     r_small = 0.0
     for i in range(n):
@@ -215,7 +225,7 @@ def _scene_stats(c, r, large):
             volume *= hi[k] - lo[k]
             used += 1
     spacing = (volume / n) ** (1.0 / used) if used > 0 else 0.0
-    return scale + r_all, r_small, spacing, lo, hi
+    return scale + r_all, r_small, spacing
 
 
 def sphere_pairs(centers: ArrayLike, radii: ArrayLike, method: str = "grid", *, threads: int = 1) -> np.ndarray:
@@ -266,7 +276,7 @@ def sphere_pairs(centers: ArrayLike, radii: ArrayLike, method: str = "grid", *, 
 
     method = as_choice(method, "method", BROAD_PHASES)
     threads = as_threads(threads)
-    c, r, equal = _as_spheres(centers, radii)
+    c, r, equal, (lo, hi) = _as_spheres(centers, radii)
     n = c.shape[0]
     if n < 2:
         return empty_pairs()
@@ -276,7 +286,7 @@ def sphere_pairs(centers: ArrayLike, radii: ArrayLike, method: str = "grid", *, 
         large = r > 4.0 * float(np.median(r))
         if large.all():
             large[:] = False
-    scale, r_cell, spacing, lo, hi = _scene_stats(c, r, large)
+    scale, r_cell, spacing = _scene_stats(r, large, lo, hi)
     margin = 16.0 * _EPS * scale  # covers the rounding of coordinate differences and radius sums
     if method == "grid":
         cell = max(2.0 * r_cell * (1.0 + 1e-9) + margin, SPACING_FACTOR * spacing)
@@ -310,6 +320,6 @@ def spheres_overlap_pairs(centers: ArrayLike, radii: ArrayLike, pairs: ArrayLike
     TypeError
         For non-numeric arrays, or ``pairs`` that are not integers.
     """
-    c, r, _ = _as_spheres(centers, radii)
+    c, r, _, _ = _as_spheres(centers, radii)
     candidates = canonical_pairs(pairs, n=c.shape[0])
     return _exact_filter_kernel(candidates, c, r)
