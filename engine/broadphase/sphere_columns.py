@@ -28,7 +28,8 @@ import numpy as np
 from engine._config import njit
 from engine.broadphase.counting_sort import cell_of, radix_sort_pairs
 
-__all__ = ["X_STEPS", "ColumnLayout", "column_layout", "sort_into_columns", "sweep_columns"]
+__all__ = ["X_STEPS", "ColumnLayout", "column_layout", "sort_into_columns", "sweep_columns", "pair_hit",
+           "touching_at_scale", "TINY_REACH"]
 
 #: steps of the x key per column side (fewer in a very long scene; a touching pair's x keys then differ by at
 #: most steps + 1, the layout's reach)
@@ -177,6 +178,18 @@ def touching_at_scale(dx, dy, dz, s):
     return x * x + y * y + z * z <= t * t
 
 
+@njit(inline="always")
+def pair_hit(ddx, ddy, ddz, s):
+    """Whether two spheres whose centres differ by (ddx, ddy, ddz) and whose radii sum to s touch: |d|² <= s² and
+    |d_k| <= s (so that squares underflowing to 0 cannot make distinct points touch), tested at scale when s is
+    tiny. Branch-light: the rare tiny-s test comes first (a branch on the outcome itself would be mispredicted at
+    about every other candidate)."""
+    hit = ((ddx * ddx + ddy * ddy + ddz * ddz <= s * s) & (abs(ddx) <= s) & (abs(ddy) <= s) & (abs(ddz) <= s))
+    if s < TINY_REACH and hit:  # squares of these magnitudes underflow: test at scale
+        hit = touching_at_scale(ddx, ddy, ddz, s)
+    return hit
+
+
 @njit
 def sweep_columns(layout, keys, m, sx, sy, sz, sr, sid, col_ids, col_start, first, last, buf, count):
     """The sweeps from the home columns col_ids[first:last] (see the module's description).
@@ -214,15 +227,7 @@ def sweep_columns(layout, keys, m, sx, sy, sz, sr, sid, col_ids, col_start, firs
                     starts[k] = q
                     limit = low + 2 * reach
                 while keys[q] <= limit:
-                    ddx = px - sx[q]
-                    ddy = py - sy[q]
-                    ddz = pz - sz[q]
-                    s = pr + sr[q]
-                    hit = ((ddx * ddx + ddy * ddy + ddz * ddz <= s * s) & (abs(ddx) <= s) & (abs(ddy) <= s)
-                           & (abs(ddz) <= s))
-                    # the rare test first: a branch on `hit` itself would be mispredicted at every other pair
-                    if s < TINY_REACH and hit:  # squares of these magnitudes underflow: test at scale
-                        hit = touching_at_scale(ddx, ddy, ddz, s)
+                    hit = pair_hit(px - sx[q], py - sy[q], pz - sz[q], pr + sr[q])
                     if count < capacity:  # the two-try record of engine.broadphase.pairs
                         buf[count, 0] = sid[p]
                         buf[count, 1] = sid[q]
