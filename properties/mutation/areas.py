@@ -28,6 +28,8 @@ AREAS: dict[str, dict[str, list[str]]] = {
             "properties/test_state_vector_layout.py",
             "properties/test_falling_cube_edges.py",
             "properties/test_impact_tolerance.py",
+            # plot_fall (plot.py), reached by no other file of the area
+            "properties/test_plot_fall.py",
         ],
         "sample": 10,
     },
@@ -120,6 +122,8 @@ AREAS: dict[str, dict[str, list[str]]] = {
             # OBB check (as_obbs), and hulls that outgrow the kernel's first face capacity
             "properties/test_obb_batch_inputs.py",
             "properties/test_hull_many_faces.py",
+            # Welzl's three-point ball on a near-duplicate pair (its collinear fallback)
+            "properties/test_welzl_near_duplicates.py",
         ],
         # 1 in 5 (about 800 mutants with hull.py, ~6 s each interpreted) does not fit a nightly job
         "sample": 20,
