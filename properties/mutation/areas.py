@@ -30,6 +30,8 @@ AREAS: dict[str, dict[str, list[str]]] = {
             "properties/test_impact_tolerance.py",
             # plot_fall (plot.py), reached by no other file of the area
             "properties/test_plot_fall.py",
+            # written against the dynamics run on the current code (properties/MUTATION.md, dynamics)
+            "properties/test_rk4_slopes.py",
         ],
         "sample": 10,
     },
