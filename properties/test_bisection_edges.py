@@ -105,3 +105,16 @@ def test_nan_from_f_names_the_x_where_it_happened(x_bad, at_b):
         assert "NaN" in str(error) and repr(end) in str(error)
     else:
         raise AssertionError("NaN from f was not reported")
+
+
+@given(st.sampled_from([1, 3, 5, 7, 11]), st.integers(-60, 60), st.integers(1000, 1074))
+def test_iteration_bound_is_exact_when_width_over_tol_overflows(c, m, j):
+    """A denormal tol (down to 2^-1074) under a normal width: width / tol overflows to inf and the bound is taken
+    from the difference of the logarithms; it is still ceil(log2(width / tol)) + 1 exactly (integer oracle:
+    width / tol = c 2^(m + j), with c odd so that log2 never sits within round-off of an integer unless c = 1)."""
+    width, tol = math.ldexp(float(c), m), math.ldexp(1.0, -j)
+    assume(math.isinf(width / tol))
+    scaled = c << (m + j)  # width / tol, exact (m + j >= 1024 - 4 here)
+    expected = (scaled - 1).bit_length() + 1
+    assert max_bisection_iterations(0.0, width, tol) == expected
+    assert max_bisection_iterations(width, -0.0, tol) == expected

@@ -107,3 +107,31 @@ def test_in_place_check_returns_the_arrays_themselves():
     assert not any(a is b for a, b in zip(as_obbs(c, r, e), (c, r, e)))
     with pytest.raises(ValueError, match=r"half_extents\[1, 2\]"):
         as_obbs(c, r, np.array([[1.0, 1.0, 1.0], [1.0, 1.0, -1.0]]), copy=False)
+
+
+def _no_name_prefixes_another(names) -> bool:
+    return not any(a != b and a.startswith(b) for a in names for b in names) and len(set(names)) == 3
+
+
+@given(st.lists(obbs(), min_size=1, max_size=4), st.sampled_from([0, 1, 2]),
+       st.sampled_from(["shape", "nan", "value"]), st.booleans(),
+       st.tuples(*[st.text("abcxyz_", min_size=1, max_size=8)] * 3).filter(_no_name_prefixes_another))
+def test_each_refusal_starts_with_the_name_given_for_that_argument(boxes, which, spoil, copy, names):
+    """The three names are the caller's (``overlap_obb_obb_batch`` passes ``centers_b`` ...): a refusal of the
+    k-th argument starts with names[k], whichever path (copying or in place) checks it."""
+    arrays = [np.array([b.center for b in boxes]), np.array([b.axes for b in boxes]),
+              np.array([b.half_extents for b in boxes])]
+    target = arrays[which]
+    if spoil == "shape":  # one column too few (axes: one row of each box too few)
+        arrays[which] = target[..., :2] if which != 1 else target[:, :2]
+    elif spoil == "nan":
+        target.reshape(-1)[-1] = np.nan
+    elif which == 1:  # axes stretched well past ORTHONORMAL_TOL
+        target[-1] *= 1.5
+    elif which == 2:
+        target[-1, 0] = -1.0
+    else:  # a centre beyond MAX_MAGNITUDE
+        target[-1, 0] = 2.0 * MAX_MAGNITUDE
+    with pytest.raises(ValueError) as info:
+        as_obbs(*arrays, names, copy=copy)
+    assert str(info.value).startswith(names[which]), (names, which, str(info.value))
