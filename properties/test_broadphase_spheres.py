@@ -182,3 +182,24 @@ def test_spheres_far_below_one_are_tested_at_scale(method, exponent):
     assert sphere_pairs(c, touching, method=method).tolist() == [[0, 1]]
     assert sphere_pairs(c, apart, method=method).tolist() == []
     assert brute_sphere_pairs(c, apart).tolist() == [] and brute_sphere_pairs(c, touching).tolist() == [[0, 1]]
+
+
+# integer points at distance exactly s (a² + b² + c² = s²) whose at-scale test, divided by s itself, rounds to
+# "apart" (1/17, 12/17 are not dyadic); divided by a power of two the test is exact again
+PYTHAGOREAN_QUADRUPLES = [(1, 12, 12, 17), (0, 8, 15, 17), (2, 5, 14, 15), (1, 32, 8, 33)]
+
+
+@pytest.mark.parametrize("method", BROAD_PHASES)
+@pytest.mark.parametrize("exponent", [-1000, -690, -520, 0, 400])
+def test_spheres_exactly_touching_touch_at_every_scale(method, exponent):
+    """Spheres whose centres are exactly r_0 + r_1 apart touch, at every scale: the at-scale test (magnitudes
+    below 1e-150; above 1e150 sphere_pairs refuses its input) decides as the plain one does at unit scale, and
+    as the numpy oracle (which scales by powers of two)."""
+    for a, b, c, s in PYTHAGOREAN_QUADRUPLES:
+        centers = np.ldexp(np.array([[0.0, 0.0, 0.0], [a, b, c]]), exponent)
+        for r0 in (s // 2, 0):
+            touching = np.ldexp(np.array([float(r0), float(s - r0)]), exponent)
+            apart = np.ldexp(np.array([float(r0), (s - r0) * (1.0 - 2.0 ** -40)]), exponent)
+            assert brute_sphere_pairs(centers, touching).tolist() == [[0, 1]]
+            assert sphere_pairs(centers, touching, method=method).tolist() == [[0, 1]], (a, b, c, s, r0)
+            assert sphere_pairs(centers, apart, method=method).tolist() == [], (a, b, c, s, r0)
