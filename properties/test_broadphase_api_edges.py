@@ -130,3 +130,18 @@ def test_offending_values_are_printed_as_plain_numbers(call, message):
     with pytest.raises(ValueError) as info:
         call()
     assert str(info.value) == message
+
+
+@given(n=st.integers(1, 8), data=st.data())
+def test_sap_example_trace_names_given_intervals_1_to_n_by_default(n, data):
+    """``sap_example_trace(begin, end)`` without labels names the intervals 1..n (its documented default): each
+    interval's begin and end events appear once, as b{i}= and e{i}=, i = 1..n, and no other label."""
+    from engine.broadphase import sap_example_trace
+
+    begin = np.array(data.draw(st.lists(st.integers(-5, 5), min_size=n, max_size=n)), dtype=float)
+    end = begin + np.array(data.draw(st.lists(st.integers(0, 4), min_size=n, max_size=n)))
+    text = sap_example_trace(begin, end)
+    tokens = text.split()
+    for i in range(1, n + 1):
+        assert sum(t.startswith(f"b{i}=") for t in tokens) == 1 and sum(t.startswith(f"e{i}=") for t in tokens) == 1
+    assert not any(t.startswith((f"b{n + 1}=", f"e{n + 1}=", "b0=", "e0=")) for t in tokens)
