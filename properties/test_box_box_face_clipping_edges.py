@@ -11,12 +11,14 @@
   rotation: the boxes touch at that corner only, so every contact point is that corner. Round-off there may clip
   every point of the incident face, and the kernel then falls back on the incident face's deepest corner clamped
   onto the reference face; the pinned scenes below reach that fallback, on both sides of the reference box.
+  With B turned about the vertical only, its incident face's corners tie in depth two by two and clamp to the
+  same point; the tilted scenes make the touching corner strictly the deepest, so the fallback must pick it.
 """
 from __future__ import annotations
 
 import numpy as np
 import pytest
-from hypothesis import given
+from hypothesis import assume, given
 from hypothesis import strategies as st
 from scipy.spatial.transform import Rotation
 
@@ -162,3 +164,87 @@ def test_a_corner_on_an_edge_touches_at_that_corner(turn, halves, side, y, seed,
     q = Rotation.random(random_state=seed).as_matrix()
     s = np.array(shift)
     _check_touching_at((s, q, np.ones(3), q @ cb + s, q @ rb, hb), q @ corner + s)
+
+
+# scenes of the same kind with B tilted: its corner of least x (the touching one, corner 0 of its incident face)
+# is strictly the deepest, so the fallback's choice of corner matters (the other corners clamp elsewhere on A's
+# +x face); found by the random search of ``_tilted_corner_on_an_edge`` (about 1 in 6 of its scenes reaches it)
+TILTED_FALLBACK_SCENES = [
+    ([[2.41329047829593, -0.13707885696476207, -0.41702233362352104],
+      [[0.4534561880121493, -0.18835964560423352, -0.871147593385494],
+       [0.4923308165875077, 0.8676960301947612, 0.06865832959321169],
+       [0.7429588498643571, -0.46002635043234186, 0.486197392337857]],
+      [1.0, 1.0, 1.0],
+      [2.4620958530525927, 1.367171313877804, 1.5672783657329095],
+      [[-0.3232455984456886, -0.21890950571136525, 0.9206470069438637],
+       [0.9153746750115317, -0.3190703872138973, 0.2455265613955175],
+       [0.24000309879879023, 0.9221023350541847, 0.30352231590872997]],
+      [0.8415209655886458, 0.33962225291522274, 0.8973082193501252]],
+     [1.9823562142423194, 0.4849147356218525, 0.7797911850169059]),
+    ([[1.2278871866400927, -2.4709837619425254, 0.8688901398075215],
+      [[-0.2062478905665552, -0.5591859797904156, 0.8029774888766678],
+       [0.6600647513888146, -0.685300795307658, -0.3076968376904673],
+       [0.7223408694036829, 0.4665553128585338, 0.5104407981662585]],
+      [1.0, 1.0, 1.0],
+      [1.57180307950593, -1.376340773014247, 2.7230981569475485],
+      [[0.6330130112637681, -0.11676953218764426, 0.7652838714643448],
+       [0.6721936876755948, -0.40744057475777673, -0.6181810610898218],
+       [0.38399241375300924, 0.9057356426649731, -0.17942344268909396]],
+      [0.6047145553688051, 0.2571345776601732, 0.7600698564182509]],
+     [1.8007055845026454, -2.147919810209775, 2.1216220529287115]),
+    ([[0.7868991783336607, -2.950717077981335, -1.283201676746335],
+      [[-0.43147311459980786, 0.3291928966008507, -0.8399184414007603],
+       [-0.8782739423657017, -0.3659632018081984, 0.30774310241449704],
+       [-0.2060723987800135, 0.8704613556900922, 0.44702482560951545]],
+      [1.0, 1.0, 1.0],
+      [-1.3125638664788775, -4.2202051308409, -0.8836015960451769],
+      [[-0.04003755289403064, -0.806468025172699, -0.5899206037530003],
+       [-0.9419699345945521, 0.22740099616956802, -0.24694418248062255],
+       [0.33330112012741975, 0.5458004317652514, -0.7687732123368192]],
+      [0.43355265787534325, 0.5322544344210264, 0.9256910794452715]],
+     [-0.3198750559147876, -3.7042527238185627, -0.6069633778885356]),
+    ([[-1.9897127751634172, 2.0371367903568816, -1.210255434988852],
+      [[-0.9014450473534159, -0.40637029635120153, 0.14919788485576635],
+       [-0.37700112968011074, 0.9063474506670846, 0.19079949394376575],
+       [-0.21276036948153243, 0.1157474877166387, -0.9702244813780823]],
+      [1.0, 1.0, 1.0],
+      [-3.930875726975657, 2.429474556883791, -3.0115661365627866],
+      [[-0.8778874220773244, -0.43447292903691187, 0.20136272766457233],
+       [-0.36059652256619384, 0.3230948291121446, -0.8749742163710671],
+       [0.31509335453417386, -0.8407395585644114, -0.4403103139756335]],
+      [0.5908732806094612, 0.9464147842992559, 0.21566597994621475]],
+     [-3.044390992455134, 2.5254618559478037, -2.3070980773400644]),
+]
+
+
+def _tilted_corner_on_an_edge(rotation, halves, y, q, shift):
+    """A (the cube of half edge 1 at 0) and B (``rotation``, ``halves``) whose corner of least x touches A's top
+    edge x = 1, z = 1 at height y; B's columns are flipped in pairs so that the touching corner is corner 0 of its
+    face most anti-parallel to x (signs −1 on the other two axes), whose edges from that corner do not go down.
+    The scene is turned by q and moved by ``shift``. Returns (arguments, the touching corner) or None."""
+    r = np.array(rotation, dtype=float)
+    a = int(np.argmax(np.abs(r[0])))
+    b1, b2 = [m for m in range(3) if m != a]
+    flips = np.where(r[0] < 0.0, -1.0, 1.0)
+    flips[a] = 1.0 if flips[b1] * flips[b2] > 0.0 else -1.0
+    r = r * flips
+    if min(r[2, b1], r[2, b2]) < 0.02 or min(r[0, b1], r[0, b2]) < 0.02:
+        return None
+    hb = np.array(halves)
+    corner = np.array([1.0, y, 1.0])
+    cb = corner - r @ (-np.sign(r[0]) * hb)
+    return (shift, q, np.ones(3), q @ cb + shift, q @ r, hb), q @ corner + shift
+
+
+@pytest.mark.parametrize("args, corner", TILTED_FALLBACK_SCENES)
+def test_a_tilted_corner_on_an_edge_whose_clipped_face_is_empty_touches_at_that_corner(args, corner):
+    _check_touching_at(tuple(np.array(a) for a in args), np.array(corner))
+
+
+@given(seed=st.integers(0, 2**32 - 1), halves=st.tuples(*[st.floats(0.2, 1.0)] * 3), y=st.floats(-0.8, 0.8),
+       shift=st.tuples(*[st.floats(-3.0, 3.0)] * 3))
+def test_a_tilted_corner_on_an_edge_touches_at_that_corner(seed, halves, y, shift):
+    rotations = Rotation.random(2, random_state=seed).as_matrix()
+    scene = _tilted_corner_on_an_edge(rotations[0], halves, y, rotations[1], np.array(shift))
+    assume(scene is not None)
+    _check_touching_at(*scene)

@@ -130,3 +130,41 @@ def test_offending_values_are_printed_as_plain_numbers(call, message):
     with pytest.raises(ValueError) as info:
         call()
     assert str(info.value) == message
+
+
+@given(n=st.integers(1, 8), data=st.data())
+def test_sap_example_trace_names_given_intervals_1_to_n_by_default(n, data):
+    """``sap_example_trace(begin, end)`` without labels names the intervals 1..n (its documented default): each
+    interval's begin and end events appear once, as b{i}= and e{i}=, i = 1..n, and no other label."""
+    from engine.broadphase import sap_example_trace
+
+    begin = np.array(data.draw(st.lists(st.integers(-5, 5), min_size=n, max_size=n)), dtype=float)
+    end = begin + np.array(data.draw(st.lists(st.integers(0, 4), min_size=n, max_size=n)))
+    text = sap_example_trace(begin, end)
+    tokens = text.split()
+    for i in range(1, n + 1):
+        assert sum(t.startswith(f"b{i}=") for t in tokens) == 1 and sum(t.startswith(f"e{i}=") for t in tokens) == 1
+    assert not any(t.startswith((f"b{n + 1}=", f"e{n + 1}=", "b0=", "e0=")) for t in tokens)
+
+
+@given(seed=st.integers(0, 2**32 - 1), n=st.integers(2, 12))
+def test_incremental_sap_built_by_add_is_the_one_built_from_arrays(seed, n):
+    """An IncrementalSAP filled box by box with ``add`` holds the same sorted order as one built from the arrays
+    (boxes of equal lo on the sweep axis in the order of their ids: a stable sort), so after the same moves both
+    report the same pairs and the same number of insertion-sort swaps (``last_swaps``). Integer boxes: many ties."""
+    rng = np.random.default_rng(seed)
+    lo = rng.integers(0, 3, (n, 3)).astype(float)
+    hi = lo + rng.integers(0, 2, (n, 3))
+    built = IncrementalSAP(lo, hi, axis=0)
+    added = IncrementalSAP(dim=3, axis=0)
+    for i in range(n):
+        assert added.add(lo[i], hi[i]) == i
+    for _ in range(3):
+        np.testing.assert_array_equal(added.pairs(), built.pairs())
+        assert added.last_swaps == built.last_swaps
+        moved = rng.integers(0, n)
+        step = rng.integers(-2, 1, 3).astype(float)
+        for sap in (built, added):
+            sap.move(moved, lo[moved] + step, hi[moved] + step)
+        lo[moved] += step
+        hi[moved] += step

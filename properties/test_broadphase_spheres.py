@@ -2,6 +2,8 @@
 broad phase of bounding boxes is a superset of the exact sphere pairs."""
 from __future__ import annotations
 
+from fractions import Fraction
+
 import numpy as np
 import pytest
 from hypothesis import example, given, settings
@@ -86,9 +88,16 @@ DENORMAL_SCENE = (np.array([[-5e-324, 1e-310, -1e-323], [-5e-324, 1e-310, -5e-32
                   np.array([0.0, 1e-323, 0.0]))
 
 
+# spheres whose distance exceeds their radius sum by 2.2e-311, which the sphere test's subtraction rounds away:
+# they are reported touching, and their boxes c ± r are exactly 2.2e-311 apart (found by the mutation run)
+ROUNDOFF_SCENE = (np.array([[-2.22507386e-311, 1.13823417, -2.22507386e-311], [-2.22507386e-311] * 3]),
+                  np.array([1.13823417, 0.0]))
+
+
 @pytest.mark.parametrize("method", BROAD_PHASES)
 @settings(max_examples=40)
 @example(scene=DENORMAL_SCENE)
+@example(scene=ROUNDOFF_SCENE)
 @given(scene=sphere_scenes(d=3))
 def test_box_broad_phase_is_a_superset_of_sphere_pairs(method, scene):
     centers, radii = scene
@@ -96,7 +105,18 @@ def test_box_broad_phase_is_a_superset_of_sphere_pairs(method, scene):
     boxes = find_pairs(centers - r[:, None], centers + r[:, None], method)
     exact = sphere_pairs(centers, radii)
     box_set = {tuple(p) for p in boxes.tolist()}
-    assert all(tuple(p) in box_set for p in exact.tolist())
+    missed = [(i, j) for i, j in exact.tolist() if (i, j) not in box_set]
+    # c ± r rounds monotonically, so spheres that truly touch have overlapping boxes; a pair the sphere test
+    # calls touching may still be truly apart by its round-off (its distance rounded down to the radius sum)
+    assert all(_truly_apart(centers[i], centers[j], r[i] + r[j]) for i, j in missed), missed
+
+
+def _truly_apart(ci, cj, s):
+    """True when |ci − cj| > s in exact arithmetic (rationals) and by no more than the round-off of the sphere
+    test (1e-14 of the coordinates' magnitude)."""
+    d2 = sum((Fraction(a) - Fraction(b)) ** 2 for a, b in zip(ci.tolist(), cj.tolist()))
+    gap = float(np.linalg.norm(ci - cj)) - s
+    return d2 > Fraction(s) ** 2 and gap <= 1e-14 * (np.abs(ci).max() + np.abs(cj).max() + s)
 
 
 def test_sphere_validation():
@@ -162,3 +182,24 @@ def test_spheres_far_below_one_are_tested_at_scale(method, exponent):
     assert sphere_pairs(c, touching, method=method).tolist() == [[0, 1]]
     assert sphere_pairs(c, apart, method=method).tolist() == []
     assert brute_sphere_pairs(c, apart).tolist() == [] and brute_sphere_pairs(c, touching).tolist() == [[0, 1]]
+
+
+# integer points at distance exactly s (a² + b² + c² = s²) whose at-scale test, divided by s itself, rounds to
+# "apart" (1/17, 12/17 are not dyadic); divided by a power of two the test is exact again
+PYTHAGOREAN_QUADRUPLES = [(1, 12, 12, 17), (0, 8, 15, 17), (2, 5, 14, 15), (1, 32, 8, 33)]
+
+
+@pytest.mark.parametrize("method", BROAD_PHASES)
+@pytest.mark.parametrize("exponent", [-1000, -690, -520, 0, 400])
+def test_spheres_exactly_touching_touch_at_every_scale(method, exponent):
+    """Spheres whose centres are exactly r_0 + r_1 apart touch, at every scale: the at-scale test (magnitudes
+    below 1e-150; above 1e150 sphere_pairs refuses its input) decides as the plain one does at unit scale, and
+    as the numpy oracle (which scales by powers of two)."""
+    for a, b, c, s in PYTHAGOREAN_QUADRUPLES:
+        centers = np.ldexp(np.array([[0.0, 0.0, 0.0], [a, b, c]]), exponent)
+        for r0 in (s // 2, 0):
+            touching = np.ldexp(np.array([float(r0), float(s - r0)]), exponent)
+            apart = np.ldexp(np.array([float(r0), (s - r0) * (1.0 - 2.0 ** -40)]), exponent)
+            assert brute_sphere_pairs(centers, touching).tolist() == [[0, 1]]
+            assert sphere_pairs(centers, touching, method=method).tolist() == [[0, 1]], (a, b, c, s, r0)
+            assert sphere_pairs(centers, apart, method=method).tolist() == [], (a, b, c, s, r0)

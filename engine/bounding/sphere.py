@@ -294,7 +294,8 @@ def spheres_touch(ca, ra, cb, rb):
     root avoided: ``|c_a - c_b|² <= (r_a + r_b)²`` — in 3-D 3 subtractions, 3 products, 3 additions, 1 addition,
     1 product and 1 comparison: the slide's ~11 operations. Squares of magnitudes below ~1e-154 underflow and
     above ~1e154 overflow, so when the largest of the components of c_a − c_b and r_a + r_b lies outside
-    [1e-150, 1e150] the same test is made on values divided by that largest magnitude.
+    [1e-150, 1e150] the same test is made on values divided by the power of two that brings that largest
+    magnitude into [0.5, 1) (exact: a pair exactly touching touches at every scale).
     """
     s = ra + rb
     dist2 = 0.0
@@ -305,11 +306,13 @@ def spheres_touch(ca, ra, cb, rb):
         big = max(big, abs(dx))
     if big == 0.0 or 1e-150 < big < 1e150:
         return dist2 <= s * s
+    # divided by a power of two near big (exact), so the test decides as it would without underflow / overflow
+    e = -math.frexp(big)[1]
     scaled = 0.0
     for m in range(ca.shape[0]):
-        dx = (ca[m] - cb[m]) / big
+        dx = math.ldexp(ca[m] - cb[m], e)
         scaled += dx * dx
-    t = s / big
+    t = math.ldexp(s, e)
     return scaled <= t * t
 
 

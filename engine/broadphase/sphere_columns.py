@@ -21,6 +21,7 @@ Data-oriented passes:
 """
 from __future__ import annotations
 
+import math
 from collections import namedtuple
 
 import numpy as np
@@ -169,12 +170,14 @@ TINY_REACH = 1e-150
 
 @njit(inline="always")
 def touching_at_scale(dx, dy, dz, s):
-    """|d|² <= s² with d and s divided by their largest magnitude first (a pair of spheres far below 1e-150,
-    whose squared distance would underflow; the same test as engine.bounding.sphere.spheres_touch)."""
+    """|d|² <= s² with d and s divided by the power of two that brings their largest magnitude into [0.5, 1)
+    first (exact: a pair of spheres far below 1e-150, whose squared distance would underflow, is decided as at
+    unit scale; the same test as engine.bounding.sphere.spheres_touch)."""
     big = max(s, abs(dx), abs(dy), abs(dz))
     if big == 0.0:
         return True
-    x, y, z, t = dx / big, dy / big, dz / big, s / big
+    e = -math.frexp(big)[1]
+    x, y, z, t = math.ldexp(dx, e), math.ldexp(dy, e), math.ldexp(dz, e), math.ldexp(s, e)
     return x * x + y * y + z * z <= t * t
 
 
