@@ -133,6 +133,8 @@ AREAS: dict[str, dict[str, list[str]]] = {
             "properties/test_world_persistence.py",
             # DemoScene.step: no body below the ground, the bounce against the closed form, seeds, energy
             "properties/test_demo_scene.py",
+            # written against the survivors of the world run on 5b97b8e (properties/MUTATION.md)
+            "properties/test_world_impact_edges.py",
         ],
         "sample": 20,
     },
