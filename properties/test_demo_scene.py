@@ -316,3 +316,16 @@ def test_the_drawing_names_are_importable_from_the_simulation_module():
     assert set(demo.DRAWING) == {"draw", "demo_figure", "run_demo"}
     with pytest.raises(AttributeError, match="no_such_name"):
         demo.no_such_name  # noqa: B018
+
+
+def test_at_most_four_impacts_per_body_and_frame():
+    """The documented cap: a box bouncing elastically on flat ground with a period of 0.2 s meets it 5 times in a
+    frame of 1 s (at 0.101, 0.303, ... s); 4 are answered, the body ends the frame above the ground."""
+    h = 0.05
+    scene = straight_ground_scene(0.0, 1.0, 0.0, 1.0, [0.0, 0.5 + h, 0.0], [0.5, 0.5, 0.5], 0.0, [0.0, 0.0, 0.0])
+    scene.step()
+    period = 2.0 * math.sqrt(2.0 * h / 9.81)
+    np.testing.assert_allclose([t for t, _, _ in scene.impacts], period * (np.arange(4) + 0.5), atol=1e-8)
+    np.testing.assert_allclose([s for _, _, s in scene.impacts], math.sqrt(2.0 * 9.81 * h), rtol=1e-8)
+    c, _, v = scene.world.pose(int(scene.ids[0]))
+    assert c[1] - 0.5 >= -1e-8 and v[1] > 0.0

@@ -145,7 +145,10 @@ class DemoScene:
                 def gap_at(tau, y_start=y_start, body=body):
                     return self._gap(body, rk4_step(self._derivative, self.t, y_start, tau)[:3])[0]
 
-                tc = bisect(gap_at, 0.0, remaining, 1e-9)
+                # the final bracket's apart end: gap(Y(tc)) >= 0 (Algorithme 3 keeps f(a) of f(0)'s sign), so a body
+                # that bounced is apart at the start of the rest of the frame, not taken for one at rest
+                _, found = bisect(gap_at, 0.0, remaining, 1e-9, full_output=True)
+                tc = found.a
                 y = rk4_step(self._derivative, self.t, y_start, tc)
                 _, n = self._gap(body, y[:3])
                 vn = float(y[3:] @ n)
