@@ -64,3 +64,13 @@ def test_a_box_sunk_into_a_straight_curve_has_the_closed_form_depth_and_normal(s
     assert contacts.separation[0] == pytest.approx(-sink * n[1], rel=1e-9)
     sign = 1.0 if contacts.pairs[0, 0] == ground else -1.0  # from the first shape to the second
     np.testing.assert_allclose(contacts.normal[0], sign * n, atol=1e-9)
+
+
+@pytest.mark.parametrize("velocities", [[[1.0, 2.0]], [[1.0, 2.0, 3.0], [4.0, 5.0, 6.0]], [1.0, 2.0, 3.0, 4.0]])
+def test_update_refuses_velocities_of_the_wrong_shape_by_name(velocities):
+    world = World()
+    body = world.add(Sphere([0.0, 0.0, 0.0], 0.5))
+    before = world.pose(body)
+    with pytest.raises(ValueError, match="^velocities"):
+        world.update([body], [[1.0, 1.0, 1.0]], velocities=velocities)
+    assert all(np.array_equal(x, y) for x, y in zip(world.pose(body), before))
