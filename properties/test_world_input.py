@@ -141,3 +141,13 @@ def test_ids_never_added_are_refused_by_name_and_index(bad):
     with pytest.raises(ValueError, match=rf"^ids\[1\] = {bad} is not a body of this world"):
         world.update([body, bad], [[1.0, 0.0, 0.0], [2.0, 0.0, 0.0]])
     assert all(np.array_equal(x, y) for x, y in zip(world.pose(body), before))
+
+
+def test_one_scipy_rotation_turns_the_one_body_updated():
+    world = World()
+    body = world.add(Box([0.0, 0.0, 0.0], [1.0, 0.5, 0.25]))
+    turn = Rotation.from_euler("z", 0.3)
+    world.update([body], [[1.0, 2.0, 3.0]], rotations=turn)
+    center, rotation, _ = world.pose(body)
+    np.testing.assert_array_equal(center, [1.0, 2.0, 3.0])
+    np.testing.assert_allclose(rotation, turn.as_matrix(), atol=1e-15)
