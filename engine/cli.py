@@ -152,7 +152,7 @@ def cmd_gas(args) -> int:
 
 def cmd_demo(args) -> int:
     """Boxes, spheres and capsules falling with RK4 onto a curved ground: an animated GIF and/or a still PNG."""
-    from .world.demo import run_demo
+    from .world.demo_plot import run_demo
 
     if not args.no_gif:
         writable_file(args.out, "--out")

@@ -130,3 +130,24 @@ def test_move_validation_names_the_argument_and_changes_nothing():
     with pytest.raises(ValueError, match=f"id {gone} is not a body"):
         w.move(gone, center=[0.0, 0.0, 0.0])
     _same(w, snap)
+
+
+@pytest.mark.parametrize("bad", [1, 7, -1, -2])
+def test_ids_never_added_are_refused_by_name_and_index(bad):
+    """An id outside [0, number of ids ever given) is "not a body of this world", whichever body holds id 0."""
+    world = World()
+    body = world.add(Sphere([0.0, 0.0, 0.0], 0.5))
+    before = world.pose(body)
+    with pytest.raises(ValueError, match=rf"^ids\[1\] = {bad} is not a body of this world"):
+        world.update([body, bad], [[1.0, 0.0, 0.0], [2.0, 0.0, 0.0]])
+    assert all(np.array_equal(x, y) for x, y in zip(world.pose(body), before))
+
+
+def test_one_scipy_rotation_turns_the_one_body_updated():
+    world = World()
+    body = world.add(Box([0.0, 0.0, 0.0], [1.0, 0.5, 0.25]))
+    turn = Rotation.from_euler("z", 0.3)
+    world.update([body], [[1.0, 2.0, 3.0]], rotations=turn)
+    center, rotation, _ = world.pose(body)
+    np.testing.assert_array_equal(center, [1.0, 2.0, 3.0])
+    np.testing.assert_allclose(rotation, turn.as_matrix(), atol=1e-15)

@@ -5,7 +5,8 @@
 across frames), ``engine.world.dispatch`` (shape kind × shape kind → kernel, for overlap, contact and time of
 impact; the compiled narrow phase), ``engine.world.convex`` (the GJK/EPA rows), ``engine.world.curve`` (the
 curved-ground rows), ``engine.world.world`` (World: the frame, with per-stage counters and times),
-``engine.world.demo`` (``collide demo``).
+``engine.world.demo`` (``colldet demo``'s simulation, ``DemoScene``) and ``engine.world.demo_plot`` (its
+drawing: ``draw``, ``demo_figure``, ``run_demo``).
 """
 from __future__ import annotations
 

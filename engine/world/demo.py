@@ -1,15 +1,15 @@
-"""``collide demo``: boxes, spheres and capsules falling onto a curved ground, drawn with the pipeline's output.
+"""``colldet demo``, the simulation: boxes, spheres, capsules and a hull falling onto a curved ground.
 
 The chapter's falling-body recipe ("La solution ?": stop the ODE at tc, apply the response, restart), for every
 body of a ``World``: each frame, each body's state Y = (x, v) takes one RK4 step (engine.rk4_step) under
-gravity and linear drag; if the World then reports the body overlapping the ground (``HeightCurve``), the impact
-time tc in [t, t + Δt] is located by bisection (engine.bisect, Algorithme 3) on the body's gap to the curve —
-never by the penetration — the body is put at Y(tc) and answered with restitution along the curve's normal
+gravity and linear drag; if the body's gap to the ground (``HeightCurve``) is then <= 0, the impact time tc in
+[t, t + Δt] is located by bisection (engine.bisect, Algorithme 3) on the body's gap to the curve — never by the
+penetration — the body is put at Y(tc) and answered with restitution along the curve's normal
 (V_après = V − (1 + e)(V·n) n), and the rest of the frame is integrated from tc. Bodies do not rotate (no
 rigid-body rotation solver) and pass through each other (their contacts are drawn, not answered).
 
-Writes an animated GIF (matplotlib + Pillow) of the x–y side view — bodies, contact points and normals, the
-per-stage pair counts in a corner — or one still frame (``--png``).
+The drawing (``draw``, ``demo_figure``, ``run_demo``: matplotlib, the GIF and the PNG) is in
+``engine.world.demo_plot``; those names are importable from here too (loaded on first use, with matplotlib).
 """
 from __future__ import annotations
 
@@ -22,13 +22,16 @@ from .curve import ground_gap, lower_boundary
 from .shapes import Box, Capsule, ConvexPolyhedron, HeightCurve, Sphere
 from .world import World
 
-__all__ = ["build_scene", "DemoScene", "run_demo", "demo_figure"]
+__all__ = ["build_scene", "DemoScene", "ground_height", "GRAVITY", "DRAWING"]
+
+#: the names defined in engine.world.demo_plot and importable from here
+DRAWING = ("draw", "demo_figure", "run_demo")
 
 GRAVITY = np.array([0.0, -9.81, 0.0])
 
 
 def ground_height(x):
-    """The demo's curved ground y = f(x): a valley with a bump."""
+    """The demo's curved ground y = f(x) = 0.04 x² + 0.5 sin(1.3 x) − 0.8: a valley with a bump."""
     x = np.asarray(x, dtype=float)
     return 0.04 * x ** 2 + 0.5 * np.sin(1.3 * x) - 0.8
 
@@ -39,7 +42,45 @@ def _rot_z(angle):
 
 
 class DemoScene:
-    """A World of falling bodies over a HeightCurve, stepped by RK4 with impacts located by bisection."""
+    """A World of falling bodies over a HeightCurve, stepped by RK4 with impacts located by bisection.
+
+    The ground is ``HeightCurve(ground_height, samples=96)``; the bodies (every centre at z = 0), in order:
+
+    - a box at (−5, 5), half extents (0.6, 0.4, 0.5), turned 0.4 rad about z;
+    - a sphere at (−3.2, 7), radius 0.5;
+    - a capsule from (−1.9, 6) to (−0.7, 6.4), radius 0.3;
+    - a box at (0.8, 8), half extents (0.5, 0.5, 0.5), turned −0.3 rad about z;
+    - a sphere at (2.6, 5.5), radius 0.7;
+    - a capsule from (3.8, 7.5) to (4.8, 6.9), radius 0.35;
+    - the hull of 14 points drawn from N((5.6, 9, 0), 0.45²) per coordinate (``numpy.random.default_rng(seed)``).
+
+    Each starts with velocity (u, 0, 0), u uniform in [−0.8, 0.8] m/s, drawn from the same generator after the
+    hull's points. Per unit mass, a free body's state Y = (x, v) obeys dY/dt = (v, GRAVITY − drag · v).
+
+    Parameters
+    ----------
+    restitution : float, default 0.6
+        e of the response along the ground's normal n: v' = v − (1 + e)(v · n) n. A body whose speed along n
+        after it, e · |v · n|, is below 0.3 m/s comes to rest there (velocity 0, and it moves no more), as does
+        a body touching the ground at the start of a frame whose RK4 step ends below it.
+    drag : float, default 0.05
+        The linear drag coefficient (1/s).
+    dt : float, default 0.02
+        The frame (s); up to 4 impacts per body and frame are located and answered.
+    seed : int, default 0
+        Seeds the hull's points and the initial velocities.
+
+    Attributes
+    ----------
+    world : World
+        The bodies and the ground; ``ground`` is the ground's id, ``ids`` the bodies' ids (int array).
+    t : float
+        The time reached (``dt`` per ``step``).
+    impacts : list of (float, int, float)
+        Every impact answered so far: (time, body id, speed along the normal before it).
+    resting : numpy.ndarray of bool
+        Per body (in the order of ``ids``): whether it came to rest.
+    """
 
     def __init__(self, *, restitution: float = 0.6, drag: float = 0.05, dt: float = 0.02, seed: int = 0):
         self.world = World("tree")
@@ -104,7 +145,10 @@ class DemoScene:
                 def gap_at(tau, y_start=y_start, body=body):
                     return self._gap(body, rk4_step(self._derivative, self.t, y_start, tau)[:3])[0]
 
-                tc = bisect(gap_at, 0.0, remaining, 1e-9)
+                # the final bracket's apart end: gap(Y(tc)) >= 0 (Algorithme 3 keeps f(a) of f(0)'s sign), so a body
+                # that bounced is apart at the start of the rest of the frame, not taken for one at rest
+                _, found = bisect(gap_at, 0.0, remaining, 1e-9, full_output=True)
+                tc = found.a
                 y = rk4_step(self._derivative, self.t, y_start, tc)
                 _, n = self._gap(body, y[:3])
                 vn = float(y[3:] @ n)
@@ -125,108 +169,14 @@ class DemoScene:
 
 
 def build_scene(**kwargs) -> DemoScene:
+    """``DemoScene(**kwargs)``."""
     return DemoScene(**kwargs)
 
 
-def _outline(world, body):
-    """A closed 2-D outline (x, y) of a body's side view."""
-    pts = world.world_points(body)[:, :2]
-    r = world.radius(body)
-    if r > 0:  # rounded: sample the disc around every core point
-        a = np.linspace(0, 2 * np.pi, 48, endpoint=False)
-        pts = (pts[:, None, :] + r * np.stack([np.cos(a), np.sin(a)], axis=1)[None]).reshape(-1, 2)
-    from scipy.spatial import ConvexHull
+def __getattr__(name):
+    """The drawing's names (``DRAWING``), from ``engine.world.demo_plot``, imported on first use (PEP 562)."""
+    if name in DRAWING:
+        from . import demo_plot
 
-    return pts[ConvexHull(pts).vertices]
-
-
-def draw(scene: DemoScene, ax):
-    """Draw the scene's current state on a matplotlib axis: ground, bodies, contacts, stage counts."""
-    from matplotlib.patches import Polygon
-
-    w = scene.world
-    ax.clear()
-    x = np.linspace(-8, 8, 400)
-    y = ground_height(x)
-    ax.fill_between(x, y, -3, color="#c8b898")
-    ax.plot(x, y, color="#6b5b3e", lw=1.5)
-    colors = {"sphere": "#4c72b0", "box": "#dd8452", "capsule": "#55a868", "hull": "#8172b3"}
-    for body in scene.ids.tolist():
-        ax.add_patch(Polygon(_outline(w, body), closed=True, fc=colors[w.kind(body)], ec="k", lw=0.8, alpha=0.9))
-    contacts = w.contacts()
-    stats = w.stats
-    if len(contacts):
-        pts = contacts.points
-        owner = np.repeat(np.arange(len(contacts)), np.diff(contacts.point_offsets))
-        n = contacts.normal[owner]
-        ax.quiver(pts[:, 0], pts[:, 1], n[:, 0], n[:, 1], color="crimson", scale=12, width=0.005)
-        ax.plot(pts[:, 0], pts[:, 1], "o", color="crimson", ms=4)
-    ax.text(0.02, 0.97, f"t = {scene.t:5.2f} s\nbodies: {stats.bodies}\ncandidate pairs: {stats.candidate_pairs}\n"
-            f"narrow tests: {stats.narrow_tests}\noverlapping pairs: {stats.overlapping}\n"
-            f"contact points: {stats.contacts}\nimpacts so far: {len(scene.impacts)}",
-            transform=ax.transAxes, va="top", ha="left", fontsize=8, family="monospace",
-            bbox=dict(fc="white", ec="0.6", alpha=0.85))
-    ax.set_xlim(-8, 8)
-    ax.set_ylim(-3, 10)
-    ax.set_aspect("equal")
-    ax.set_title("collide demo — World pipeline (x–y side view)", fontsize=10)
-    ax.set_xticks([])
-    ax.set_yticks([])
-
-
-def _figure():
-    """A Figure with its own Agg canvas: no pyplot, the process's backend is never switched."""
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
-
-    fig = Figure(figsize=(6.4, 5.2), dpi=80)
-    FigureCanvasAgg(fig)
-    return fig, fig.add_subplot()
-
-
-def demo_figure(path: str | None = None, *, frame: int = 70, restitution: float = 0.6, seed: int = 0):
-    """The demo scene after ``frame`` frames, drawn; saved to ``path`` (a PNG) only when a path is given.
-    Returns ``(figure, scene)``."""
-    if isinstance(frame, bool) or not isinstance(frame, int) or frame < 0:
-        raise ValueError(f"frame must be an int >= 0, got {frame!r}")
-    scene = DemoScene(restitution=restitution, seed=seed)
-    for _ in range(frame):
-        scene.step()
-    fig, ax = _figure()
-    draw(scene, ax)
-    if path is not None:
-        fig.savefig(path, dpi=80)
-    return fig, scene
-
-
-def run_demo(*, out: str | None = "demo.gif", png: str | None = None, frames: int = 150, png_frame: int = 70,
-             fps: int = 25, restitution: float = 0.6, seed: int = 0) -> int:
-    """Simulate ``frames`` frames; write the GIF to ``out`` (None: no GIF) and/or frame ``png_frame`` to ``png``."""
-    from matplotlib.animation import FuncAnimation, PillowWriter
-
-    if out is None and png is None:
-        raise ValueError("out and png are both None: nothing to write (give --png with --no-gif)")
-    if frames < 1 or not 0 <= png_frame < frames:
-        raise ValueError(f"frames must be >= 1 and png_frame in [0, frames), got {frames} and {png_frame}")
-    if out is None:
-        _, scene = demo_figure(png, frame=png_frame, restitution=restitution, seed=seed)
-    else:
-        scene = DemoScene(restitution=restitution, seed=seed)
-        fig, ax = _figure()
-
-        def update(k):
-            if k:
-                scene.step()
-            draw(scene, ax)
-            if png is not None and k == png_frame:
-                fig.savefig(png, dpi=80)
-            return []
-
-        FuncAnimation(fig, update, frames=frames, blit=False).save(out, writer=PillowWriter(fps=fps))
-    for t, body, speed in scene.impacts:
-        print(f"impact t = {t:.6f} s  body {body} ({scene.world.kind(body)})  normal speed {speed:.3f} m/s")
-    if out is not None:
-        print(f"wrote {out}")
-    if png is not None:
-        print(f"wrote {png}")
-    return 0
+        return getattr(demo_plot, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
