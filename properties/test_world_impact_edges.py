@@ -74,3 +74,36 @@ def test_update_refuses_velocities_of_the_wrong_shape_by_name(velocities):
     with pytest.raises(ValueError, match="^velocities"):
         world.update([body], [[1.0, 1.0, 1.0]], velocities=velocities)
     assert all(np.array_equal(x, y) for x, y in zip(world.pose(body), before))
+
+
+@settings(max_examples=20)
+@given(slope=st.floats(-0.8, 0.8), gap=st.floats(0.05, 2.0), x0=st.floats(-3.0, 3.0),
+       half=st.tuples(*[st.floats(0.1, 1.0)] * 3), vx=st.floats(-1.0, 1.0), fall=st.floats(0.5, 3.0))
+def test_a_box_falling_onto_a_straight_curve_impacts_at_the_closed_form_time(slope, gap, x0, half, vx, fall):
+    """An axis-aligned box translating with v = (vx, vy) whose lowest corner (least y − slope · x) is ``gap`` above
+    y = slope · x vertically: that corner's vertical gap closes at −(vy − slope · vx), so the impact is at
+    gap / (slope · vx − vy); a window shorter than that has no impact, and a box starting sunk has time 0."""
+    world = World()
+    ground = world.add(HeightCurve(lambda x: slope * np.asarray(x, dtype=float), samples=64))
+    lowest = -half[1] - abs(slope) * half[0]
+    vy = slope * vx - fall  # the closing rate of the gap is ``fall``
+    box = world.add(Box([x0, slope * x0 - lowest + gap, 0.0], half), velocity=[vx, vy, 0.0])
+    t_hit = gap / fall
+    impacts = world.time_of_impact(2.0 * t_hit)
+    assert impacts.pairs.tolist() == [sorted([box, ground])]
+    assert impacts.times[0] == pytest.approx(t_hit, rel=1e-9, abs=1e-12)
+    assert len(world.time_of_impact(0.9 * t_hit)) == 0
+    sunk = world.add(Box([x0 + 50.0, slope * (x0 + 50.0) - lowest - 0.5 * gap, 0.0], half), velocity=[vx, vy, 0.0])
+    impacts = world.time_of_impact(2.0 * t_hit)
+    assert impacts.pairs.tolist() == sorted([sorted([box, ground]), sorted([sunk, ground])])
+    times = dict(zip(map(tuple, impacts.pairs.tolist()), impacts.times.tolist()))
+    assert times[tuple(sorted([sunk, ground]))] == 0.0
+    assert times[tuple(sorted([box, ground]))] == pytest.approx(t_hit, rel=1e-9, abs=1e-12)
+
+
+def test_a_height_curve_is_shown_by_its_function_name():
+    def valley(x):
+        return 0.1 * np.asarray(x, dtype=float) ** 2
+
+    assert repr(HeightCurve(valley)) == "HeightCurve(valley)"
+    assert repr(HeightCurve(lambda x: np.asarray(x, dtype=float))) == "HeightCurve(<lambda>)"

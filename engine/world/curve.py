@@ -71,6 +71,8 @@ def ground_gap(curve, boundary) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     sampled gap alone missed a crest of f between two corners of a long bottom face.
     """
     k, n_pts, _ = boundary.shape
+    if k == 0:  # no body: no gap (np.interp refuses an empty table)
+        return np.empty(0), np.empty(0), np.empty(0)
     bx = np.maximum.accumulate(boundary[:, :, 0], axis=1)  # increasing (round-off of the supports aside)
     by = boundary[:, :, 1]
     x0, x1 = bx[:, 0], bx[:, -1]
