@@ -152,13 +152,4 @@ DESELECT: dict[str, str] = {
         "N = 1000 for t = 5 (> 15,000 collisions): minutes interpreted",
     "properties/test_gas_simulation.py::test_dense_fluid_from_a_lattice_up_to_eta_045":
         "N = 500 at eta = 0.45 for t = 1 (thousands of collisions): minutes interpreted",
-    "properties/test_adversarial.py::test_gas_event_loop_cap_raises_a_clear_error":
-        "a gas test in the narrowphase area's file: interpreted, the gas cell list's records are numpy.void rows, "
-        "which have no attribute access (`links[i].cell`), so it fails on the unmutated engine and mutmut's stats "
-        "run stops; compiled it passes",
-    **{f"properties/test_fuzz_public_api.py::{test}[{name}]":
-       "the gas event and stepped runs in the fuzz file: interpreted, the cell list's numpy.void records have no "
-       "attribute access (as above); the gas functions are not the narrow phase's, and compiled they pass"
-       for test in ("test_valid_arguments_give_a_result_without_nan", "test_hostile_arguments_get_a_clean_answer")
-       for name in ("simulate_gas", "EventDrivenGas", "SteppedGas")},
 }
