@@ -59,6 +59,9 @@ AREAS: dict[str, dict[str, list[str]]] = {
             "properties/test_gas_kinetic_theory.py",
             "properties/test_gas_argument_names.py",
             "properties/test_gas_stepped_response.py",
+            # the event calendar and the neighbour-list search (engine/gas/event_queue.py, neighbour_list.py)
+            "properties/test_gas_event_calendar.py",
+            "properties/test_gas_neighbour_lists.py",
         ],
         "sample": 20,
     },
