@@ -239,6 +239,8 @@ def test_block_observables_are_the_design_formulas_of_the_event_sums(scene, t_eq
     assert res.energy_drift <= 1e-12
     assert (res.method, res.boundary, res.broad_phase, res.dt, res.n) == ("events", scene["boundary"], "cells", 0.0, n)
     assert res.t_measure == pytest.approx(t_meas, rel=1e-15)
+    # the throughput is the window's collisions over its clock time (the clock itself is not reproducible)
+    assert res.collisions_per_second == (res.collisions / res.seconds if res.seconds > 0.0 else 0.0)
     if periodic:
         assert np.linalg.norm(res.momentum) <= 1e-12 * n
 
@@ -263,6 +265,7 @@ def test_stepped_run_reports_its_frames_and_its_sums(scene, dt, blocks):
     np.testing.assert_array_equal(res.velocities, gas.velocities)
     assert res.events == blocks * max(1, int(round(t_meas / blocks / dt)))
     assert (res.method, res.broad_phase, res.dt) == ("stepped", "sap", dt)
+    assert res.collisions_per_second == (res.collisions / res.seconds if res.seconds > 0.0 else 0.0)
     assert res.energy_drift <= 1e-12
 
 
