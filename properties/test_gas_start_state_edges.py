@@ -51,3 +51,13 @@ def test_a_zero_in_a_per_sphere_array_is_refused_by_index(name, bad):
                  lambda: SteppedGas(p, v, values["radii"], values["masses"], BOX, False, 0.01)):
         with pytest.raises(ValueError, match=rf"^{name} must be > 0: {name}\[{bad}\] = 0\.0$"):
             make()
+
+
+@pytest.mark.parametrize("radius", [5.0, 6.0])
+@pytest.mark.parametrize("given_positions", [False, True])
+def test_simulate_gas_refuses_spheres_that_cannot_fit_between_the_walls(radius, given_positions):
+    """2 r >= box with walls: refused by simulate_gas's own check, before any start is drawn or positions are
+    checked (whose errors would name other things)."""
+    kwargs = dict(positions=np.zeros((1, 3)), velocities=np.ones((1, 3))) if given_positions else {}
+    with pytest.raises(ValueError, match=rf"^radius must be < box/2: radius {radius!r}, box 10\.0$"):
+        simulate_gas(1, radius=radius, box=10.0, t_equilibrate=0.0, t_measure=0.1, blocks=2, **kwargs)
