@@ -62,7 +62,7 @@ AREAS: dict[str, dict[str, list[str]]] = {
             # the event calendar and the neighbour-list search (engine/gas/event_queue.py, neighbour_list.py)
             "properties/test_gas_event_calendar.py",
             "properties/test_gas_neighbour_lists.py",
-            # written against the survivors of the gas run on this code (properties/MUTATION.md)
+            # written against mutants of the gas sample (properties/MUTATION.md, gas)
             "properties/test_gas_start_state_edges.py",
         ],
         "sample": 20,
