@@ -239,6 +239,8 @@ def test_block_observables_are_the_design_formulas_of_the_event_sums(scene, t_eq
     assert res.energy_drift <= 1e-12
     assert (res.method, res.boundary, res.broad_phase, res.dt, res.n) == ("events", scene["boundary"], "cells", 0.0, n)
     assert res.t_measure == pytest.approx(t_meas, rel=1e-15)
+    # the throughput is the window's collisions over its clock time (the clock itself is not reproducible)
+    assert res.collisions_per_second == (res.collisions / res.seconds if res.seconds > 0.0 else 0.0)
     if periodic:
         assert np.linalg.norm(res.momentum) <= 1e-12 * n
 
@@ -263,6 +265,7 @@ def test_stepped_run_reports_its_frames_and_its_sums(scene, dt, blocks):
     np.testing.assert_array_equal(res.velocities, gas.velocities)
     assert res.events == blocks * max(1, int(round(t_meas / blocks / dt)))
     assert (res.method, res.broad_phase, res.dt) == ("stepped", "sap", dt)
+    assert res.collisions_per_second == (res.collisions / res.seconds if res.seconds > 0.0 else 0.0)
     assert res.energy_drift <= 1e-12
 
 
@@ -404,6 +407,25 @@ def test_command_prints_what_simulate_gas_measured(tmp_path):
     assert f"collisions = {res.collisions}," in text
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert err.getvalue() == ""  # stderr is not a terminal: no carriage-return frames in a log
+
+
+def test_command_histogram_shows_the_run_and_its_ks_p_value(tmp_path, monkeypatch):
+    """The histogram the command writes is of the run's scaled speeds, titled with the method, boundary, N, eta
+    and the KS p-value of the last block's speeds against Maxwell-Boltzmann (the value the command prints)."""
+    import engine.gas.command as command
+    from engine.gas import maxwell_boltzmann_test
+
+    calls = []
+    monkeypatch.setattr(command, "plot_speed_histogram", lambda *a, **k: calls.append((a, k)))
+    args = dict(t_measure=0.4, t_equilibrate=0.2, seed=3)
+    png = tmp_path / "speeds.png"
+    run_gas_command(n=12, eta=0.1, out=str(png), stdout=io.StringIO(), stderr=io.StringIO(), **args)
+    res = simulate_gas(12, radius=radius_for_packing(12, 0.1, L), **args)
+    (speeds, path, title), kwargs = calls[0]
+    assert len(calls) == 1 and kwargs == {} and str(path) == str(png)
+    np.testing.assert_array_equal(speeds, res.scaled_speeds)
+    _, p = maxwell_boltzmann_test(res.scaled_speeds[-12:])
+    assert title == f"events, walls, N = 12, eta = 0.1 (KS p = {p:.2f})"
 
 
 class _Terminal(io.StringIO):

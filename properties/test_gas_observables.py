@@ -222,3 +222,21 @@ def test_zero_impulse_and_zero_speed_are_allowed():
     np.testing.assert_array_equal(scaled_speeds(np.zeros((2, 3))), [0.0, 0.0])
     _, p = maxwell_boltzmann_test([0.0, 1.0, 2.0])
     assert 0.0 <= p <= 1.0
+
+
+@pytest.mark.parametrize("top", [2.0, 7.5])
+def test_speed_histogram_draws_the_maxwell_density_with_its_legend(top):
+    """The curve is the Maxwell–Boltzmann density of the scaled speed, 4πu² e^{−u²/2}/(2π)^{3/2} (written out
+    here), over [0, max(4.5, the largest speed)]; the legend names both; the figure is 6 × 4 inches (the
+    docstring's contract)."""
+    u = np.linspace(0.0, top, 50)
+    fig = plot_speed_histogram(u)
+    (ax,) = fig.axes
+    (line,) = ax.lines
+    x, y = line.get_xdata(), line.get_ydata()
+    assert x[0] == 0.0 and x[-1] == max(4.5, top) and len(x) == 400
+    np.testing.assert_allclose(y, 4.0 * np.pi * x**2 * np.exp(-(x**2) / 2.0) / (2.0 * np.pi) ** 1.5,
+                               rtol=1e-12, atol=1e-300)
+    assert [t.get_text() for t in ax.get_legend().get_texts()] == ["simulation (50 speeds)", "Maxwell–Boltzmann"]
+    assert tuple(fig.get_size_inches()) == (6.0, 4.0)
+    assert ax.get_ylabel() == "density"

@@ -53,34 +53,34 @@ def new_cell_list(n: int, box: float, ncell: int, periodic: bool) -> CellList:
 def cell_of(cells, i):
     """Flat index (cx · ncell + cy) · ncell + cz of sphere i's cell."""
     n = cells.ncell
-    c = cells.links[i].cell
+    c = cells.links[i]["cell"]
     return (np.int64(c[0]) * n + c[1]) * n + c[2]
 
 
 @state_kernel
 def cell_insert(cells, i):
-    """Push sphere i at the head of the list of its cell (``links[i].cell``)."""
+    """Push sphere i at the head of the list of its cell (``links[i]["cell"]``)."""
     links = cells.links
     c = cell_of(cells, i)
     h = cells.head[c]
-    links[i].next = h
-    links[i].prev = -1
+    links[i]["next"] = h
+    links[i]["prev"] = -1
     if h >= 0:
-        links[h].prev = i
+        links[h]["prev"] = i
     cells.head[c] = i
 
 
 @state_kernel
 def cell_remove(cells, i):
-    """Unlink sphere i from the list of its cell (``links[i].cell``)."""
+    """Unlink sphere i from the list of its cell (``links[i]["cell"]``)."""
     links = cells.links
-    nxt, prv = links[i].next, links[i].prev
+    nxt, prv = links[i]["next"], links[i]["prev"]
     if prv >= 0:
-        links[prv].next = nxt
+        links[prv]["next"] = nxt
     else:
         cells.head[cell_of(cells, i)] = nxt
     if nxt >= 0:
-        links[nxt].prev = prv
+        links[nxt]["prev"] = prv
 
 
 @state_kernel
@@ -91,7 +91,7 @@ def cell_fill(cells, positions):
     for i in range(positions.shape[0]):
         for k in range(3):
             c = int(math.floor((positions[i, k] + cells.half) / cells.width))
-            cells.links[i].cell[k] = min(cells.ncell - 1, max(0, c))
+            cells.links[i]["cell"][k] = min(cells.ncell - 1, max(0, c))
         cell_insert(cells, i)
 
 
@@ -99,7 +99,7 @@ def cell_fill(cells, positions):
 def cell_step(cells, i, axis, up):
     """Move sphere i to the next cell along ``axis`` (up: +1 side, else −1). Returns the shift (0, −L or +L) its
     coordinate takes when it leaves through a periodic face and enters the opposite cell."""
-    cell, ncell, box = cells.links[i].cell, cells.ncell, cells.box
+    cell, ncell, box = cells.links[i]["cell"], cells.ncell, cells.box
     cell_remove(cells, i)
     c = cell[axis] + (1 if up else -1)
     shift = 0.0

@@ -89,7 +89,7 @@ def sized_event_calendar(times, per_bucket=BUCKET_EVENTS, turns=4.0):
 def _put(cal, pos, k, i):
     cal.win_key[pos] = k
     cal.win_sphere[pos] = i
-    cal.entries[i].slot = pos
+    cal.entries[i]["slot"] = pos
 
 
 @state_kernel
@@ -130,7 +130,7 @@ def _sift_down(cal, pos):
 def _window_push(cal, i, t):
     pos = cal.count[_SIZE]
     cal.count[_SIZE] = pos + 1
-    cal.entries[i].where = _IN_WINDOW
+    cal.entries[i]["where"] = _IN_WINDOW
     _put(cal, pos, t, i)
     _sift_up(cal, pos)
 
@@ -138,7 +138,7 @@ def _window_push(cal, i, t):
 @state_kernel
 def _window_remove(cal, i):
     """Take sphere i out of the window: the last entry fills its place and is sifted up or down."""
-    pos = cal.entries[i].slot
+    pos = cal.entries[i]["slot"]
     last = cal.count[_SIZE] - 1
     cal.count[_SIZE] = last
     if pos != last:
@@ -154,12 +154,12 @@ def _link(cal, i, b):
     """Push sphere i at the head of list b (a bucket, or M: the overflow list)."""
     e, head = cal.entries, cal.head
     h = head[b]
-    e[i].qnext = h
-    e[i].qprev = -1
+    e[i]["qnext"] = h
+    e[i]["qprev"] = -1
     if h >= 0:
-        e[h].qprev = i
+        e[h]["qprev"] = i
     head[b] = i
-    e[i].where = b
+    e[i]["where"] = b
     if b < cal.nbuckets:
         cal.count[_IN_BUCKETS] += 1
 
@@ -167,13 +167,13 @@ def _link(cal, i, b):
 @state_kernel
 def _unlink(cal, i):
     e = cal.entries
-    b, nxt, prv = e[i].where, e[i].qnext, e[i].qprev
+    b, nxt, prv = e[i]["where"], e[i]["qnext"], e[i]["qprev"]
     if prv >= 0:
-        e[prv].qnext = nxt
+        e[prv]["qnext"] = nxt
     else:
         cal.head[b] = nxt
     if nxt >= 0:
-        e[nxt].qprev = prv
+        e[nxt]["qprev"] = prv
     if b < cal.nbuckets:
         cal.count[_IN_BUCKETS] -= 1
 
@@ -183,7 +183,7 @@ def _insert(cal, i, t):
     """File sphere i's event at time t by its bucket number floor(t/Δ) (monotone in t, so the buckets keep
     their order): into the window if that is the current bucket (or earlier), into its bucket's list if it is
     less than M buckets ahead, else into the overflow list (infinite times and times beyond 2^52 Δ included)."""
-    cal.entries[i].key = t
+    cal.entries[i]["key"] = t
     q = t / cal.width
     base = cal.count[_BASE]
     if q < base + 1.0:
@@ -197,11 +197,11 @@ def _insert(cal, i, t):
 @state_kernel
 def calendar_update(cal, i, t):
     """Give sphere i the event time t (a later or earlier one), wherever its previous event was filed."""
-    w = cal.entries[i].where
+    w = cal.entries[i]["where"]
     if w == _IN_WINDOW:
         if t / cal.width < cal.count[_BASE] + 1.0:  # stays in the window: the heap's key update
-            cal.entries[i].key = t
-            pos = cal.entries[i].slot
+            cal.entries[i]["key"] = t
+            pos = cal.entries[i]["slot"]
             cal.win_key[pos] = t
             _sift_down(cal, _sift_up(cal, pos))
             return
@@ -216,9 +216,9 @@ def _drain(cal, b):
     """Move every event of list b into the calendar again (into the window, a bucket or the overflow list)."""
     i = cal.head[b]
     while i >= 0:
-        after = cal.entries[i].qnext
+        after = cal.entries[i]["qnext"]
         _unlink(cal, i)
-        _insert(cal, i, cal.entries[i].key)
+        _insert(cal, i, cal.entries[i]["key"])
         i = after
 
 
@@ -228,9 +228,9 @@ def _earliest_in_overflow(cal):
     best, t = -1, math.inf
     i = cal.head[cal.nbuckets]
     while i >= 0:
-        if cal.entries[i].key < t or best < 0:
-            best, t = i, cal.entries[i].key
-        i = cal.entries[i].qnext
+        if cal.entries[i]["key"] < t or best < 0:
+            best, t = i, cal.entries[i]["key"]
+        i = cal.entries[i]["qnext"]
     return best
 
 
@@ -247,15 +247,15 @@ def calendar_top(cal):
     while cal.count[_SIZE] == 0:
         if cal.count[_IN_BUCKETS] == 0:
             i = _earliest_in_overflow(cal)
-            if i < 0 or cal.entries[i].key == math.inf:
+            if i < 0 or cal.entries[i]["key"] == math.inf:
                 return -1, math.inf
-            q = cal.entries[i].key / cal.width
+            q = cal.entries[i]["key"] / cal.width
             if q < _MAX_BUCKET:
                 cal.count[_BASE] = int(q)
                 _drain(cal, m)
             else:
                 _unlink(cal, i)
-                _window_push(cal, i, cal.entries[i].key)
+                _window_push(cal, i, cal.entries[i]["key"])
             continue
         cal.count[_BASE] += 1
         b = cal.count[_BASE] % m

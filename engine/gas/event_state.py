@@ -108,12 +108,12 @@ def collide_pair(g, i, j, t, box, periodic):
     rz = st[i, 2] - st[j, 2]
     if periodic:
         rx, ry, rz = minimum_image(rx, ry, rz, box)
-    w = pair_impulse(st, book[i].mass, book[j].mass, i, j, rx, ry, rz, 3)
+    w = pair_impulse(st, book[i]["mass"], book[j]["mass"], i, j, rx, ry, rz, 3)
     if w > 0.0:
         g.sums[VIRIAL] += w
         g.counters[COLLISIONS] += 1
-    book[i].count += 1
-    book[j].count += 1
+    book[i]["count"] += 1
+    book[j]["count"] += 1
 
 
 @state_kernel
@@ -122,13 +122,13 @@ def reflect_sphere(g, i, t, half):
     the wall impulse, and the centre is put exactly on the wall of the reachable cube (round-off removed)."""
     st, b = g.st, g.book[i]
     advance_sphere(st, i, t)
-    k = b.ev_other
+    k = b["ev_other"]
     v = st[i, 3 + k]
-    g.sums[WALL_IMPULSE] += 2.0 * b.mass * abs(v)
+    g.sums[WALL_IMPULSE] += 2.0 * b["mass"] * abs(v)
     g.counters[WALL_HITS] += 1
     st[i, k] = (half - st[i, 7]) if v > 0.0 else (-half + st[i, 7])
     st[i, 3 + k] = -v
-    b.count += 1
+    b["count"] += 1
 
 
 

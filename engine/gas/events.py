@@ -71,15 +71,15 @@ def _find_partner(g, cells, i, t, axis, side):
     """
     st, book, links = g.st, g.book, cells.links
     b = book[i]
-    other = b.cand_other
-    if axis >= 0 and other >= 0 and book[other].count != b.cand_count:
+    other = b["cand_other"]
+    if axis >= 0 and other >= 0 and book[other]["count"] != b["cand_count"]:
         axis = -1
     best, bother, bcount = _INF, -1, 0
     if axis >= 0:
-        best = b.cand_time - t if other >= 0 else _INF
+        best = b["cand_time"] - t if other >= 0 else _INF
         if best < 0.0:
             best = 0.0
-        bother, bcount = other, b.cand_count
+        bother, bcount = other, b["cand_count"]
     lo0, hi0, lo1, hi1, lo2, hi2 = -1, 1, -1, 1, -1, 1
     if axis == 0:
         lo0, hi0 = side, side
@@ -88,7 +88,7 @@ def _find_partner(g, cells, i, t, axis, side):
     elif axis == 2:
         lo2, hi2 = side, side
     n, box, periodic = cells.ncell, cells.box, cells.periodic
-    c0, c1, c2 = links[i].cell[0], links[i].cell[1], links[i].cell[2]
+    c0, c1, c2 = links[i]["cell"][0], links[i]["cell"][1], links[i]["cell"][2]
     for dx in range(lo0, hi0 + 1):
         cx, sx = neighbour_cell(c0, dx, n, box, periodic)
         if cx < 0:
@@ -111,18 +111,18 @@ def _find_partner(g, cells, i, t, axis, side):
                         tp = pair_time(rx, ry, rz, st[i, 3] - st[j, 3], st[i, 4] - st[j, 4],
                                         st[i, 5] - st[j, 5], st[i, 7] + st[j, 7])
                         if tp < best:
-                            best, bother, bcount = tp, j, book[j].count
-                    j = links[j].next
-    b.cand_time = t + best
-    b.cand_other = bother
-    b.cand_count = bcount
+                            best, bother, bcount = tp, j, book[j]["count"]
+                    j = links[j]["next"]
+    b["cand_time"] = t + best
+    b["cand_other"] = bother
+    b["cand_count"] = bcount
 
 
 @state_kernel
 def _schedule(g, cells, i, t):
     """Sphere i's event: the earliest of its pair candidate, its wall contacts and its cell crossings (each time
     a distance over v, v != 0)."""
-    st, b, cell = g.st, g.book[i], cells.links[i].cell
+    st, b, cell = g.st, g.book[i], cells.links[i]["cell"]
     half, width, ncell, periodic = cells.half, cells.width, cells.ncell, cells.periodic
     best = _INF
     btype = _NONE
@@ -146,14 +146,14 @@ def _schedule(g, cells, i, t):
                 tc = 0.0
             if tc < best:
                 best, btype, bother = tc, _CROSS, 2 * k + (1 if up else 0)
-    if b.cand_other >= 0 and b.cand_time <= t + best:
-        btype, bother, bcount = _PAIR, b.cand_other, b.cand_count
+    if b["cand_other"] >= 0 and b["cand_time"] <= t + best:
+        btype, bother, bcount = _PAIR, b["cand_other"], b["cand_count"]
     else:
         bcount = 0
-    b.ev_time = b.cand_time if btype == _PAIR else t + best
-    b.ev_type = btype
-    b.ev_other = bother
-    b.ev_count = bcount
+    b["ev_time"] = b["cand_time"] if btype == _PAIR else t + best
+    b["ev_type"] = btype
+    b["ev_other"] = bother
+    b["ev_count"] = bcount
 
 
 @state_kernel
@@ -161,7 +161,7 @@ def _crossing(g, i, t):
     """Sphere i reaches a face of its cell at time t: returns the axis and side (±1) of the crossing."""
     advance_sphere(g.st, i, t)
     g.counters[CROSSINGS] += 1
-    other = g.book[i].ev_other
+    other = g.book[i]["ev_other"]
     return other // 2, 1 if other % 2 == 1 else -1
 
 
@@ -192,11 +192,11 @@ def _run_kernel(g, cells, queue, t_stop, max_events):
         done += 1
         g.counters[EVENTS] += 1
         book = g.book
-        kind = book[i].ev_type
+        kind = book[i]["ev_type"]
         j, axis, side = -1, -1, 0
         if kind == _PAIR:
-            j = book[i].ev_other
-            if book[j].count == book[i].ev_count:
+            j = book[i]["ev_other"]
+            if book[j]["count"] == book[i]["ev_count"]:
                 collide_pair(g, i, j, t, cells.box, cells.periodic)
             else:  # stale: j's velocity changed since the prediction; only i is predicted again
                 advance_sphere(g.st, i, t)
@@ -210,14 +210,14 @@ def _run_kernel(g, cells, queue, t_stop, max_events):
             if shift != 0.0:
                 g.st[i, axis] += shift
         else:
-            book[i].ev_time = _INF
+            book[i]["ev_time"] = _INF
             calendar_update(queue, i, _INF)
             continue
         for s in (i, j):
             if s >= 0:
                 _find_partner(g, cells, s, t, axis, side)
                 _schedule(g, cells, s, t)
-                calendar_update(queue, s, book[s].ev_time)
+                calendar_update(queue, s, book[s]["ev_time"])
     return done
 
 
@@ -400,4 +400,4 @@ class EventDrivenGas(EventTally):
 
     def kinetic_energy(self) -> float:
         """K = Σ m v²/2 (compensated summation, so the drift measured is the dynamics', not the sum's)."""
-        return kinetic_energy_kernel(self.st[:, 3:6], self.mass)
+        return float(kinetic_energy_kernel(self.st[:, 3:6], self.mass))

@@ -8,6 +8,11 @@ event loop three times slower than the same loop with its arrays threaded throug
 tries to allocate fails to compile, so the option cannot hide a leak. ``error_model="numpy"``: no division in
 these kernels can be by zero (each is noted where it occurs), and without Python's zero-division checks they have
 no exception path. ``fastmath`` stays off, as everywhere in the engine.
+
+The gas's structured records (``LINK``, ``ENTRY``, ``BOOK``) are read and written as ``rec["field"]``: numba
+compiles that form exactly as ``rec.field`` (the same machine code), and it also works on numpy's ``numpy.void``
+rows, which have no attribute access. So every kernel also runs interpreted (``NUMBA_DISABLE_JIT=1``, as the
+mutation run does), with the same results bit for bit (properties/test_gas_without_jit.py).
 """
 from __future__ import annotations
 

@@ -137,18 +137,18 @@ def _predict(g, nl, i, t, box, periodic):
         tp = pair_time(rx, ry, rz, st[i, 3] - st[j, 3], st[i, 4] - st[j, 4], st[i, 5] - st[j, 5],
                        st[i, 7] + st[j, 7])
         if tp < best:
-            best, kind, other, other_count = tp, EVENT_PAIR, j, book[j].count
+            best, kind, other, other_count = tp, EVENT_PAIR, j, book[j]["count"]
     if best == _INF:
         kind = EVENT_NONE
     b = book[i]
-    b.ev_time, b.ev_type, b.ev_other, b.ev_count = t + best, kind, other, other_count
+    b["ev_time"], b["ev_type"], b["ev_other"], b["ev_count"] = t + best, kind, other, other_count
 
 
 @state_kernel
 def _gather(g, nl, cells, i):
     """The spheres j of the 27 cells around i with |x̂_i − x̂_j| < (1 + α)(r_i + r_j), into nl.found; their
     number."""
-    c, n, box, periodic, centre = cells.links[i].cell, cells.ncell, cells.box, cells.periodic, nl.centre
+    c, n, box, periodic, centre = cells.links[i]["cell"], cells.ncell, cells.box, cells.periodic, nl.centre
     shell = 1.0 + nl.skin
     found = 0
     for dx in range(-1, 2):
@@ -168,7 +168,7 @@ def _gather(g, nl, cells, i):
                         if rx * rx + ry * ry + rz * rz < reach * reach:
                             nl.found[found] = j
                             found += 1
-                    j = cells.links[j].next
+                    j = cells.links[j]["next"]
     return found
 
 
@@ -184,7 +184,7 @@ def _rebuild(g, nl, cells, i, t):
         if cells.periodic:
             st[i, k] = wrap_coordinate(st[i, k], cells_half)
         nl.centre[i, k] = st[i, k]
-        cells.links[i].cell[k] = min(cells.ncell - 1, max(0, int(math.floor((st[i, k] + cells_half) / width))))
+        cells.links[i]["cell"][k] = min(cells.ncell - 1, max(0, int(math.floor((st[i, k] + cells_half) / width))))
     cell_insert(cells, i)
     found = _gather(g, nl, cells, i)
     cap = nl.ids.shape[1]
@@ -224,7 +224,7 @@ def neighbour_lists_init(g, nl, cells):
         nl.centre[i, 3] = st[i, 7]
         for k in range(3):
             nl.centre[i, k] = st[i, k]
-            cells.links[i].cell[k] = min(cells.ncell - 1, max(0, int(math.floor((st[i, k] + cells.half)
+            cells.links[i]["cell"][k] = min(cells.ncell - 1, max(0, int(math.floor((st[i, k] + cells.half)
                                                                                  / cells.width))))
         cell_insert(cells, i)
     cap = nl.ids.shape[1]
@@ -257,15 +257,15 @@ def neighbour_lists_run(g, nl, cells, queue, t_stop, max_events):
         i, t = calendar_top(queue)
         if i < 0 or t > t_stop:
             break
-        kind = book[i].ev_type
+        kind = book[i]["ev_type"]
         if kind == EVENT_REBUILD and not _rebuild(g, nl, cells, i, t):
             return done, False
         done += 1
         g.counters[EVENTS] += 1
         j = -1
         if kind == EVENT_PAIR:
-            j = book[i].ev_other
-            if book[j].count == book[i].ev_count:
+            j = book[i]["ev_other"]
+            if book[j]["count"] == book[i]["ev_count"]:
                 collide_pair(g, i, j, t, box, periodic)
             else:  # stale: j's velocity changed since the prediction
                 advance_sphere(st, i, t)
@@ -274,14 +274,14 @@ def neighbour_lists_run(g, nl, cells, queue, t_stop, max_events):
         elif kind == EVENT_WALL:
             reflect_sphere(g, i, t, cells.half)
         elif kind == EVENT_NONE:
-            book[i].ev_time = _INF
+            book[i]["ev_time"] = _INF
             calendar_update(queue, i, _INF)
             continue
         _predict(g, nl, i, t, box, periodic)
-        calendar_update(queue, i, book[i].ev_time)
+        calendar_update(queue, i, book[i]["ev_time"])
         if j >= 0:
             _predict(g, nl, j, t, box, periodic)
-            calendar_update(queue, j, book[j].ev_time)
+            calendar_update(queue, j, book[j]["ev_time"])
     return done, True
 
 

@@ -362,4 +362,4 @@ class SteppedGas(GasTally):
 
     def kinetic_energy(self) -> float:
         """K = Σ m v²/2 (compensated summation)."""
-        return kinetic_energy_kernel(self.vel, self.mass)
+        return float(kinetic_energy_kernel(self.vel, self.mass))

@@ -69,6 +69,11 @@ AREAS: dict[str, dict[str, list[str]]] = {
             "properties/test_gas_kinetic_theory.py",
             "properties/test_gas_argument_names.py",
             "properties/test_gas_stepped_response.py",
+            # the event calendar and the neighbour-list search (engine/gas/event_queue.py, neighbour_list.py)
+            "properties/test_gas_event_calendar.py",
+            "properties/test_gas_neighbour_lists.py",
+            # written against mutants of the gas sample (properties/MUTATION.md, gas)
+            "properties/test_gas_start_state_edges.py",
         ],
         "sample": 20,
     },
@@ -176,13 +181,4 @@ DESELECT: dict[str, str] = {
         "N = 1000 for t = 5 (> 15,000 collisions): minutes interpreted",
     "properties/test_gas_simulation.py::test_dense_fluid_from_a_lattice_up_to_eta_045":
         "N = 500 at eta = 0.45 for t = 1 (thousands of collisions): minutes interpreted",
-    "properties/test_adversarial.py::test_gas_event_loop_cap_raises_a_clear_error":
-        "a gas test in the narrowphase area's file: interpreted, the gas cell list's records are numpy.void rows, "
-        "which have no attribute access (`links[i].cell`), so it fails on the unmutated engine and mutmut's stats "
-        "run stops; compiled it passes",
-    **{f"properties/test_fuzz_public_api.py::{test}[{name}]":
-       "the gas event and stepped runs in the fuzz file: interpreted, the cell list's numpy.void records have no "
-       "attribute access (as above); the gas functions are not the narrow phase's, and compiled they pass"
-       for test in ("test_valid_arguments_give_a_result_without_nan", "test_hostile_arguments_get_a_clean_answer")
-       for name in ("simulate_gas", "EventDrivenGas", "SteppedGas")},
 }

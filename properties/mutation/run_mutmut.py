@@ -10,9 +10,10 @@ all six, each on its own default sample, ``areas.py``'s ``sample``). For each ar
 2. runs mutmut 3 there with ``NUMBA_DISABLE_JIT=1`` and ``HYPOTHESIS_PROFILE=mutation``, its configuration set
    here (the area's modules, the area's property files, the pytest plugin that caps max_examples), and two
    patches of mutmut's mutation filter:
-   - functions decorated with the engine's ``njit`` (bare or called) are mutated: mutmut 3.8 skips every
-     decorated function but ``staticmethod``/``classmethod``. With the JIT disabled ``njit`` returns the
-     trampoline unchanged, so a kernel that calls another kernel goes through its trampoline like plain Python;
+   - functions decorated with the engine's ``njit`` (bare or called) or the gas's ``state_kernel`` are mutated:
+     mutmut 3.8 skips every decorated function but ``staticmethod``/``classmethod``. With the JIT disabled
+     both return the trampoline unchanged, so a kernel that calls another kernel goes through its trampoline
+     like plain Python;
    - ``raise`` statements are not mutated (their message strings are text, not behaviour; the condition that
      guards a raise is still mutated);
    Only a deterministic 1-in-K sample of the mutants is run (K: ``--sample K``, else the area's default; chosen
@@ -39,6 +40,9 @@ import time
 from pathlib import Path
 
 DEFAULT_AREAS = ["dynamics", "broadphase", "bounding", "gas", "narrowphase", "world"]
+#: the engine's kernel decorators: ``njit`` (engine/_config.py) and the gas's ``state_kernel`` (engine/gas/kernels.py,
+#: njit with two more options); with the JIT disabled both return the function they decorate
+KERNEL_DECORATORS = ("njit", "state_kernel")
 REPO = Path(__file__).resolve().parents[2]
 
 
@@ -70,7 +74,7 @@ def _patch_mutmut(spec: dict) -> None:
     def is_njit(decorator) -> bool:
         if isinstance(decorator, cst.Call):
             decorator = decorator.func
-        return isinstance(decorator, cst.Name) and decorator.value == "njit"
+        return isinstance(decorator, cst.Name) and decorator.value in KERNEL_DECORATORS
 
     skip = file_mutation.MutationVisitor._skip_node_and_children
 
