@@ -21,9 +21,11 @@ finite = st.floats(-10.0, 10.0, allow_nan=False)
        st.floats(1e-3, 0.5), st.sampled_from([np.float32, np.float16, np.int64, "list"]), st.data())
 def test_slopes_are_read_as_float64_whatever_f_returns(y, t, dt, kind, data):
     """f(t, y) = A y + b t returned as float32, float16, int64 or a list: the step equals the one whose f returns
-    the same values already converted to float64 (so no stage is computed in a narrower type)."""
+    the same values already converted to float64 (so no stage is computed in a narrower type). |A| <= 1 keeps
+    every stage's slope below 1e3, inside float16's range (65504): a slope that overflows to inf is refused by
+    the step, rightly, and is not what this property is about."""
     n = y.shape[0]
-    a = data.draw(hnp.arrays(np.float64, (n, n), elements=finite))
+    a = data.draw(hnp.arrays(np.float64, (n, n), elements=st.floats(-1.0, 1.0)))
     b = data.draw(hnp.arrays(np.float64, n, elements=finite))
 
     def narrow(ti, yi):
