@@ -248,3 +248,13 @@ def test_a_tilted_corner_on_an_edge_touches_at_that_corner(seed, halves, y, shif
     scene = _tilted_corner_on_an_edge(rotations[0], halves, y, rotations[1], np.array(shift))
     assume(scene is not None)
     _check_touching_at(*scene)
+
+
+@pytest.mark.parametrize("args, corner", FALLBACK_SCENES + TILTED_FALLBACK_SCENES)
+def test_the_fallback_scenes_with_the_boxes_exchanged_touch_at_that_corner(args, corner):
+    """The same scenes with A and B exchanged: the reference face may now be the other box's (the touching
+    axes tie to round-off), and the point must still be the corner, on both boxes. (The fallback once clamped the
+    incident face's deepest corner onto the reference face: a point on the reference box, up to 0.65 outside the
+    other.)"""
+    a, b = tuple(np.array(x) for x in args[:3]), tuple(np.array(x) for x in args[3:])
+    _check_touching_at(b + a, np.array(corner))

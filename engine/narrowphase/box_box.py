@@ -252,6 +252,41 @@ def _within(pts, k, x, y, z, tol):
     return abs(pts[k, 0] - x) <= tol and abs(pts[k, 1] - y) <= tol and abs(pts[k, 2] - z) <= tol
 
 
+@njit(inline="always")
+def _outside(px, py, pz, c, R, e):
+    """How far (px, py, pz) lies outside box (c, R, e), in its largest axis (<= 0 inside)."""
+    rx, ry, rz = px - c[0], py - c[1], pz - c[2]
+    out = -np.inf
+    for m in range(3):
+        out = max(out, abs(rx * R[0, m] + ry * R[1, m] + rz * R[2, m]) - e[m])
+    return out
+
+
+@njit
+def _touching_point(cr, Rr, er, i, nrx, nry, nrz, face_sign, ci, Ri, ei, poly, tags, pts):
+    """The point of boxes touching to round-off, when clipping left nothing: of the incident face's 4 corners and
+    the reference face's 4 corners, the one lying deepest in both boxes (least max of its distances outside
+    each), into pts[0]. The boxes touch at a corner of one of those faces (a corner on a face, an edge or a
+    corner of the other box), and a clamp of the incident corner onto the reference face would leave it on the
+    reference box only."""
+    _incident_quad(cr, Rr, er, i, nrx, nry, nrz, ci, Ri, ei, poly, tags)
+    j, k = min((i + 1) % 3, (i + 2) % 3), max((i + 1) % 3, (i + 2) % 3)
+    best = np.inf
+    for m in range(8):
+        if m < 4:
+            px, py, pz = poly[m, 2], poly[m, 3], poly[m, 4]
+        else:
+            s1 = -1.0 if m == 4 or m == 7 else 1.0
+            s2 = -1.0 if m <= 5 else 1.0
+            px = cr[0] + er[i] * face_sign * Rr[0, i] + s1 * er[j] * Rr[0, j] + s2 * er[k] * Rr[0, k]
+            py = cr[1] + er[i] * face_sign * Rr[1, i] + s1 * er[j] * Rr[1, j] + s2 * er[k] * Rr[1, k]
+            pz = cr[2] + er[i] * face_sign * Rr[2, i] + s1 * er[j] * Rr[2, j] + s2 * er[k] * Rr[2, k]
+        miss = max(_outside(px, py, pz, cr, Rr, er), _outside(px, py, pz, ci, Ri, ei))
+        if miss < best:
+            best = miss
+            pts[0, 0], pts[0, 1], pts[0, 2] = px, py, pz
+
+
 @njit
 def _face_contact(cr, Rr, er, i, nrx, nry, nrz, ci, Ri, ei, ref_is_a, rows, p, flip, depth, scratch):
     """The manifold of a face axis: reference face i of box r (outward normal nr, towards box i), incident face
@@ -282,23 +317,14 @@ def _face_contact(cr, Rr, er, i, nrx, nry, nrz, ci, Ri, ei, ref_is_a, rows, p, f
             count += 1
     if count > 1 and _within(pts, 0, pts[count - 1, 0], pts[count - 1, 1], pts[count - 1, 2], slop):
         count -= 1  # the polygon closes on its first point
-    if count == 0:  # round-off clipped everything (e.g. corners touching): the incident face's deepest corner,
-        count = 1     # clamped onto the reference face, at the SAT depth
-        poly = scratch.poly
-        _incident_quad(cr, Rr, er, i, nrx, nry, nrz, ci, Ri, ei, poly, scratch.tags)
-        v = 0
-        for m in range(1, 4):
-            if poly[m, 5] > poly[v, 5]:
-                v = m
-        x = min(max(poly[v, 0], -er[j]), er[j])
-        y = min(max(poly[v, 1], -er[k]), er[k])
-        for c in range(3):
-            pts[0, c] = cr[c] + er[i] * face_sign * Rr[c, i] + x * Rr[c, j] + y * Rr[c, k]
-        pts[0, 0] -= depth * nrx
-        pts[0, 1] -= depth * nry
-        pts[0, 2] -= depth * nrz
-        deep[0] = depth
+    if count == 0:  # round-off clipped everything (e.g. corners touching): one point, on both boxes
+        count = 1
         ref_face = _ref_face_key(Rr, i, nrx, nry, nrz)
+        _touching_point(cr, Rr, er, i, nrx, nry, nrz, face_sign, ci, Ri, ei, scratch.poly, scratch.tags, pts)
+        pts[0, 0] -= 0.5 * depth * nrx  # the row adds half the depth back: the point is the candidate itself
+        pts[0, 1] -= 0.5 * depth * nry
+        pts[0, 2] -= 0.5 * depth * nrz
+        deep[0] = depth
         ids[0] = point_id(ref_face, inc_face) if ref_is_a else point_id(inc_face, ref_face)
     count = reduce_manifold(pts, deep, ids, count, nrx, nry, nrz, scratch)
     for v in range(count):
