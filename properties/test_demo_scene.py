@@ -73,6 +73,20 @@ def gap_tolerance(scene) -> float:
 
 
 scene_settings = settings(max_examples=8)
+
+
+def lowered_scene(seed, restitution, drag, dt, heights):
+    """A demo scene with its bodies lowered to ``heights`` above the ground."""
+    scene = DemoScene(restitution=restitution, drag=drag, dt=dt, seed=seed)
+    lower_bodies(scene, heights)
+    return scene
+
+
+def frames(scene, duration=0.4):
+    """Step the scene frame by frame over ``duration`` (and one frame more), yielding after each step."""
+    for _ in range(int(duration / scene.dt) + 1):
+        scene.step()
+        yield scene
 #: a demo scene: its seed, restitution, drag, frame step and the heights its seven bodies are lowered to
 scene_cases = given(seed=st.integers(0, 2 ** 16), restitution=st.floats(0.0, 1.0), drag=st.floats(0.0, 0.5),
                     dt=st.floats(0.01, 0.05), heights=st.lists(st.floats(0.01, 0.6), min_size=7, max_size=7))
@@ -82,11 +96,9 @@ scene_cases = given(seed=st.integers(0, 2 ** 16), restitution=st.floats(0.0, 1.0
 @scene_cases
 @example(seed=0, restitution=0.6, drag=0.05, dt=0.02, heights=[0.05, 0.3, 0.02, 0.6, 0.1, 0.25, 0.4])
 def test_no_body_ends_a_frame_below_the_ground(seed, restitution, drag, dt, heights):
-    scene = DemoScene(restitution=restitution, drag=drag, dt=dt, seed=seed)
-    lower_bodies(scene, heights)
+    scene = lowered_scene(seed, restitution, drag, dt, heights)
     tol = gap_tolerance(scene)
-    for _ in range(int(0.4 / dt) + 1):
-        scene.step()
+    for _ in frames(scene):
         for body in scene.ids.tolist():
             gap = outline_gap(scene.world, body)
             assert gap >= -tol, (body, scene.world.kind(body), gap, tol, scene.t)
@@ -218,11 +230,9 @@ def energies(scene):
 @scene_cases
 @example(seed=0, restitution=1.0, drag=0.0, dt=0.02, heights=[0.05, 0.3, 0.02, 0.6, 0.1, 0.25, 0.4])
 def test_mechanical_energy_never_grows_with_e_at_most_one(seed, restitution, drag, dt, heights):
-    scene = DemoScene(restitution=restitution, drag=drag, dt=dt, seed=seed)
-    lower_bodies(scene, heights)
+    scene = lowered_scene(seed, restitution, drag, dt, heights)
     before = energies(scene)
-    for _ in range(int(0.4 / dt) + 1):
-        scene.step()
+    for _ in frames(scene):
         after = energies(scene)
         # RK4 on this linear ODE: a relative error below 1e-10 per frame; the bisection's 1e-9 s adds nothing
         # (the state at tc is the RK4 state there)
