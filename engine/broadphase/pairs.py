@@ -10,7 +10,9 @@ short; it is written out in them, since any helper call that takes the buffer co
 pair (measured 2.5x slower). The kernel hands the buffer to :func:`canonicalise_pairs`, which puts the rows in
 that one form in O(k): one integer key per pair, a radix sort, repeats dropped. :func:`canonical_pairs` is the
 same operation at the public boundary (validated); :func:`canonicalise_buffer` runs it with the keys in this
-thread's reusable work arrays (:func:`work_array`, which the sweeps also use for their sorted data).
+thread's reusable work arrays (:func:`work_array`, which the sweeps also use for their sorted data). A kernel
+may record each pair as one integer key min · 2^s + max instead (:func:`pair_key_shift`; half the bytes of a row):
+:func:`canonicalise_key_buffer` sorts and decodes such keys.
 :func:`split_work` and :func:`run_split` share a kernel's work among threads and merge their buffers.
 
 This module also holds the checks shared by the broad phases: :func:`as_boxes` validates ``lo``/``hi`` box
@@ -37,7 +39,7 @@ MAX_THREADS = 256
 __all__ = ["canonical_pairs", "empty_pairs", "as_boxes", "as_boxes_3d", "as_one_box", "as_live_id", "boxes_overlap",
            "with_tests",
            "new_pair_buffer", "grow_pair_buffer", "push_pair", "canonicalise_pairs", "canonicalise_pairs_with",
-           "canonicalise_buffer",
+           "canonicalise_buffer", "pair_key_shift", "canonicalise_pair_keys_with", "canonicalise_key_buffer",
            "as_threads", "split_work", "run_split", "work_pair_buffer", "work_array"]
 
 
@@ -99,9 +101,7 @@ def canonicalise_pairs(candidates, count, n):
 def canonicalise_pairs_with(candidates, count, n, keys, keys_tmp):
     """:func:`canonicalise_pairs` with the keys sorted in the given work arrays (int64, at least ``count``
     each; overwritten)."""
-    shift = 1
-    while (1 << shift) < n:
-        shift += 1
+    shift = pair_key_shift(n)
     k = 0
     for t in range(count):
         a = candidates[t, 0]
@@ -123,6 +123,50 @@ def canonicalise_pairs_with(candidates, count, n, keys, keys_tmp):
             out[rows, 1] = keys[t] & low
             rows += 1
     return out
+
+
+@njit
+def pair_key_shift(n):
+    """The smallest s with 2^s >= n (at least 1): the pair (i, j), i < j < n, is the integer key i · 2^s + j."""
+    shift = 1
+    while (1 << shift) < n:
+        shift += 1
+    return shift
+
+
+@njit
+def canonicalise_pair_keys_with(keys, count, n, keys_tmp):
+    """Canonical pairs (int64 (k, 2), a new array) of the first ``count`` pair keys ``keys`` (int64, each
+    min(a, b) · 2^s + max(a, b) of a pair of objects a, b < n, s = ``pair_key_shift(n)``; overwritten), sorted with
+    the work array ``keys_tmp`` (int64, at least ``count``).
+
+    The form a kernel writes when it records its pairs as keys (one 8-byte word a pair instead of two): the
+    keys are radix-sorted as in :func:`canonicalise_pairs`, then decoded in one pass, repeats and keys with
+    a == b dropped.
+    """
+    shift = pair_key_shift(n)
+    no_values = np.empty(0, dtype=np.int64)
+    keys, _ = radix_sort_pairs(keys, no_values, keys_tmp, no_values, count)
+    out = np.empty((count, 2), dtype=np.int64)
+    low = (1 << shift) - 1
+    rows = 0
+    previous = -1
+    for t in range(count):
+        key = keys[t]
+        i = key >> shift
+        j = key & low
+        if key != previous and i != j:
+            out[rows, 0] = i
+            out[rows, 1] = j
+            rows += 1
+        previous = key
+    return out if rows == count else out[:rows].copy()
+
+
+def canonicalise_key_buffer(keys: np.ndarray, count: int, n: int) -> np.ndarray:
+    """:func:`canonicalise_pair_keys_with` of the first ``count`` pair keys of ``keys`` (overwritten), sorted in
+    this thread's reusable work array."""
+    return canonicalise_pair_keys_with(keys, count, n, work_array("canonical_keys_tmp", count, np.int64))
 
 
 def canonicalise_buffer(buffer: np.ndarray, count: int, n: int) -> np.ndarray:
@@ -306,18 +350,22 @@ def split_work(work: np.ndarray, threads: int, min_work: int) -> list[tuple[int,
 
 
 def run_split(sweep: Callable[[int, int], tuple[np.ndarray, int, int]], ranges: list[tuple[int, int]], n: int,
-              extra: tuple[np.ndarray, int, int] | None = None) -> tuple[np.ndarray, int]:
+              extra: tuple[np.ndarray, int, int] | None = None,
+              canonicalise: Callable[[np.ndarray, int, int], np.ndarray] = canonicalise_buffer,
+              ) -> tuple[np.ndarray, int]:
     """Run ``sweep(first, last) -> (buffer, count, tests)`` over the item ranges, one thread per range (the
     kernels release the GIL), and merge them (and ``extra``, one more (buffer, count, tests) if given):
     ``(canonical pairs of the n objects, total tests)``. The parts hold disjoint sets of pairs, so the result is
-    the same, bit for bit, as one call over all the items."""
+    the same, bit for bit, as one call over all the items. ``canonicalise(buffer, count, n)`` puts the merged
+    buffer in canonical form: :func:`canonicalise_buffer` for pair buffers ((capacity, 2) rows, the default),
+    :func:`canonicalise_key_buffer` for buffers of pair keys."""
     if extra is not None and extra[1] == 0:
         tests_extra = int(extra[2])
-        pairs, tests = run_split(sweep, ranges, n)  # nothing to merge but the tests
+        pairs, tests = run_split(sweep, ranges, n, canonicalise=canonicalise)  # nothing to merge but the tests
         return pairs, tests + tests_extra
     if len(ranges) == 1 and extra is None:
         buf, count, tests = sweep(*ranges[0])
-        return canonicalise_buffer(buf, count, n), int(tests)
+        return canonicalise(buf, count, n), int(tests)
     if len(ranges) == 1:
         parts = [sweep(*ranges[0])]
     else:
@@ -326,4 +374,4 @@ def run_split(sweep: Callable[[int, int], tuple[np.ndarray, int, int]], ranges: 
     if extra is not None:
         parts.append(extra)
     merged = np.concatenate([buf[:count] for buf, count, _ in parts])
-    return canonicalise_buffer(merged, merged.shape[0], n), int(sum(t for _, _, t in parts))
+    return canonicalise(merged, merged.shape[0], n), int(sum(t for _, _, t in parts))

@@ -217,20 +217,48 @@ SPARSE_MIN_BOXES = 256
 #: 1 / the column size (inv1, inv2; 0.0 for a single column) and the number of columns (k1, k2)
 ColumnGrid = namedtuple("ColumnGrid", ["o1", "inv1", "k1", "o2", "inv2", "k2"])
 
+#: the fields of a box record (one row of 8 float64, one cache line), the boxes' bounds gathered once in sweep
+#: order (Terdiman's sorted min/max arrays, one row per box since the sweep reads every bound of each candidate):
+#: b, e on the sweep axis, on a1, on a2, then the tag 4 · box + home flags, an int64 kept in the row's bits (read
+#: through an int64 view of the same memory), and a spare slot
+B0, E0, B1, E1, B2, E2, TAG = range(7)
+ENTRY_WIDTH = 8
+
 
 @njit
-def _box_bounds(order, lo, hi):
-    """(smallest lo, largest hi, sum of the extents hi − lo) of the boxes ``order`` along each axis, (3,) each,
-    in one pass."""
+def sorted_records(order, lo, hi, axis, rec):
+    """Gather the boxes (n, 3) ``order`` (sweep order) into the box records ``rec`` ((m, ENTRY_WIDTH) float64,
+    row p = box order[p], home flags 0): the one pass that reads lo and hi out of order; every later pass reads
+    the records in sequence."""
+    a1 = (axis + 1) % 3
+    a2 = (axis + 2) % 3
+    bits = rec.reshape(rec.size).view(np.int64)
+    for p in range(order.shape[0]):
+        o = order[p]
+        rec[p, B0] = lo[o, axis]
+        rec[p, E0] = hi[o, axis]
+        rec[p, B1] = lo[o, a1]
+        rec[p, E1] = hi[o, a1]
+        rec[p, B2] = lo[o, a2]
+        rec[p, E2] = hi[o, a2]
+        bits[p * ENTRY_WIDTH + TAG] = 4 * o
+        bits[p * ENTRY_WIDTH + TAG + 1] = 0
+
+
+@njit
+def _box_bounds(box):
+    """(smallest b, largest e, sum of the extents e − b) of the box records ``box`` along the sweep axis, a1 and a2,
+    (3,) each, in one pass."""
     origin = np.full(3, np.inf)
     top = np.full(3, -np.inf)
     extent = np.zeros(3)
-    for p in range(order.shape[0]):
-        o = order[p]
+    for p in range(box.shape[0]):
         for a in range(3):
-            origin[a] = min(origin[a], lo[o, a])
-            top[a] = max(top[a], hi[o, a])
-            extent[a] += hi[o, a] - lo[o, a]
+            b = box[p, 2 * a]
+            e = box[p, 2 * a + 1]
+            origin[a] = min(origin[a], b)
+            top[a] = max(top[a], e)
+            extent[a] += e - b
     return origin, top, extent
 
 
@@ -245,20 +273,21 @@ def _column_count(span, extent_sum, m, kmax):
 
 
 @njit
-def _choose_columns(order, lo, hi, a1, a2, bounds, ranges):
+def _choose_columns(box, bounds, ranges):
     """The column grid (Terdiman's multi box pruning): columns about twice the mean box size, halved on both
-    axes until a box enters 4 columns on average. ``ranges`` (4, m) int64 receives the first and last column of
-    each box on a1 and a2 (in sweep order); returns (grid, number of (box, column) entries, sparse).
+    axes until a box enters 4 columns on average. ``box``: the box records in sweep order; ``ranges`` (4, m)
+    int64 receives the first and last column of each box on a1 and a2; returns (grid, number of (box, column)
+    entries, sparse).
 
     At most ~m/8 columns are stored as a table (dense); when the boxes would need more than 4 times the
     ~sqrt(m/8) of that table along an axis (far-apart clusters: fewer columns would put a cluster in one
     column), the columns keep their size, up to 2^30 per axis, and only the occupied ones are stored (sparse:
-    sorted 64-bit column keys), from SPARSE_MIN_BOXES boxes on. ``bounds``: the boxes' ``_box_bounds``.
+    sorted 64-bit column keys), from SPARSE_MIN_BOXES boxes on. ``bounds``: the records' ``_box_bounds``.
     """
-    m = order.shape[0]
+    m = box.shape[0]
     origin, top, extent = bounds
-    o1, t1, ext1 = origin[a1], top[a1], extent[a1]
-    o2, t2, ext2 = origin[a2], top[a2], extent[a2]
+    o1, t1, ext1 = origin[1], top[1], extent[1]
+    o2, t2, ext2 = origin[2], top[2], extent[2]
     span1 = t1 - o1
     span2 = t2 - o2
     kmax = max(1, int(np.sqrt(m / 8.0)))
@@ -272,11 +301,10 @@ def _choose_columns(order, lo, hi, a1, a2, bounds, ranges):
         grid = ColumnGrid(o1, k1 / span1 if k1 > 1 else 0.0, k1, o2, k2 / span2 if k2 > 1 else 0.0, k2)
         entries = 0
         for p in range(m):
-            o = order[p]
-            ranges[0, p] = cell_of(lo[o, a1], grid.o1, grid.inv1, k1)
-            ranges[1, p] = cell_of(hi[o, a1], grid.o1, grid.inv1, k1)
-            ranges[2, p] = cell_of(lo[o, a2], grid.o2, grid.inv2, k2)
-            ranges[3, p] = cell_of(hi[o, a2], grid.o2, grid.inv2, k2)
+            ranges[0, p] = cell_of(box[p, B1], grid.o1, grid.inv1, k1)
+            ranges[1, p] = cell_of(box[p, E1], grid.o1, grid.inv1, k1)
+            ranges[2, p] = cell_of(box[p, B2], grid.o2, grid.inv2, k2)
+            ranges[3, p] = cell_of(box[p, E2], grid.o2, grid.inv2, k2)
             entries += (ranges[1, p] - ranges[0, p] + 1) * (ranges[3, p] - ranges[2, p] + 1)
         if entries <= 4 * m or (k1 == 1 and k2 == 1):
             return grid, entries, sparse
@@ -284,9 +312,8 @@ def _choose_columns(order, lo, hi, a1, a2, bounds, ranges):
         k2 = max(1, k2 // 2)
 
 
-#: the sort keys: b on the sweep axis mapped to integers 0 .. 2^31 − 1 (monotone), and the sentinel above them
+#: the sort keys: b on the sweep axis mapped to integers 0 .. 2^31 − 1 (monotone, Terdiman's integer-mapped keys)
 KEY_STEPS = 1 << 31
-SENTINEL = 1 << 62
 
 #: the sweep axis' integer key map: key(v) = cell_of(v, origin, scale, KEY_STEPS) (monotone in v)
 SweepKeys = namedtuple("SweepKeys", ["origin", "scale"])
@@ -300,44 +327,31 @@ def sweep_keys(origin, top):
     return SweepKeys(origin, KEY_STEPS / span if span > 0.0 else 0.0)
 
 
-#: the columns of an entry record (one row of 8 float64, one cache line): b, e on the sweep axis, on a1, on a2, the
-#: integer key of b (exact in float64: keys are below 2^31, the sentinel is 2^62), and the tag 4 · box + home flags
-B0, E0, B1, E1, B2, E2, KEY, TAG = range(8)
-ENTRY_WIDTH = 8
-
-
-@njit
-def _box_record(o, lo, hi, axis, a1, a2, keys, row):
-    """The record of box o, ``row`` (ENTRY_WIDTH,) float64, with home flags 0."""
-    row[B0] = lo[o, axis]
-    row[E0] = hi[o, axis]
-    row[B1] = lo[o, a1]
-    row[E1] = hi[o, a1]
-    row[B2] = lo[o, a2]
-    row[E2] = hi[o, a2]
-    row[KEY] = cell_of(lo[o, axis], keys.origin, keys.scale, KEY_STEPS)
-    row[TAG] = 4 * o
-
-
 @njit(inline="always")
-def _write_entry(rec, t, row, home):
-    """Entry record t: the box record ``row`` in a column; ``home`` bit 0 (bit 1): the column is the box's first
-    along a1 (a2)."""
-    for k in range(TAG):
-        rec[t, k] = row[k]
-    rec[t, TAG] = row[TAG] + home
+def _write_entry(rec_bits, t, w0, w1, w2, w3, w4, w5, tag, home):
+    """Entry record t: a box record (its words w0 .. w5 and tag, as int64 bits: copied bit for bit) in a
+    column; ``home`` bit 0 (bit 1): the column is the box's first along a1 (a2)."""
+    r = t * ENTRY_WIDTH
+    rec_bits[r + B0] = w0
+    rec_bits[r + E0] = w1
+    rec_bits[r + B1] = w2
+    rec_bits[r + E1] = w3
+    rec_bits[r + B2] = w4
+    rec_bits[r + E2] = w5
+    rec_bits[r + TAG] = tag + home
+    rec_bits[r + TAG + 1] = 0
 
 
 @njit
-def _fill_columns(order, lo, hi, axis, a1, a2, grid, ranges, keys, rec):
+def _fill_columns(box, grid, ranges, rec):
     """Counting sort of the (box, column) entries by column, keeping the sweep order inside each column.
 
     Writes the entry records ``rec`` ((entries + columns, ENTRY_WIDTH) float64; one record per entry, a cache
     line, so the scatter writes one line per entry and the sweep reads one per candidate) and returns start:
-    column c holds entries start[c] .. start[c + 1] − 2 and a sentinel at start[c + 1] − 1 (KEY = SENTINEL: it
-    ends every sweep of the column without a bounds check).
+    column c holds entries start[c] .. start[c + 1] − 2 and a sentinel at start[c + 1] − 1 (b = +inf: it ends
+    every sweep of the column without a bounds check).
     """
-    m = order.shape[0]
+    m = box.shape[0]
     n_cells = grid.k1 * grid.k2
     start = np.ones(n_cells + 1, dtype=np.int64)  # one sentinel per column
     start[0] = 0
@@ -348,28 +362,35 @@ def _fill_columns(order, lo, hi, axis, a1, a2, grid, ranges, keys, rec):
     for c in range(n_cells):
         start[c + 1] += start[c]
     fill = start[:n_cells].copy()
-    row = np.empty(ENTRY_WIDTH)
+    k2 = grid.k2
+    box_bits = box.reshape(box.size).view(np.int64)
+    rec_bits = rec.reshape(rec.size).view(np.int64)
     for p in range(m):
-        _box_record(order[p], lo, hi, axis, a1, a2, keys, row)
-        for c1 in range(ranges[0, p], ranges[1, p] + 1):
-            for c2 in range(ranges[2, p], ranges[3, p] + 1):
-                t = fill[c1 * grid.k2 + c2]
-                fill[c1 * grid.k2 + c2] = t + 1
-                _write_entry(rec, t, row, (c1 == ranges[0, p]) + 2 * (c2 == ranges[2, p]))
+        r = p * ENTRY_WIDTH  # the record read once, then written to each of the box's columns
+        w0, w1, w2, w3, w4, w5 = box_bits[r], box_bits[r + 1], box_bits[r + 2], box_bits[r + 3], box_bits[r + 4], \
+            box_bits[r + 5]
+        tag = box_bits[r + TAG]
+        first1, last1, first2, last2 = ranges[0, p], ranges[1, p], ranges[2, p], ranges[3, p]  # (held in registers:
+        for c1 in range(first1, last1 + 1):  # the int64 stores below could alias ranges for the compiler)
+            for c2 in range(first2, last2 + 1):
+                c = c1 * k2 + c2
+                t = fill[c]
+                fill[c] = t + 1
+                _write_entry(rec_bits, t, w0, w1, w2, w3, w4, w5, tag, (c1 == first1) + 2 * (c2 == first2))
     for c in range(n_cells):
-        rec[start[c + 1] - 1, KEY] = SENTINEL
+        rec[start[c + 1] - 1, B0] = np.inf
     return start
 
 
 @njit
-def _fill_columns_sparse(order, lo, hi, axis, a1, a2, grid, ranges, entries, keys, rec):
+def _fill_columns_sparse(box, grid, ranges, entries, rec):
     """``_fill_columns`` storing only the occupied columns: the entries' column keys c1 · k2 + c2 radix-sorted
     (stable, so the sweep order is kept inside each column). Fills rec ((2 · entries, ENTRY_WIDTH)) and returns
     start, occupied column i holding entries start[i] .. start[i + 1] − 2 and its sentinel."""
     column_of = np.empty(entries, dtype=np.int64)
     source = np.empty(entries, dtype=np.int64)
     t = 0
-    for p in range(order.shape[0]):
+    for p in range(box.shape[0]):
         for c1 in range(ranges[0, p], ranges[1, p] + 1):
             for c2 in range(ranges[2, p], ranges[3, p] + 1):
                 column_of[t] = c1 * grid.k2 + c2
@@ -378,85 +399,99 @@ def _fill_columns_sparse(order, lo, hi, axis, a1, a2, grid, ranges, entries, key
     column_of, source = radix_sort_pairs(column_of, source, np.empty(entries, dtype=np.int64),
                                          np.empty(entries, dtype=np.int64), entries)
     start = np.empty(entries + 1, dtype=np.int64)
-    row = np.empty(ENTRY_WIDTH)
+    box_bits = box.reshape(box.size).view(np.int64)
+    rec_bits = rec.reshape(rec.size).view(np.int64)
     columns = 0
     for t in range(entries):
         if t == 0 or column_of[t] != column_of[t - 1]:
             if columns > 0:
-                rec[t + columns - 1, KEY] = SENTINEL  # ends the previous column
+                rec[t + columns - 1, B0] = np.inf  # the sentinel ending the previous column
             start[columns] = t + columns
             columns += 1
         p = source[t]
         c1 = column_of[t] // grid.k2
         c2 = column_of[t] - c1 * grid.k2
-        _box_record(order[p], lo, hi, axis, a1, a2, keys, row)
-        _write_entry(rec, t + columns - 1, row, (c1 == ranges[0, p]) + 2 * (c2 == ranges[2, p]))
-    rec[entries + columns - 1, KEY] = SENTINEL
+        r = p * ENTRY_WIDTH
+        _write_entry(rec_bits, t + columns - 1, box_bits[r], box_bits[r + 1], box_bits[r + 2], box_bits[r + 3],
+                     box_bits[r + 4], box_bits[r + 5], box_bits[r + TAG],
+                     (c1 == ranges[0, p]) + 2 * (c2 == ranges[2, p]))
+    rec[entries + columns - 1, B0] = np.inf
     start[columns] = entries + columns
     return start[: columns + 1].copy()
 
 
 @njit
-def _sweep_columns(keys, start, rec, first, last, out):
+def _sweep_columns(start, rec, first, last, out, shift):
     # Chapter SAP slide, box-pruning form: in each column, for entry p the entries q after it with b_q <= e_p
-    # are exactly those in the active list when p enters; test the two other axes, and report the pair only in
-    # the column holding the lower corner (max b^1, max b^2) of the two boxes, so exactly once: as the column
-    # map is monotone, that column is the first column of p or of q along a1, and along a2 (the home flags).
-    # The entries are in the order of their integer keys, so the sweep runs while key(b_q) <= key(e_p) (a
-    # superset, as the key map is monotone) and tests the sweep axis exactly too; the column's sentinel stops it.
-    # Columns first .. last − 1; the pairs are recorded in out (the two-try record); returns (count, tests),
-    # count > len(out) when out was too small.
-    # The records are read through a flat view at offsets q · ENTRY_WIDTH + field (a constant stride: no
-    # multiplication by a run-time row stride per candidate, measured 8 % of the sweep).
+    # are exactly those in the active list when p enters (the entries are sorted by b exactly, so every such q
+    # overlaps p on the sweep axis: b_p <= b_q <= e_p, no test needed on that axis); test the two other axes,
+    # and report the pair only in the column holding the lower corner (max b^1, max b^2) of the two boxes, so
+    # exactly once: as the column map is monotone, that column is the first column of p or of q along a1, and
+    # along a2 (the home flags). The column's sentinel (b = +inf) stops the run without a bounds check.
+    # Columns first .. last − 1; each pair is recorded as its key min · 2^shift + max in out (the two-try record
+    # of engine.broadphase.pairs); returns (count, tests), count > len(out) when out was too small, tests = the
+    # pairs of entries that overlap on the sweep axis.
+    # The records are read through flat views at offsets q · ENTRY_WIDTH + field (a constant stride: no
+    # multiplication by a run-time row stride per candidate), the tags through an int64 view (no conversion).
     flat = rec.reshape(rec.size)
+    bits = flat.view(np.int64)
     count = 0
-    tests = 0  # box tests on the two other axes: the pairs whose intervals overlap on the sweep axis
+    tests = 0
     capacity = out.shape[0]
     for cell in range(first, last):
         for p in range(start[cell], start[cell + 1] - 1):
             rp = p * ENTRY_WIDTH
-            lo0 = flat[rp + B0]
             end0 = flat[rp + E0]
             lo1 = flat[rp + B1]
             hi1 = flat[rp + E1]
             lo2 = flat[rp + B2]
             hi2 = flat[rp + E2]
-            tag_p = np.int64(flat[rp + TAG])
+            tag_p = bits[rp + TAG]
             box_p = tag_p >> 2
-            key_end = np.float64(cell_of(end0, keys.origin, keys.scale, KEY_STEPS))
             rq = rp + ENTRY_WIDTH
-            while flat[rq + KEY] <= key_end:
-                tag_q = np.int64(flat[rq + TAG])
-                overlap0 = (flat[rq + B0] <= end0) & (lo0 <= flat[rq + E0])
-                tests += overlap0
-                keep = (overlap0 & (flat[rq + B1] <= hi1) & (lo1 <= flat[rq + E1]) & (flat[rq + B2] <= hi2)
+            while flat[rq + B0] <= end0:
+                tag_q = bits[rq + TAG]
+                box_q = tag_q >> 2
+                keep = ((flat[rq + B1] <= hi1) & (lo1 <= flat[rq + E1]) & (flat[rq + B2] <= hi2)
                         & (lo2 <= flat[rq + E2]) & (((tag_p | tag_q) & 3) == 3))
-                if count < capacity:  # the two-try record of engine.broadphase.pairs
-                    out[count, 0] = box_p
-                    out[count, 1] = tag_q >> 2
+                if count < capacity:
+                    out[count] = (min(box_p, box_q) << shift) | max(box_p, box_q)
                 count += np.int64(keep)
                 rq += ENTRY_WIDTH
+            tests += (rq - rp) // ENTRY_WIDTH - 1
     return count, tests
 
 
 @njit
-def _prepare_columns(order, lo, hi, axis):
-    # Chapter SAP slide in 3-D, box-pruning form (Ericson 7.5.2): boxes in the order of their key on `axis`,
-    # swept per column of a coarse grid over the two other axes (Terdiman's multi box pruning) so that each run
-    # stays short. Returns (grid, keys, ranges, entries, sparse) for _fill_columns / _fill_columns_sparse.
-    a1 = (axis + 1) % 3
-    a2 = (axis + 2) % 3
-    bounds = _box_bounds(order, lo, hi)
-    keys = sweep_keys(bounds[0][axis], bounds[1][axis])
-    ranges = np.empty((4, order.shape[0]), dtype=np.int64)
-    grid, entries, sparse = _choose_columns(order, lo, hi, a1, a2, bounds, ranges)
-    return grid, keys, ranges, entries, sparse
+def _sort_runs_exactly(order, key_b, lo, axis):
+    """Make ``order`` (boxes sorted by their integer keys ``key_b``, ties by index) sorted by lo[:, axis] exactly:
+    the key map is monotone but not one to one (values less than a key step apart share a key), so only a run
+    of equal keys can be out of order; such a run is sorted by its values (stable: ties stay by index)."""
+    n = order.shape[0]
+    t = 1
+    while t < n:
+        if key_b[t] == key_b[t - 1] and lo[order[t], axis] < lo[order[t - 1], axis]:
+            first = t - 1
+            while first > 0 and key_b[first - 1] == key_b[t]:
+                first -= 1
+            last = t + 1
+            while last < n and key_b[last] == key_b[t]:
+                last += 1
+            run = order[first:last].copy()
+            values = np.empty(last - first)
+            for u in range(last - first):
+                values[u] = lo[run[u], axis]
+            order[first:last] = run[np.argsort(values, kind="mergesort")]
+            t = last
+        else:
+            t += 1
 
 
 @njit
 def sweep_order(lo, hi, axis):
-    """The boxes (n, 3) in the order of their integer sweep keys on ``axis`` (ties by index): int64 (n,), by
-    one radix sort of 31-bit keys (Terdiman's integer-mapped keys) instead of a comparison sort of floats."""
+    """The boxes (n, 3) sorted by lo[:, axis] (ties by index): int64 (n,). One radix sort of their 31-bit
+    integer keys (Terdiman's integer-mapped keys) instead of a comparison sort of floats, then the runs of
+    equal keys put in the exact order of their values (``_sort_runs_exactly``)."""
     n = lo.shape[0]
     everyone = np.arange(n)
     origin = np.inf
@@ -468,45 +503,58 @@ def sweep_order(lo, hi, axis):
     key_b = np.empty(n, dtype=np.int64)
     for i in range(n):
         key_b[i] = cell_of(lo[i, axis], keys.origin, keys.scale, KEY_STEPS)
-    return radix_sort_pairs(key_b, everyone, np.empty(n, dtype=np.int64), np.empty(n, dtype=np.int64), n)[1].copy()
+    key_b, order = radix_sort_pairs(key_b, everyone, np.empty(n, dtype=np.int64), np.empty(n, dtype=np.int64), n)
+    order = order.copy()
+    _sort_runs_exactly(order, key_b, lo, axis)
+    return order
 
 
 #: a thread sweeps at least this many (box, column) entries
 MIN_ENTRIES_PER_THREAD = 4096
 
 
-def _column_entries(order: np.ndarray, lo: np.ndarray, hi: np.ndarray, axis: int) -> tuple:
-    """The swept columns of the boxes in sweep order: (keys, start, entry records); the records live in this
-    thread's work array (reused by the next sweep on this thread)."""
-    grid, keys, ranges, entries, sparse = _prepare_columns(order, lo, hi, axis)
-    a1, a2 = (axis + 1) % 3, (axis + 2) % 3
+def _column_entries(order: np.ndarray, lo: np.ndarray, hi: np.ndarray, axis: int) -> tuple[np.ndarray, np.ndarray]:
+    """The swept columns of the boxes in sweep order: (start, entry records); the records live in this thread's
+    work arrays (reused by the next sweep on this thread)."""
+    m = order.shape[0]
+    box = pair_buffer.work_array("sap_boxes", m * ENTRY_WIDTH, np.float64)[: m * ENTRY_WIDTH]
+    box = box.reshape(m, ENTRY_WIDTH)
+    sorted_records(order, lo, hi, axis, box)
+    ranges = pair_buffer.work_array("sap_ranges", 4 * m, np.int64)[: 4 * m].reshape(4, m)
+    grid, entries, sparse = _choose_columns(box, _box_bounds(box), ranges)
     slots = 2 * entries if sparse else entries + grid.k1 * grid.k2
     rec = pair_buffer.work_array("sap_entries", slots * ENTRY_WIDTH, np.float64)[: slots * ENTRY_WIDTH]
     rec = rec.reshape(slots, ENTRY_WIDTH)
     if sparse:
-        return keys, _fill_columns_sparse(order, lo, hi, axis, a1, a2, grid, ranges, entries, keys, rec), rec
-    return keys, _fill_columns(order, lo, hi, axis, a1, a2, grid, ranges, keys, rec), rec
+        return _fill_columns_sparse(box, grid, ranges, entries, rec), rec
+    return _fill_columns(box, grid, ranges, rec), rec
 
 
 def _sweep_sorted(order: np.ndarray, lo: np.ndarray, hi: np.ndarray, axis: int, n_objects: int,
                   threads: int = 1) -> tuple[np.ndarray, int]:
-    """Sweep-and-prune of the boxes (n, 3) lo, hi in sweep-key order ``order`` along ``axis``: (canonical
-    pairs, tests); ``threads`` > 1 sweeps disjoint ranges of columns on that many threads."""
-    keys, start, rec = _column_entries(order, lo, hi, axis)
+    """Sweep-and-prune of the boxes (n, 3) lo, hi in the order ``order`` of lo[:, axis] (exactly sorted) along
+    ``axis``: (canonical pairs, tests); ``threads`` > 1 sweeps disjoint ranges of columns on that many
+    threads."""
+    start, rec = _column_entries(order, lo, hi, axis)
     ranges = pair_buffer.split_work(start, threads, MIN_ENTRIES_PER_THREAD)
-    # one range: this thread's reusable buffer; several: a buffer of its own per range (a pool thread may run
-    # two ranges one after the other, and the merge reads every range's buffer at the end)
-    buffer = pair_buffer.work_pair_buffer if len(ranges) == 1 else pair_buffer.new_pair_buffer
+    shift = int(pair_buffer.pair_key_shift(n_objects))
+
+    # one range: this thread's reusable key buffer; several: a buffer of its own per range (a pool thread may
+    # run two ranges one after the other, and the merge reads every range's buffer at the end)
+    def buffer(size: int) -> np.ndarray:
+        if len(ranges) == 1:
+            return pair_buffer.work_array("sap_pair_keys", size, np.int64)
+        return np.empty(max(size, 16), dtype=np.int64)
 
     def sweep(first, last):
         out = buffer(start[last] - start[first])
-        count, tests = _sweep_columns(keys, start, rec, first, last, out)
+        count, tests = _sweep_columns(start, rec, first, last, out, shift)
         if count > out.shape[0]:  # too many pairs for the buffer: again, with room for all of them
             out = buffer(count)
-            count, tests = _sweep_columns(keys, start, rec, first, last, out)
+            count, tests = _sweep_columns(start, rec, first, last, out, shift)
         return out, count, tests
 
-    return pair_buffer.run_split(sweep, ranges, n_objects)
+    return pair_buffer.run_split(sweep, ranges, n_objects, canonicalise=pair_buffer.canonicalise_key_buffer)
 
 
 def _widest_axis(lo: np.ndarray, hi: np.ndarray) -> int:

@@ -54,6 +54,7 @@ AREAS: dict[str, dict[str, list[str]]] = {
             # written against the survivors of the broadphase run on af5c9c5 (properties/MUTATION.md)
             "properties/test_kinematic_cull_rule.py",
             "properties/test_sap_sparse_columns.py",
+            "properties/test_sap_sweep_order.py",
             # the padded cell grid of sphere_pairs on dense scenes (sphere_cells.py)
             "properties/test_broadphase_sphere_cells.py",
             "properties/test_sphere_pairs_work_arrays.py",
