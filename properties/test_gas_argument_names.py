@@ -121,6 +121,8 @@ def test_simulate_gas_names_its_bad_argument_first(kwargs, pattern):
 @pytest.mark.parametrize("kwargs, pattern", [
     (dict(eta=0.0), "eta"), (dict(eta=0.5), "eta"), (dict(eta=math.nan), "eta"),
     (dict(n=True), "n"), (dict(n=0), "n"), (dict(n=2.0), "n"), (dict(t_measure=-1.0), "t_measure"),
+    # the command hands its broad phase to simulate_gas, which refuses an unknown one (short run if it did not)
+    (dict(method="stepped", broad_phase="kd", t_equilibrate=0.0, t_measure=0.01), "broad_phase"),
 ])
 def test_command_names_its_bad_argument_first(kwargs, pattern, tmp_path):
     check_names(lambda: run_gas_command(**(dict(n=4, out=str(tmp_path / "x.png"), progress=False,

@@ -86,6 +86,17 @@ def test_calendar_with_no_finite_event_is_empty():
     assert calendar_top(cal) == (3, 7.25)
 
 
+def test_calendar_whose_bucket_events_all_become_infinite_is_empty():
+    """Events filed in the bucket lists (not in the window), then every one moved to "never": the calendar knows
+    its buckets are empty and answers (-1, inf) instead of walking the empty buckets."""
+    cal = new_event_calendar(3, 0.5, 4)
+    calendar_build(cal, np.array([0.2, 1.25, 1.75]))
+    assert calendar_top(cal) == (0, 0.2)
+    for i in range(3):
+        calendar_update(cal, i, math.inf)
+    assert calendar_top(cal) == (-1, math.inf)
+
+
 @pytest.mark.parametrize(("width", "nbuckets"), [(0.0, 4), (-1.0, 4), (math.inf, 4), (math.nan, 4), (1.0, 1)])
 def test_calendar_rejects_bad_sizes(width, nbuckets):
     with pytest.raises(ValueError, match="width" if nbuckets > 1 else "nbuckets"):

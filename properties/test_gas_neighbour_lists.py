@@ -16,7 +16,8 @@ from hypothesis import strategies as st
 
 from engine.gas import EventDrivenGas, radius_for_packing
 from engine.gas.initial import draw_velocities, place_spheres
-from engine.gas.neighbour_list import SKIN
+from engine.gas.neighbour_list import REBUILDS, SKIN
+from properties.strategies.gas import INTERPRETED
 
 L = 10.0
 
@@ -105,10 +106,11 @@ def test_the_neighbour_lists_stay_complete_and_symmetric(n, eta, boundary, seed,
 
 def test_the_lists_grow_when_a_rebuild_needs_room():
     """Small spheres crowding around big ones: more neighbours than the lists' first capacity (16), at the start
-    and during the run; the run still answers the cell lists' collisions."""
+    and during the run; the run still answers the cell lists' collisions. Interpreted (the mutation run), the same
+    crowd in a smaller box: 150 spheres, one of them big, at about the same packing."""
     rng = np.random.default_rng(3)
-    n, box = 1200, 3.0
-    r = np.where(np.arange(n) < 10, 0.35, 0.1)
+    n, box, big = (150, 1.5, 1) if INTERPRETED else (1200, 3.0, 10)
+    r = np.where(np.arange(n) < big, 0.35, 0.1)
     m = np.ones(n)
     p = place_spheres(n, r, box, "walls", rng)
     v = draw_velocities(m, 1.0, "walls", rng)
@@ -120,6 +122,7 @@ def test_the_lists_grow_when_a_rebuild_needs_room():
         lists.run(t)
         assert lists.collisions == cells.collisions
     assert lists.lists.sizes.max() > 16
+    assert lists.lists.tally[REBUILDS] > 0  # the long lists were made again during the run
 
 
 @pytest.mark.parametrize("kwargs, name", [({"search": "verlet"}, "search"), ({"search": 3}, "search"),
@@ -140,10 +143,12 @@ def test_a_periodic_box_too_small_for_the_lists_is_refused():
 def test_the_lists_grow_during_a_run():
     """A lattice of small spheres (6 neighbours each: the first capacity of 16 suffices at the start) and one big
     sphere (100 times heavier) thrown into it: its rebuilds inside the lattice need more room, the lists grow in
-    the middle of the run, and the collisions stay those of the cell lists."""
+    the middle of the run, and the collisions stay those of the cell lists. Interpreted (the mutation run), a
+    5 × 5 × 5 lattice with the same front face (x = 0.4) instead of 9 × 13 × 13: the big sphere still ploughs in."""
     box = 3.0
-    axis = np.arange(13) * 0.22 - 1.32
-    g = np.stack(np.meshgrid(np.arange(9) * 0.22 - 1.36, axis, axis, indexing="ij"), axis=-1).reshape(-1, 3)
+    (nx, x0), (ny, y0) = ((5, -0.48), (5, -0.44)) if INTERPRETED else ((9, -1.36), (13, -1.32))
+    axis = np.arange(ny) * 0.22 + y0
+    g = np.stack(np.meshgrid(np.arange(nx) * 0.22 + x0, axis, axis, indexing="ij"), axis=-1).reshape(-1, 3)
     p = np.vstack([g, [[1.05, 0.0, 0.0]]])
     n = p.shape[0]
     r = np.full(n, 0.1)

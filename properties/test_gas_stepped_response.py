@@ -94,3 +94,25 @@ def test_kinetic_energy_is_the_correctly_rounded_sum(n, small, seed):
     gas = SteppedGas(np.zeros((n, 3)), v, 0.1, m, L, False, 0.01)  # the frame loop starts from overlaps
     assert gas.kinetic_energy() == pytest.approx(math.fsum(terms), rel=4e-16)
     assert gas.kinetic_energy() - 1.0 >= 0.5 * math.fsum(terms[1:])
+
+
+@given(st.floats(0.3, 0.6), st.floats(0.05, 0.9), st.floats(0.2, 5.0), st.floats(0.3, 2.8), st.floats(0.1, 3.0))
+def test_an_overlap_at_rest_is_pushed_apart_along_the_line_of_centres(r, depth, m1, theta, phi):
+    """Two spheres at rest overlapping by ``depth`` σ along a direction with x, y and z components, away from the
+    walls: one frame pushes them apart along their line of centres (each sphere moves parallel to it), mass-
+    weighted so the centre of mass stays put (momentum kept), until they just touch: |d| = σ to round-off."""
+    sigma = 2 * r
+    u = np.array([math.sin(theta) * math.cos(phi), math.sin(theta) * math.sin(phi), math.cos(theta)])
+    p = np.array([[0.3, -0.2, 0.1], [0.3, -0.2, 0.1]])
+    p[1] += (1.0 - depth) * sigma * u
+    m = np.array([m1, 1.0])
+    gas = SteppedGas(p, np.zeros((2, 3)), r, m, L, False, 0.01)
+    gas.run(1)
+    q = gas.positions
+    for k in range(2):  # each displacement is parallel to u
+        move = q[k] - p[k]
+        assert np.linalg.norm(np.cross(move, u)) <= 1e-12 * sigma, k
+    np.testing.assert_allclose(m @ q, m @ p, rtol=0, atol=1e-12 * m.sum())
+    d = float(np.linalg.norm(q[1] - q[0]))
+    assert sigma <= d <= sigma * (1 + 1e-13)
+    assert gas.overlapping == 0
