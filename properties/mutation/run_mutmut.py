@@ -65,6 +65,11 @@ def _patch_mutmut(spec: dict) -> None:
                                    "-m", "not large"] + [a for node in spec["deselect"] for a in ("--deselect", node)]
         cfg.pytest_add_cli_args_test_selection = list(spec["tests"])
         cfg.use_git_change_detection = False
+        # a mutant that makes a test loop forever is stopped at its CPU-time limit, (estimate + constant) x
+        # multiplier x 2 in mutmut: 15 x 2 = 30 times the clean estimate costs up to an hour per hung
+        # event-loop mutant, so the limit is 8 x the estimate + 80 s (a mutant that slow is killed: "timeout")
+        cfg.timeout_multiplier = 4.0
+        cfg.timeout_constant = 10.0
         return cfg
 
     configuration._guess_source_paths = lambda: ["engine"]
