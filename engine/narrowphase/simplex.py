@@ -206,7 +206,11 @@ def closest_on_tetrahedron(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz):
     """Ericson 5.1.6 ClosestPtPointTetrahedron with p = origin: the origin is outside face (i, j, k) when it lies
     on the other side of that face's plane from the fourth vertex l; the closest point is on the closest of those
     faces, or the origin itself when it is outside none (inside or on the tetrahedron). A flat tetrahedron
-    (|det| <= 1e-12 × its size³) counts as outside every face.
+    (|det| <= 1e-12 × its size³) counts as outside every face. The faces are tried in the order (a, b, c),
+    (a, b, d), (a, c, d), (b, c, d); in a well-shaped tetrahedron (|det| > 1e-3 × its size³) a face whose closest
+    point is inside it (m = 3) ends the search: it is the origin's projection on a plane with the whole
+    tetrahedron on its far side, so no later face is closer. (In a thin one, round-off in the face tests can make
+    that point not the closest: there every face the origin is outside of is solved.)
 
     Returns ``(m, s0, s1, s2, l0, l1, l2, l3)``: m = 4 with the four barycentric weights of the origin (signed
     volumes) when it is inside, else the closest face's m <= 3 supporting vertices (0 = a … 3 = d, ascending)
@@ -219,6 +223,7 @@ def closest_on_tetrahedron(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz):
     scale = max(abx * abx + aby * aby + abz * abz, acx * acx + acy * acy + acz * acz,
                 adx * adx + ady * ady + adz * adz)
     flat = abs(det) <= 1e-12 * scale * math.sqrt(scale)
+    solid = abs(det) > 1e-3 * scale * math.sqrt(scale)  # well-shaped: its face tests are well conditioned
     # signed volumes (times 6) of the origin and of the fourth vertex l against each face (i, j, k): the origin is
     # outside face (i, j, k) when the two have opposite signs
     so0, sl0 = _face_sides(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz)
@@ -258,6 +263,10 @@ def closest_on_tetrahedron(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz):
             m = fm
             s0, s1, s2 = _pick3(t0, i, j, k), _pick3(t1, i, j, k), _pick3(t2, i, j, k)
             l0, l1, l2 = w0, w1, w2
+        if fm == 3 and solid:
+            # an inner point of a face the origin is outside of is the closest point of the whole tetrahedron
+            # (which lies on the other side of that face's plane): the faces after it cannot be closer
+            break
     return m, s0, s1, s2, l0, l1, l2, 0.0
 
 
