@@ -40,6 +40,7 @@ import numpy as np
 
 from .._config import njit
 from .._validate import MAX_MAGNITUDE, as_count, as_float_array, as_max_iterations, check_offsets, check_pairs
+from .float_bits import abs_bits, bits_float
 from .rescale import rescale_unit
 from .simplex import closest_on_simplex, pick4, refine_on_simplex
 from .status import GJK_NOT_CONVERGED, INVALID_INPUT, OVERLAP, SEPARATED, GJKNotConverged, raise_for_status
@@ -78,6 +79,9 @@ NEAR = 1e-2
 MAX_STALLS = 8
 
 
+#: the bit pattern of MAX_MAGNITUDE (see float_bits: |x| <= MAX_MAGNITUDE iff abs_bits(x) <= this)
+MAX_MAGNITUDE_BITS = int(np.float64(MAX_MAGNITUDE).view(np.int64))
+
 # ---------------------------------------------------------------------------------------------------------------
 # kernels
 #
@@ -110,39 +114,31 @@ def gjk_scratch(n_max):
                       np.zeros(1, np.int64))
 
 
-@njit(error_model="numpy")
-def copy_shape(P, s, r0, n, S, row):
-    """Copy rows ``P[s, r0:r0 + n]`` of ``P`` (S, N, 3) into the scratch rows ``S[row:row + 3, :n]`` and return
-    ``(ok, cx, cy, cz, big)``: ok is False when a coordinate is NaN, ±inf or above MAX_MAGNITUDE; (cx, cy, cz) the
-    centroid; big the largest |coordinate|. The sums run over even and odd rows: two short addition chains, not
-    one long one."""
-    ok = True
-    big = 0.0
-    x0 = 0.0
-    y0 = 0.0
-    z0 = 0.0
-    x1 = 0.0
-    y1 = 0.0
-    z1 = 0.0
-    for i in range(n):
-        x = P[s, r0 + i, 0]
-        y = P[s, r0 + i, 1]
-        z = P[s, r0 + i, 2]
-        ok &= (abs(x) <= MAX_MAGNITUDE) & (abs(y) <= MAX_MAGNITUDE) & (abs(z) <= MAX_MAGNITUDE)
-        m = max(abs(x), abs(y), abs(z))  # off the loop-carried chain, which gets one max per row
-        big = max(big, m)
-        S[row, i] = x
-        S[row + 1, i] = y
-        S[row + 2, i] = z
-        if i % 2 == 0:
-            x0 += x
-            y0 += y
-            z0 += z
-        else:
-            x1 += x
-            y1 += y
-            z1 += z
-    return ok, (x0 + x1) / n, (y0 + y1) / n, (z0 + z1) / n, big
+# Without numba's runtime, like gjk_walk: it allocates nothing, and its two arrays then cost no reference counting.
+@njit(_nrt=False, error_model="numpy")
+def copy_shape(F, o, n, S, row):
+    """Copy the n points ``F[o:o + 3 * n]`` (x, y, z of point i at o + 3i) of the flat array ``F`` into the scratch
+    rows ``S[row:row + 3, :n]`` and return ``(ok, cx, cy, cz, big)``: ok is False when a coordinate is NaN, ±inf or
+    above MAX_MAGNITUDE; (cx, cy, cz) the centroid; big the largest |coordinate|. The check is one integer maximum
+    over the coordinates' bit patterns (``float_bits``; a loop LLVM vectorises); the sums run over even and odd
+    points: two short addition chains, not one long one."""
+    u = np.uint64(o)  # unsigned indices: no negative-index wraparound in the loops
+    top = 0
+    for k in range(np.uint64(3 * n)):
+        top = max(top, abs_bits(F[u + k]))
+    x0, y0, z0, x1, y1, z1 = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    for j in range(n // 2):
+        i, k = 2 * j, u + np.uint64(6 * j)
+        xa, ya, za, xb, yb, zb = F[k], F[k + 1], F[k + 2], F[k + 3], F[k + 4], F[k + 5]
+        S[row, i], S[row + 1, i], S[row + 2, i] = xa, ya, za
+        S[row, i + 1], S[row + 1, i + 1], S[row + 2, i + 1] = xb, yb, zb
+        x0, y0, z0, x1, y1, z1 = x0 + xa, y0 + ya, z0 + za, x1 + xb, y1 + yb, z1 + zb
+    if n % 2 == 1:
+        k = u + np.uint64(3 * (n - 1))
+        xa, ya, za = F[k], F[k + 1], F[k + 2]
+        S[row, n - 1], S[row + 1, n - 1], S[row + 2, n - 1] = xa, ya, za
+        x0, y0, z0 = x0 + xa, y0 + ya, z0 + za
+    return top <= MAX_MAGNITUDE_BITS, (x0 + x1) / n, (y0 + y1) / n, (z0 + z1) / n, bits_float(top)
 
 
 @njit(error_model="numpy")
@@ -306,6 +302,7 @@ def gjk_pairs_kernel(PA, PB, pairs, offsets, max_iter, scratch, dist, closest_a,
     ``PB[0]``; without (``scratch.no_pairs``, ``scratch.no_offsets``) ``PA[p]`` against ``PB[p]``. ``scratch``
     (``gjk_scratch``, largest shape) keeps the last pair's final simplex (for EPA), whose size is returned."""
     W, IA, IB, lam, S = scratch[:5]
+    FA, FB = PA.reshape(-1), PB.reshape(-1)  # flat views, made once (C-contiguous), for copy_shape
     n = 0
     for p in range(status.shape[0]):
         if pairs.shape[0] > 0:
@@ -315,8 +312,8 @@ def gjk_pairs_kernel(PA, PB, pairs, offsets, max_iter, scratch, dist, closest_a,
         else:
             sa, sb, a0, na, b0, nb = p, p, 0, PA.shape[1], 0, PB.shape[1]
         # both shapes as x, y, z rows (unit-stride support scans), their values checked and centroids summed
-        ok_a, cax, cay, caz, big_a = copy_shape(PA, sa, a0, na, S, 0)
-        ok_b, cbx, cby, cbz, big_b = copy_shape(PB, sb, b0, nb, S, 3)
+        ok_a, cax, cay, caz, big_a = copy_shape(FA, 3 * (sa * PA.shape[1] + a0), na, S, 0)
+        ok_b, cbx, cby, cbz, big_b = copy_shape(FB, 3 * (sb * PB.shape[1] + b0), nb, S, 3)
         if not (ok_a and ok_b):  # NaN, ±inf or a magnitude above MAX_MAGNITUDE: the caller raises
             dist[p], status[p], n = np.nan, INVALID_INPUT, 0
             continue
