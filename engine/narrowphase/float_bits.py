@@ -9,8 +9,10 @@ every value is finite and below a bound.
 """
 from __future__ import annotations
 
+import numpy as np
 from llvmlite import ir
 from numba import types
+from numba.core import config
 from numba.extending import intrinsic
 
 from .._config import njit
@@ -21,26 +23,37 @@ __all__ = ["ABS_MASK", "float_bits", "bits_float", "abs_bits"]
 ABS_MASK = 0x7FFFFFFFFFFFFFFF
 
 
-@intrinsic
-def float_bits(typingctx, x):
-    """The bit pattern of the float64 ``x`` as an int64 (compiled code only)."""
-    sig = types.int64(types.float64)
+if config.DISABLE_JIT:  # interpreted (mutation testing, debugging): the same patterns through numpy views
 
-    def codegen(context, builder, signature, args):
-        return builder.bitcast(args[0], ir.IntType(64))
+    def float_bits(x):
+        """The bit pattern of the float64 ``x`` as an int64."""
+        return int(np.array(x, dtype=np.float64).view(np.int64))
 
-    return sig, codegen
+    def bits_float(k):
+        """The float64 whose bit pattern is the int64 ``k``."""
+        return float(np.array(k, dtype=np.int64).view(np.float64))
 
+else:
 
-@intrinsic
-def bits_float(typingctx, k):
-    """The float64 whose bit pattern is the int64 ``k`` (compiled code only)."""
-    sig = types.float64(types.int64)
+    @intrinsic
+    def float_bits(typingctx, x):
+        """The bit pattern of the float64 ``x`` as an int64."""
+        sig = types.int64(types.float64)
 
-    def codegen(context, builder, signature, args):
-        return builder.bitcast(args[0], ir.DoubleType())
+        def codegen(context, builder, signature, args):
+            return builder.bitcast(args[0], ir.IntType(64))
 
-    return sig, codegen
+        return sig, codegen
+
+    @intrinsic
+    def bits_float(typingctx, k):
+        """The float64 whose bit pattern is the int64 ``k``."""
+        sig = types.float64(types.int64)
+
+        def codegen(context, builder, signature, args):
+            return builder.bitcast(args[0], ir.DoubleType())
+
+        return sig, codegen
 
 
 @njit(inline="always")
