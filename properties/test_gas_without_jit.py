@@ -82,13 +82,13 @@ def _runs_in_child(disable_jit: bool) -> dict:
     return pickle.loads(done.stdout)
 
 
-def _same_bits(a, b, where: str) -> None:
+def assert_same_bits(a, b, where: str) -> None:
     """a and b are the same value: same type, same float64 bits (NaN included), arrays of the same dtype."""
     assert type(a) is type(b), f"{where}: {type(a).__name__} compiled, {type(b).__name__} interpreted"
     if isinstance(a, dict):
         assert a.keys() == b.keys(), where
         for k in a:
-            _same_bits(a[k], b[k], f"{where}.{k}")
+            assert_same_bits(a[k], b[k], f"{where}.{k}")
     elif isinstance(a, np.ndarray):
         assert a.dtype == b.dtype and a.shape == b.shape, where
         assert a.tobytes() == b.tobytes(), f"{where}: first difference at {np.flatnonzero(a.ravel() != b.ravel())[:1]}"
@@ -108,4 +108,4 @@ def test_gas_without_the_jit_equals_the_compiled_gas_bit_for_bit():
     assert min(walls["collisions"], walls["wall_hits"], walls["crossings"], periodic["collisions"]) > 0
     assert walls["stale"] + periodic["stale"] > 0
     assert compiled["SteppedGas/walls"]["collisions"] > 0 and compiled["event cap"] != "not reached"
-    _same_bits(compiled, interpreted, "runs")
+    assert_same_bits(compiled, interpreted, "runs")

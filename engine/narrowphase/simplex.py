@@ -9,6 +9,10 @@ scalars only, so a call costs no reference counting. The small ones are ``inline
 ``closest_on_triangle_any`` and ``closest_on_tetrahedron`` (which holds four triangle cases), are plain calls:
 inlined, they made numba type and LLVM optimise GJK's loop with five copies of the triangle code (35 s of CPU to
 compile GJK's kernel, 10 s as calls, with no measurable change in GJK's speed).
+
+The kernels are compiled with numba's ``error_model="numpy"``: every division here has a denominator tested
+non-zero first (a length or area tested > 0, a signed volume tested non-zero by the flatness test), so the
+Python error model's zero test before each division, and the exception path it keeps alive, never fires.
 """
 from __future__ import annotations
 
@@ -23,7 +27,7 @@ __all__ = ["closest_on_segment", "closest_on_triangle", "closest_on_triangle_any
            "closest_on_simplex"]
 
 
-@njit(inline="always")
+@njit(inline="always", error_model="numpy")
 def closest_on_segment(ax, ay, az, bx, by, bz):
     """Closest point to the origin on segment [a, b] (Ericson 5.1.2).
 
@@ -40,7 +44,7 @@ def closest_on_segment(ax, ay, az, bx, by, bz):
     return 2, 0, 1, 1.0 - t, t
 
 
-@njit(inline="always")
+@njit(inline="always", error_model="numpy")
 def closest_on_triangle(ax, ay, az, bx, by, bz, cx, cy, cz):
     """Ericson 5.1.5 ClosestPtPointTriangle with p = origin: Voronoi regions of vertices, edges, face.
 
@@ -94,7 +98,7 @@ def closest_on_triangle(ax, ay, az, bx, by, bz, cx, cy, cz):
     return 3, 0, 1, 2, 1.0 - v - w, v, w
 
 
-@njit(inline="always")
+@njit(inline="always", error_model="numpy")
 def _pick3(s, a, b, c):
     """Component ``s`` (0, 1, 2) of (a, b, c)."""
     if s == 0:
@@ -104,7 +108,7 @@ def _pick3(s, a, b, c):
     return c
 
 
-@njit(inline="always")
+@njit(inline="always", error_model="numpy")
 def _triangle_distance2(m, s0, s1, s2, l0, l1, l2, ax, ay, az, bx, by, bz, cx, cy, cz):
     """|Σ λ_k p_{s_k}|² over the m supporting vertices of triangle (a, b, c)."""
     x = 0.0
@@ -125,7 +129,7 @@ def _triangle_distance2(m, s0, s1, s2, l0, l1, l2, ax, ay, az, bx, by, bz, cx, c
     return x * x + y * y + z * z
 
 
-@njit
+@njit(error_model="numpy")
 def closest_on_triangle_any(ax, ay, az, bx, by, bz, cx, cy, cz):
     """Closest point of triangle (a, b, c) to the origin, degenerate triangles included.
 
@@ -166,7 +170,7 @@ def closest_on_triangle_any(ax, ay, az, bx, by, bz, cx, cy, cz):
     return best_n, b0, b1, 0, bl0, bl1, 0.0
 
 
-@njit(inline="always")
+@njit(inline="always", error_model="numpy")
 def _face_sides(px, py, pz, qx, qy, qz, rx, ry, rz, lx, ly, lz):
     """Signed volumes (times 6) of the origin and of vertex l against the plane of face (p, q, r):
     ``(-(p · n), (l − p) · n)`` with n = (q − p) × (r − p) (Ericson 5.1.6, PointOutsideOfPlane)."""
@@ -178,14 +182,14 @@ def _face_sides(px, py, pz, qx, qy, qz, rx, ry, rz, lx, ly, lz):
     return -(px * nx + py * ny + pz * nz), (lx - px) * nx + (ly - py) * ny + (lz - pz) * nz
 
 
-@njit(inline="always")
+@njit(inline="always", error_model="numpy")
 def _opposite_signs(u, v):
     """u and v are non-zero with opposite signs. (Not ``u * v < 0``: the product of two signed volumes is of degree
     6 in the coordinates and underflows to 0 for coordinates near 2^-170, long before either volume does.)"""
     return (u < 0.0 and v > 0.0) or (u > 0.0 and v < 0.0)
 
 
-@njit(inline="always")
+@njit(inline="always", error_model="numpy")
 def pick4(s, a, b, c, d):
     """Component ``s`` (0, 1, 2, 3) of (a, b, c, d)."""
     if s == 0:
@@ -197,12 +201,16 @@ def pick4(s, a, b, c, d):
     return d
 
 
-@njit
+@njit(error_model="numpy")
 def closest_on_tetrahedron(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz):
     """Ericson 5.1.6 ClosestPtPointTetrahedron with p = origin: the origin is outside face (i, j, k) when it lies
     on the other side of that face's plane from the fourth vertex l; the closest point is on the closest of those
     faces, or the origin itself when it is outside none (inside or on the tetrahedron). A flat tetrahedron
-    (|det| <= 1e-12 × its size³) counts as outside every face.
+    (|det| <= 1e-12 × its size³) counts as outside every face. The faces are tried in the order (a, b, c),
+    (a, b, d), (a, c, d), (b, c, d); in a well-shaped tetrahedron (|det| > 1e-3 × its size³) a face whose closest
+    point is inside it (m = 3) ends the search: it is the origin's projection on a plane with the whole
+    tetrahedron on its far side, so no later face is closer. (In a thin one, round-off in the face tests can make
+    that point not the closest: there every face the origin is outside of is solved.)
 
     Returns ``(m, s0, s1, s2, l0, l1, l2, l3)``: m = 4 with the four barycentric weights of the origin (signed
     volumes) when it is inside, else the closest face's m <= 3 supporting vertices (0 = a … 3 = d, ascending)
@@ -215,6 +223,7 @@ def closest_on_tetrahedron(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz):
     scale = max(abx * abx + aby * aby + abz * abz, acx * acx + acy * acy + acz * acz,
                 adx * adx + ady * ady + adz * adz)
     flat = abs(det) <= 1e-12 * scale * math.sqrt(scale)
+    solid = abs(det) > 1e-3 * scale * math.sqrt(scale)  # well-shaped: its face tests are well conditioned
     # signed volumes (times 6) of the origin and of the fourth vertex l against each face (i, j, k): the origin is
     # outside face (i, j, k) when the two have opposite signs
     so0, sl0 = _face_sides(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz)
@@ -254,6 +263,10 @@ def closest_on_tetrahedron(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz):
             m = fm
             s0, s1, s2 = _pick3(t0, i, j, k), _pick3(t1, i, j, k), _pick3(t2, i, j, k)
             l0, l1, l2 = w0, w1, w2
+        if fm == 3 and solid:
+            # an inner point of a face the origin is outside of is the closest point of the whole tetrahedron
+            # (which lies on the other side of that face's plane): the faces after it cannot be closer
+            break
     return m, s0, s1, s2, l0, l1, l2, 0.0
 
 
@@ -265,7 +278,7 @@ def closest_on_tetrahedron(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz):
 # times the size tilts x by λ_err · size / |x|, which misleads the support search and the closest points'
 # direction. The residuals are of degree 2, so one step brings λ to a few u. A weight pushed below 0 (the origin
 # on the border of its Voronoi region, to round-off) keeps the closed form's value.
-@njit(inline="always")
+@njit(inline="always", error_model="numpy")
 def refine_on_edge(l0, l1, px, py, pz, qx, qy, qz):
     """Refined weights (l0, l1) of the closest point of the line through p, q to the origin."""
     ex, ey, ez = qx - px, qy - py, qz - pz
@@ -279,7 +292,7 @@ def refine_on_edge(l0, l1, px, py, pz, qx, qy, qz):
     return l0, l1
 
 
-@njit(inline="always")
+@njit(inline="always", error_model="numpy")
 def refine_on_face(l0, l1, l2, px, py, pz, qx, qy, qz, rx, ry, rz):
     """Refined weights (l0, l1, l2) of the closest point of the plane through p, q, r to the origin."""
     e1x, e1y, e1z = qx - px, qy - py, qz - pz
@@ -304,7 +317,7 @@ def refine_on_face(l0, l1, l2, px, py, pz, qx, qy, qz, rx, ry, rz):
     return l0, l1, l2
 
 
-@njit
+@njit(error_model="numpy")
 def refine_on_simplex(m, s0, s1, s2, l0, l1, l2, ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz):
     """The weights (l0, l1, l2) of ``closest_on_simplex``'s answer (m supporting vertices s0 < s1 < s2 among a, b,
     c, d), refined by ``refine_on_edge`` (m = 2) or ``refine_on_face`` (m = 3); unchanged for m = 1 or 4."""
@@ -319,7 +332,7 @@ def refine_on_simplex(m, s0, s1, s2, l0, l1, l2, ax, ay, az, bx, by, bz, cx, cy,
     return l0, l1, l2
 
 
-@njit(inline="always")
+@njit(inline="always", error_model="numpy")
 def closest_on_simplex(n, ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz):
     """The closest point to the origin of the simplex of the first n (2, 3 or 4) of the vertices a, b, c, d (the
     others are ignored): ``(m, s0, s1, s2, l0, l1, l2, l3)`` as ``closest_on_tetrahedron`` (m = 4: the origin is
