@@ -7,9 +7,7 @@ boundaries the neighbours of an edge cell are the cells of the opposite face, me
 Removing a sphere from its cell is O(1) (the ``prev`` links), which the cell crossings of the gas need.
 
 Each sphere's links and cell coordinates are one 16-byte record (``LINK``), so that following a list touches
-one small array, which stays in the processor's cache. One occupancy bit per cell (``occupied``: bit k of word
-k // 64 set iff cell k holds a sphere; 17 KB for 52³ cells) lets a scan skip an empty cell without loading its
-``head`` entry (most cells of a dilute gas are empty: 79 % at η = 0.1 with cells of 0.6 mean spacings).
+one small array, which stays in the processor's cache.
 """
 from __future__ import annotations
 
@@ -20,21 +18,19 @@ import numpy as np
 
 from engine.gas.kernels import state_kernel
 
-__all__ = ["LINK", "CellList", "new_cell_list", "cell_clear", "cell_fill", "cell_of", "cell_insert", "cell_remove",
-           "cell_step", "cell_occupied", "neighbour_cell"]
+__all__ = ["LINK", "CellList", "new_cell_list", "cell_fill", "cell_of", "cell_insert", "cell_remove", "cell_step",
+           "neighbour_cell"]
 
 #: a sphere's place in the cell lists: the next and previous sphere of its cell (−1: none), its cell coordinates
 LINK = np.dtype([("next", np.int32), ("prev", np.int32), ("cell", np.int16, (3,))], align=True)
 
 
 class CellList(NamedTuple):
-    """links: (n,) LINK records; head: (ncell³,) int32 the first sphere of each cell (−1: empty); occupied:
-    (⌈ncell³/64⌉,) int64, bit k % 64 of word k // 64 set iff head[k] >= 0; half = L/2, box = L, width = L/ncell
-    (float); ncell: cells per axis (int, at most 2^10); periodic (bool)."""
+    """links: (n,) LINK records; head: (ncell³,) int32 the first sphere of each cell (−1: empty); half = L/2,
+    box = L, width = L/ncell (float); ncell: cells per axis (int, at most 2^10); periodic (bool)."""
 
     links: np.ndarray
     head: np.ndarray
-    occupied: np.ndarray
     half: float
     box: float
     width: float
@@ -49,22 +45,8 @@ def new_cell_list(n: int, box: float, ncell: int, periodic: bool) -> CellList:
     links = np.zeros(n, dtype=LINK)
     links["next"] = -1
     links["prev"] = -1
-    return CellList(links, np.full(ncell**3, -1, dtype=np.int32), np.zeros((ncell**3 + 63) // 64, dtype=np.int64),
-                    box / 2.0, box, box / ncell, int(ncell), bool(periodic))
-
-
-@state_kernel
-def cell_occupied(cells, k):
-    """Whether the cell of flat index k (>= 0) holds a sphere: its bit in ``occupied`` (an arithmetic shift
-    keeps bit 0 right even for bit 63, the sign bit)."""
-    return (cells.occupied[k >> 6] >> (k & 63)) & 1 != 0
-
-
-@state_kernel
-def cell_clear(cells):
-    """Empty every cell (the spheres' links are left to the inserts that follow)."""
-    cells.head[:] = -1
-    cells.occupied[:] = 0
+    return CellList(links, np.full(ncell**3, -1, dtype=np.int32), box / 2.0, box, box / ncell, int(ncell),
+                    bool(periodic))
 
 
 @state_kernel
@@ -86,7 +68,6 @@ def cell_insert(cells, i):
     if h >= 0:
         links[h]["prev"] = i
     cells.head[c] = i
-    cells.occupied[c >> 6] |= np.int64(1) << (c & 63)
 
 
 @state_kernel
@@ -97,10 +78,7 @@ def cell_remove(cells, i):
     if prv >= 0:
         links[prv]["next"] = nxt
     else:
-        c = cell_of(cells, i)
-        cells.head[c] = nxt
-        if nxt < 0:  # the cell is empty now
-            cells.occupied[c >> 6] &= ~(np.int64(1) << (c & 63))
+        cells.head[cell_of(cells, i)] = nxt
     if nxt >= 0:
         links[nxt]["prev"] = prv
 
@@ -109,7 +87,7 @@ def cell_remove(cells, i):
 def cell_fill(cells, positions):
     """Put every sphere in the cell that contains its centre (positions: (n, ≥3) float64, x, y, z in the first
     three columns); centres on the outer faces go to the edge cells."""
-    cell_clear(cells)
+    cells.head[:] = -1
     for i in range(positions.shape[0]):
         for k in range(3):
             c = int(math.floor((positions[i, k] + cells.half) / cells.width))

@@ -22,7 +22,7 @@ import math
 import numpy as np
 
 from engine._validate import as_choice, as_count, as_float, as_positive
-from engine.gas.cell_list import cell_fill, cell_occupied, cell_step, neighbour_cell, new_cell_list
+from engine.gas.cell_list import cell_fill, cell_step, neighbour_cell, new_cell_list
 from engine.gas.event_queue import calendar_build, calendar_top, calendar_update, sized_event_calendar
 from engine.gas.event_state import (
     EVENT_NONE,
@@ -100,8 +100,7 @@ def _find_partner(g, cells, i, t, axis, side):
     45, 22 (2022); Rapaport ch. 14.3); a stale candidate forces the full scan. Periodic neighbours across the
     box are met through their image, shifted by ±L (only a sphere of an edge cell has such neighbours). Sphere i's
     fields are read once into locals, each row of 3 cells along z is one flat offset into ``head``, and the
-    partner's counter is read once, after the scan (the counters do not change during it); an empty cell is
-    skipped on its occupancy bit (``cell_occupied``) without loading its ``head`` entry.
+    partner's counter is read once, after the scan (the counters do not change during it).
     """
     st, book, links, head = g.st, g.book, cells.links, cells.head
     b = book[i]
@@ -138,9 +137,8 @@ def _find_partner(g, cells, i, t, axis, side):
                 cz, sz = neighbour_cell(c2, dz, n, box, periodic)
                 if cz < 0:
                     continue
-                if cell_occupied(cells, row + cz):  # an empty cell costs no load of its head
-                    best, bother = _earliest_in_cell(st, links, head[row + cz], i, t, xi, yi, zi, vxi, vyi, vzi,
-                                                     ri, sx, sy, sz, edge, best, bother)
+                best, bother = _earliest_in_cell(st, links, head[row + cz], i, t, xi, yi, zi, vxi, vyi, vzi, ri,
+                                                 sx, sy, sz, edge, best, bother)
     b["cand_time"] = t + best
     b["cand_other"] = bother
     if bother >= 0:

@@ -23,7 +23,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from engine.gas.cell_list import cell_clear, cell_insert, cell_remove, neighbour_cell
+from engine.gas.cell_list import cell_insert, cell_remove, neighbour_cell
 from engine.gas.event_queue import calendar_top, calendar_update
 from engine.gas.event_state import (
     EVENT_NONE,
@@ -218,7 +218,7 @@ def neighbour_lists_init(g, nl, cells):
     nothing is predicted (the caller grows ``ids`` and calls again)."""
     st = g.st
     n = st.shape[0]
-    cell_clear(cells)
+    cells.head[:] = -1
     longest = 0
     for i in range(n):
         nl.centre[i, 3] = st[i, 7]
