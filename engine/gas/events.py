@@ -61,25 +61,58 @@ _INF = math.inf
 
 
 @state_kernel
+def _earliest_in_cell(st, links, j, i, t, xi, yi, zi, vxi, vyi, vzi, ri, sx, sy, sz, shifted, best, bother):
+    """The earliest contact (time from t, partner) of sphere i, whose position at t, velocity and radius are
+    passed in locals, with the spheres j, links[j].next, … of one cell, met through their image shifted by
+    (sx, sy, sz) when ``shifted`` (i lies in an edge cell of a periodic box: only there can a neighbour cell be
+    across the box); (best, bother) is the earliest so far, kept on ties (the first found wins).
+
+    Smallenburg's EDMD (EPJE 45, 22 (2022), mdCell.c ``findcollisioncell``; Rapaport ch. 14.3): the partner j
+    is brought to t along its line, r = p_i − (p_j + v_j (t − t_j) + shift), and its contact time is the
+    smaller root of |r + v t| = r_i + r_j (``pair_time``). A zero shift is not added: p + 0.0 == p exactly, so
+    the result is the same bit for bit (EDMD's ``nearboxedge``).
+    """
+    while j >= 0:
+        if j != i:
+            dtj = t - st[j, 6]
+            px = st[j, 0] + st[j, 3] * dtj
+            py = st[j, 1] + st[j, 4] * dtj
+            pz = st[j, 2] + st[j, 5] * dtj
+            if shifted:
+                px += sx
+                py += sy
+                pz += sz
+            tp = pair_time(xi - px, yi - py, zi - pz, vxi - st[j, 3], vyi - st[j, 4], vzi - st[j, 5],
+                           ri + st[j, 7])
+            if tp < best:
+                best, bother = tp, j
+        j = links[j]["next"]
+    return best, bother
+
+
+@state_kernel
 def _find_partner(g, cells, i, t, axis, side):
     """Sphere i's pair candidate (at time t): its earliest contact with the spheres of the neighbouring cells.
 
     axis = -1: a full scan of the 27 cells around i (after its velocity changed). After a cell crossing along
     ``axis``, when i's candidate is still valid (its partner has not collided since), only the layer of 9 cells
-    at offset ``side`` (±1) that became neighbours is scanned and compared with it; a stale candidate forces the
-    full scan. Periodic neighbours across the box are met through their image, shifted by ±L.
+    at offset ``side`` (±1) that became neighbours is scanned and compared with it (EDMD's cell crossing, EPJE
+    45, 22 (2022); Rapaport ch. 14.3); a stale candidate forces the full scan. Periodic neighbours across the
+    box are met through their image, shifted by ±L (only a sphere of an edge cell has such neighbours). Sphere i's
+    fields are read once into locals, each row of 3 cells along z is one flat offset into ``head``, and the
+    partner's counter is read once, after the scan (the counters do not change during it).
     """
-    st, book, links = g.st, g.book, cells.links
+    st, book, links, head = g.st, g.book, cells.links, cells.head
     b = book[i]
     other = b["cand_other"]
     if axis >= 0 and other >= 0 and book[other]["count"] != b["cand_count"]:
         axis = -1
-    best, bother, bcount = _INF, -1, 0
-    if axis >= 0:
-        best = b["cand_time"] - t if other >= 0 else _INF
+    best, bother = _INF, -1
+    if axis >= 0 and other >= 0:
+        best = b["cand_time"] - t
         if best < 0.0:
             best = 0.0
-        bother, bcount = other, b["cand_count"]
+        bother = other
     lo0, hi0, lo1, hi1, lo2, hi2 = -1, 1, -1, 1, -1, 1
     if axis == 0:
         lo0, hi0 = side, side
@@ -88,7 +121,9 @@ def _find_partner(g, cells, i, t, axis, side):
     elif axis == 2:
         lo2, hi2 = side, side
     n, box, periodic = cells.ncell, cells.box, cells.periodic
-    c0, c1, c2 = links[i]["cell"][0], links[i]["cell"][1], links[i]["cell"][2]
+    c0, c1, c2 = np.int64(links[i]["cell"][0]), np.int64(links[i]["cell"][1]), np.int64(links[i]["cell"][2])
+    xi, yi, zi, vxi, vyi, vzi, ri = st[i, 0], st[i, 1], st[i, 2], st[i, 3], st[i, 4], st[i, 5], st[i, 7]
+    edge = periodic and (c0 == 0 or c1 == 0 or c2 == 0 or c0 == n - 1 or c1 == n - 1 or c2 == n - 1)
     for dx in range(lo0, hi0 + 1):
         cx, sx = neighbour_cell(c0, dx, n, box, periodic)
         if cx < 0:
@@ -97,25 +132,19 @@ def _find_partner(g, cells, i, t, axis, side):
             cy, sy = neighbour_cell(c1, dy, n, box, periodic)
             if cy < 0:
                 continue
+            row = (cx * n + cy) * n
             for dz in range(lo2, hi2 + 1):
                 cz, sz = neighbour_cell(c2, dz, n, box, periodic)
                 if cz < 0:
                     continue
-                j = cells.head[(cx * n + cy) * n + cz]
-                while j >= 0:
-                    if j != i:
-                        dtj = t - st[j, 6]
-                        rx = st[i, 0] - (st[j, 0] + st[j, 3] * dtj + sx)
-                        ry = st[i, 1] - (st[j, 1] + st[j, 4] * dtj + sy)
-                        rz = st[i, 2] - (st[j, 2] + st[j, 5] * dtj + sz)
-                        tp = pair_time(rx, ry, rz, st[i, 3] - st[j, 3], st[i, 4] - st[j, 4],
-                                        st[i, 5] - st[j, 5], st[i, 7] + st[j, 7])
-                        if tp < best:
-                            best, bother, bcount = tp, j, book[j]["count"]
-                    j = links[j]["next"]
+                best, bother = _earliest_in_cell(st, links, head[row + cz], i, t, xi, yi, zi, vxi, vyi, vzi, ri,
+                                                 sx, sy, sz, edge, best, bother)
     b["cand_time"] = t + best
     b["cand_other"] = bother
-    b["cand_count"] = bcount
+    if bother >= 0:
+        b["cand_count"] = book[bother]["count"]
+    elif axis < 0:
+        b["cand_count"] = 0
 
 
 @state_kernel
