@@ -157,6 +157,9 @@ AREAS: dict[str, dict[str, list[str]]] = {
             "properties/test_demo_scene.py",
             # written against the survivors of the world run on 5b97b8e (properties/MUTATION.md)
             "properties/test_world_impact_edges.py",
+            # written against the survivors of the world run on 7a481eb (properties/MUTATION.md)
+            "properties/test_world_contact_scale.py",
+            "properties/test_world_contact_radii.py",
         ],
         "sample": 20,
     },
