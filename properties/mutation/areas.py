@@ -160,6 +160,8 @@ AREAS: dict[str, dict[str, list[str]]] = {
             # written against the survivors of the world run on 7a481eb (properties/MUTATION.md)
             "properties/test_world_contact_scale.py",
             "properties/test_world_contact_radii.py",
+            "properties/test_world_query_stats.py",
+            "properties/test_world_repeated_ids.py",
         ],
         "sample": 20,
     },
