@@ -162,6 +162,8 @@ AREAS: dict[str, dict[str, list[str]]] = {
             "properties/test_world_contact_radii.py",
             "properties/test_world_query_stats.py",
             "properties/test_world_repeated_ids.py",
+            "properties/test_world_ground_gap.py",
+            "properties/test_world_shape_argument_names.py",
         ],
         "sample": 20,
     },
