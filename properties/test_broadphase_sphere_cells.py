@@ -83,3 +83,16 @@ def test_cell_layout_is_refused_past_its_cell_budget(n, h):
         assert (layout.nx, layout.ny, layout.nz) == (int(per_axis),) * 3
     else:
         assert layout.n_cells == 0
+
+
+@given(st.lists(st.floats(-1e3, 1e3), min_size=3, max_size=3), st.lists(st.floats(0.0, 1e3), min_size=3, max_size=3),
+       st.floats(1e-9, 1e3), st.integers(1, 10_000))
+def test_every_layout_has_its_documented_row_lengths(lo, span, h, n):
+    """CellLayout's fields as documented, for the grids used and for the refused ones (n_cells = 0) alike: the
+    padded row lengths are NX = nx + 2 and NZ = nz + 2 (integers), and n_cells is (ny + 1) · NX · NZ or 0."""
+    lo = np.array(lo)
+    layout = cell_layout(lo, lo + np.array(span), h, n)
+    assert layout.row_x == layout.nx + 2 and layout.row_z == layout.nz + 2
+    assert isinstance(layout.row_x, int) and isinstance(layout.row_z, int)
+    assert layout.n_cells in (0, (layout.ny + 1) * layout.row_x * layout.row_z)
+    assert layout.inv_h == 1.0 / h and (layout.x0, layout.y0, layout.z0) == tuple(lo)

@@ -184,11 +184,12 @@ def touching_at_scale(dx, dy, dz, s):
 @njit(inline="always")
 def pair_hit(ddx, ddy, ddz, s):
     """Whether two spheres whose centres differ by (ddx, ddy, ddz) and whose radii sum to s touch: |d|² <= s² and
-    |d_k| <= s (so that squares underflowing to 0 cannot make distinct points touch), tested at scale when s is
-    tiny. Branch-light: the rare tiny-s test comes first (a branch on the outcome itself would be mispredicted at
-    about every other candidate)."""
+    |d_k| <= s (so that squares underflowing to 0 cannot make distinct points touch), decided at scale when s is
+    tiny whatever the plain test said (subnormal squares round either way: spheres exactly touching at 2^-541
+    came out apart). Branch-light: the branch is on the rare tiny s, not on the outcome (which would be
+    mispredicted at about every other candidate)."""
     hit = ((ddx * ddx + ddy * ddy + ddz * ddz <= s * s) & (abs(ddx) <= s) & (abs(ddy) <= s) & (abs(ddz) <= s))
-    if s < TINY_REACH and hit:  # squares of these magnitudes underflow: test at scale
+    if s < TINY_REACH:  # squares of these magnitudes underflow (rounded up, too): the test at scale decides
         hit = touching_at_scale(ddx, ddy, ddz, s)
     return hit
 
