@@ -8,21 +8,13 @@ and every number it returns must equal the compiled run's: the same float64 bits
 """
 from __future__ import annotations
 
-import os
-import pickle
-import subprocess
-import sys
-from pathlib import Path
-
 import numba
 import numpy as np
 
-import engine
 from engine.gas import EventDrivenGas, GasEventCapReached, SteppedGas, radius_for_packing, simulate_gas
 from engine.gas.initial import draw_velocities, place_spheres
+from properties.jit_off import assert_same_bits, runs_in_child
 
-#: the checkout whose ``engine`` this process imported (the child must import the same one)
-ROOT = Path(engine.__file__).resolve().parents[1]
 #: GasResult fields that are clock readings, not results
 CLOCK_FIELDS = ("seconds", "collisions_per_second")
 
@@ -72,35 +64,10 @@ def gas_runs() -> dict:
     return runs
 
 
-def _runs_in_child(disable_jit: bool) -> dict:
-    env = {**os.environ, "NUMBA_DISABLE_JIT": "1" if disable_jit else "0",
-           "PYTHONPATH": os.pathsep.join([str(ROOT), *filter(None, [os.environ.get("PYTHONPATH")])])}
-    code = ("import pickle, sys; from properties.test_gas_without_jit import gas_runs; "
-            "sys.stdout.buffer.write(pickle.dumps(gas_runs()))")
-    done = subprocess.run([sys.executable, "-c", code], cwd=ROOT, env=env, capture_output=True, timeout=600)
-    assert done.returncode == 0, done.stderr.decode(errors="replace")[-3000:]
-    return pickle.loads(done.stdout)
-
-
-def assert_same_bits(a, b, where: str) -> None:
-    """a and b are the same value: same type, same float64 bits (NaN included), arrays of the same dtype."""
-    assert type(a) is type(b), f"{where}: {type(a).__name__} compiled, {type(b).__name__} interpreted"
-    if isinstance(a, dict):
-        assert a.keys() == b.keys(), where
-        for k in a:
-            assert_same_bits(a[k], b[k], f"{where}.{k}")
-    elif isinstance(a, np.ndarray):
-        assert a.dtype == b.dtype and a.shape == b.shape, where
-        assert a.tobytes() == b.tobytes(), f"{where}: first difference at {np.flatnonzero(a.ravel() != b.ravel())[:1]}"
-    elif isinstance(a, float):
-        assert np.float64(a).tobytes() == np.float64(b).tobytes(), f"{where}: {a!r} compiled, {b!r} interpreted"
-    else:
-        assert a == b, f"{where}: {a!r} compiled, {b!r} interpreted"
-
-
 def test_gas_without_the_jit_equals_the_compiled_gas_bit_for_bit():
-    compiled = gas_runs() if not numba.config.DISABLE_JIT else _runs_in_child(disable_jit=False)
-    interpreted = _runs_in_child(disable_jit=True)
+    here = "properties.test_gas_without_jit"
+    compiled = gas_runs() if not numba.config.DISABLE_JIT else runs_in_child(here, "gas_runs", disable_jit=False)
+    interpreted = runs_in_child(here, "gas_runs")
     assert compiled.pop("jit_disabled") is False
     assert interpreted.pop("jit_disabled") is True
     # the runs are not trivial: collisions, wall hits, cell crossings and stale events all happened

@@ -8,20 +8,11 @@ at scales 1e-6, 1 and 1e6 (the power-of-two rescaling path), and every number mu
 """
 from __future__ import annotations
 
-import os
-import pickle
-import subprocess
-import sys
-from pathlib import Path
-
 import numba
 import numpy as np
 
-import engine
 from engine.narrowphase import epa_penetration, gjk_distance, gjk_distance_batch, gjk_distance_pairs, pack_point_sets
-from properties.test_gas_without_jit import assert_same_bits
-
-ROOT = Path(engine.__file__).resolve().parents[1]
+from properties.jit_off import assert_same_bits, runs_in_child
 
 
 def _hull_pairs():
@@ -60,16 +51,6 @@ def narrowphase_runs() -> dict:
     return runs
 
 
-def _runs_in_child() -> dict:
-    env = {**os.environ, "NUMBA_DISABLE_JIT": "1",
-           "PYTHONPATH": os.pathsep.join([str(ROOT), *filter(None, [os.environ.get("PYTHONPATH")])])}
-    code = ("import pickle, sys; from properties.test_narrowphase_without_jit import narrowphase_runs; "
-            "sys.stdout.buffer.write(pickle.dumps(narrowphase_runs()))")
-    done = subprocess.run([sys.executable, "-c", code], cwd=ROOT, env=env, capture_output=True, timeout=600)
-    assert done.returncode == 0, done.stderr.decode(errors="replace")[-3000:]
-    return pickle.loads(done.stdout)
-
-
 def _as_plain(value):
     """Tuples, lists and result objects as dicts, so that ``assert_same_bits`` walks every field."""
     if isinstance(value, dict):
@@ -85,7 +66,8 @@ def _as_plain(value):
 
 def test_narrowphase_without_the_jit_equals_the_compiled_one_bit_for_bit():
     assert not numba.config.DISABLE_JIT
-    compiled, interpreted = narrowphase_runs(), _runs_in_child()
+    compiled = narrowphase_runs()
+    interpreted = runs_in_child("properties.test_narrowphase_without_jit", "narrowphase_runs")
     assert compiled.pop("jit_disabled") is False and interpreted.pop("jit_disabled") is True
     # not trivial: some pairs overlap (EPA ran), some are apart, the NaN was refused by name
     assert any(k.startswith("epa/") for k in compiled)
