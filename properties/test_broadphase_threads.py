@@ -91,6 +91,18 @@ def test_split_work_ranges_are_contiguous_cover_everything_and_respect_the_minim
         assert work[-1] >= len(ranges) * min_work
 
 
+@given(st.lists(st.integers(0, 50), min_size=1, max_size=40), st.integers(2, 9), st.integers(1, 200))
+def test_split_work_ranges_carry_about_equal_work(costs, threads, min_work):
+    """The cut targets are total · t / parts, so when no two targets fall in one item (as many ranges as parts),
+    every range carries at most total / parts plus one item's work."""
+    work = np.concatenate([[0], np.cumsum(costs)])
+    ranges = split_work(work, threads, min_work)
+    parts = min(threads, max(1, int(work[-1]) // min_work))
+    if len(ranges) == parts > 1:
+        for a, b in ranges:
+            assert work[b] - work[a] <= work[-1] / parts + max(costs), (ranges, parts)
+
+
 @pytest.mark.parametrize("bad, error", [(0, ValueError), (257, ValueError), (1.5, TypeError), (True, TypeError)])
 def test_bad_threads_are_refused_naming_the_argument(bad, error):
     lo, hi = w1_boxes(50)
