@@ -12,9 +12,14 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numba
 import numpy as np
 
 import engine
+
+#: True when numba's JIT is disabled, as in the mutation run: the kernels are then interpreted, hundreds of times
+#: slower, so the longest properties check the same invariant on a smaller case (fewer spheres or examples)
+INTERPRETED = bool(numba.config.DISABLE_JIT)
 
 #: the checkout whose ``engine`` this process imported (the child must import the same one)
 ROOT = Path(engine.__file__).resolve().parents[1]

@@ -10,11 +10,16 @@ from hypothesis import strategies as st
 
 from engine import drop_cube, drop_particle
 from engine.oracles import reference_impacts
+from properties.jit_off import INTERPRETED
 from properties.strategies.dynamics import finite, heights, linear_drag_scenes, restitutions, step_sizes
 
 G = 9.81
+# interpreted (the mutation run), an example of the two bounce properties runs thousands of RK4 steps in Python
+# (about 8 s): the same invariants on 5 examples instead of the profile's 25
+FEW_WHEN_INTERPRETED = settings(max_examples=5) if INTERPRETED else (lambda test: test)
 
 
+@FEW_WHEN_INTERPRETED
 @given(heights, step_sizes)
 def test_free_fall_impact_times_are_exact(height, dt):
     """No drag, e = 1: impacts at sqrt(2h/g)(2k + 1), the bounce height kept, over 10 bounces."""
@@ -26,6 +31,7 @@ def test_free_fall_impact_times_are_exact(height, dt):
         assert imp.v_after**2 / (2 * G) == pytest.approx(height, rel=1e-8)
 
 
+@FEW_WHEN_INTERPRETED
 @given(heights, restitutions, step_sizes)
 def test_velocity_after_is_minus_e_times_velocity_before(height, e, dt):
     r = drop_particle(height, restitution=e, dt=dt, t_end=30.0)

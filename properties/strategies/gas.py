@@ -1,15 +1,13 @@
 """Strategies for the confined gas: elastic collisions over wide mass ratios, wall normals, small gas scenes."""
 from __future__ import annotations
 
-import numba
 import numpy as np
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
-#: True when numba's JIT is disabled, as in the mutation run (properties/MUTATION.md): the gas's kernels are then
-#: interpreted, hundreds of times slower, so the longest gas properties check the same invariant on a smaller case
-#: (fewer spheres or examples), each asserting that the smaller case still takes the path it is about
-INTERPRETED = bool(numba.config.DISABLE_JIT)
+# with the JIT disabled (INTERPRETED, the mutation run) the longest gas properties check the same invariant on a
+# smaller case, each asserting that the smaller case still takes the path it is about
+from properties.jit_off import INTERPRETED  # noqa: F401  (re-exported for the gas properties)
 
 finite = dict(allow_nan=False, allow_infinity=False, allow_subnormal=False)
 
