@@ -32,6 +32,8 @@ AREAS: dict[str, dict[str, list[str]]] = {
             "properties/test_plot_fall.py",
             # written against the dynamics run on the current code (properties/MUTATION.md, dynamics)
             "properties/test_rk4_slopes.py",
+            # written against the dynamics run on 553feb3 (properties/MUTATION.md, dynamics)
+            "properties/test_fall_argument_names.py",
         ],
         "sample": 10,
     },
