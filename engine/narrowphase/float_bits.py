@@ -9,10 +9,10 @@ every value is finite and below a bound.
 """
 from __future__ import annotations
 
+import numba
 import numpy as np
 from llvmlite import ir
 from numba import types
-from numba.core import config
 from numba.extending import intrinsic
 
 from .._config import njit
@@ -23,7 +23,9 @@ __all__ = ["ABS_MASK", "float_bits", "bits_float", "abs_bits"]
 ABS_MASK = 0x7FFFFFFFFFFFFFFF
 
 
-if config.DISABLE_JIT:  # interpreted (mutation testing, debugging): the same patterns through numpy views
+# interpreted (mutation testing, debugging): the same patterns through numpy views (numba.config sets its
+# attributes from the environment at import, which mypy cannot see)
+if numba.config.DISABLE_JIT:  # type: ignore[attr-defined]
 
     def float_bits(x):
         """The bit pattern of the float64 ``x`` as an int64."""
