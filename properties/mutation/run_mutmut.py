@@ -1,6 +1,7 @@
 """Mutation testing of the engine's kernels with mutmut 3 (``tox -e mutation``; method in properties/MUTATION.md).
 
-    python3 properties/mutation/run_mutmut.py [AREA ...] [--sample K] [--max-children N] [--workdir DIR] [--keep]
+    python3 properties/mutation/run_mutmut.py [AREA ...] [--sample K] [--only GLOB ...] [--max-children N]
+        [--workdir DIR] [--keep]
 
 AREA is one of properties/mutation/areas.py (dynamics, broadphase, gas, narrowphase, bounding, world; default:
 all six, each on its own default sample, ``areas.py``'s ``sample``). For each area the driver
@@ -18,7 +19,8 @@ all six, each on its own default sample, ``areas.py``'s ``sample``). For each ar
      guards a raise is still mutated);
    Only a deterministic 1-in-K sample of the mutants is run (K: ``--sample K``, else the area's default; chosen
    by a hash of the mutant's name, so the sample is the same in every run and unbiased with respect to cost or
-   module); ``--sample 1`` runs every mutant;
+   module); ``--sample 1`` runs every mutant; ``--only GLOB ...`` narrows the mutated modules to those of the
+   area that match (to re-measure the files changed since an area's last run; the tests are the area's own);
 3. prints killed / total per area and the survivors, and writes them as JSON (``--json``).
 
 ``--inner`` is the mode the driver runs itself in (inside the scratch copy): it patches mutmut and hands the
@@ -177,6 +179,18 @@ def run_area(area: str, spec: dict, workdir: Path, max_children: int, keep: bool
     return result
 
 
+def _narrowed(area: str, spec: dict, only: list[str], parser: argparse.ArgumentParser) -> list[str]:
+    """The globs of ``--only`` that name files of ``area`` (and not of its ``skip``); any other is an error."""
+    for glob in only:
+        files = [f for f in REPO.glob(glob) if f.is_file()]
+        inside = [f for f in files
+                  if any(f.match(str(REPO / m)) for m in spec["mutate"])
+                  and not any(f.match(str(REPO / m)) for m in spec.get("skip", []))]
+        if not files or len(inside) != len(files):
+            parser.error(f"--only {glob}: no file, or a file outside the mutated modules of area {area}")
+    return list(only)
+
+
 def main() -> None:
     if len(sys.argv) > 1 and sys.argv[1] == "--inner":
         _inner(sys.argv[2:])
@@ -191,6 +205,8 @@ def main() -> None:
     parser.add_argument("--sample", type=int, default=None, metavar="K",
                         help="run a deterministic 1-in-K sample of the mutants (by a hash of their names); "
                              "default: each area's own (areas.py); 1: every mutant")
+    parser.add_argument("--only", nargs="+", default=None, metavar="GLOB",
+                        help="mutate only the area's modules matching these globs (e.g. engine/gas/events.py)")
     args = parser.parse_args()
     if args.sample is not None and args.sample < 1:
         parser.error("--sample must be >= 1")
@@ -200,6 +216,8 @@ def main() -> None:
         sample = args.sample if args.sample is not None else all_areas[area].get("sample", 1)
         spec = {**all_areas[area], "deselect": sorted(deselect), "sample": sample}
         spec["tests"] = [t for t in spec["tests"] if (REPO / t).exists()]
+        if args.only:
+            spec["mutate"] = _narrowed(area, spec, args.only, parser)
         result = run_area(area, spec, args.workdir, args.max_children, args.keep)
         results.append({**result, "sample": sample})
     print("\narea         killed / total   score   wall   sample   (killed includes timeouts)")
