@@ -55,3 +55,19 @@ def test_a_sphere_beside_a_segment_touches_its_cylinder(axis, u, gap, ra, rb):
     assert cs.kind == ["sphere-cylinder"] and cs.feature_b[0] == 2, (cs.kind, cs.feature_b)
     end = contact_segments_pair(d * 1.5, d * 1.5, ra, np.zeros(3), d, rb)
     assert end.kind == ["sphere-sphere"]
+
+
+@given(center=st.tuples(*[st.floats(-5.0, 5.0).filter(lambda x: abs(x) > 0.1)] * 3).map(np.array),
+       axis=st.integers(0, 2), sign=st.sampled_from([-1.0, 1.0]), ulps=st.integers(1, 40), ra=radii, rb=radii)
+def test_spheres_a_round_off_apart_get_the_normal_towards_b(center, axis, sign, ulps, ra, rb):
+    """B's centre a few ulps from A's along one axis (below the round-off threshold, so the closest points give
+    no reliable direction): the normal still points from A to B, n · (c_b − c_a) > 0 — the side B is on,
+    whichever axis and sign (a fixed +x would be wrong for five of the six)."""
+    cb = center.copy()
+    cb[axis] = center[axis] + sign * ulps * np.spacing(abs(center[axis]))
+    offset = cb - center  # exact: the two are within a factor 2 (Sterbenz)
+    cs = contact_segments_pair(center, center, ra, cb, cb, rb)
+    n = cs.normal[0]
+    assert abs(np.linalg.norm(n) - 1.0) <= 1e-12, n
+    assert n @ offset > 0.0, (n, offset)
+    assert abs(cs.separation[0] + ra + rb) <= 1e-12 * (1.0 + ra + rb)

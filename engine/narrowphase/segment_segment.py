@@ -104,12 +104,13 @@ def _end_key(u, is_point):
 @njit
 def _fallback_normal(d1x, d1y, d1z, d2x, d2y, d2z, ox, oy, oz):
     """A unit normal for cores that meet: the common perpendicular d1 × d2, else a perpendicular of the one
-    segment, else +x; turned to make a non-negative angle with o (B's midpoint − A's)."""
+    segment, else (two point cores, spheres) o itself, +x if o = 0; turned to make a non-negative angle with o
+    (B's midpoint − A's)."""
     nx, ny, nz = _cross(d1x, d1y, d1z, d2x, d2y, d2z)
     if nx == 0.0 and ny == 0.0 and nz == 0.0:
         dx, dy, dz = (d1x, d1y, d1z) if d1x != 0.0 or d1y != 0.0 or d1z != 0.0 else (d2x, d2y, d2z)
-        if dx == 0.0 and dy == 0.0 and dz == 0.0:
-            return 1.0, 0.0, 0.0
+        if dx == 0.0 and dy == 0.0 and dz == 0.0:  # centres a round-off apart: their offset is B's side
+            return unit_vector(ox, oy, oz)
         if abs(dx) <= abs(dy) and abs(dx) <= abs(dz):  # d × e_x: perpendicular to d
             nx, ny, nz = 0.0, dz, -dy
         elif abs(dy) <= abs(dz):
@@ -191,8 +192,10 @@ def contact_round_cores(a0, a1, ra, b0, b1, rb, rows, p, flip):
     if d > MEET * _magnitude(a0, a1, b0, b1):
         nx, ny, nz = unit_vector(vx, vy, vz)
     else:  # the cores meet, or are apart by round-off only: c2 − c1 has no reliable direction
-        nx, ny, nz = _fallback_normal(d1x, d1y, d1z, d2x, d2y, d2z, 0.5 * (b0[0] + b1[0] - a0[0] - a1[0]),
-                                      0.5 * (b0[1] + b1[1] - a0[1] - a1[1]), 0.5 * (b0[2] + b1[2] - a0[2] - a1[2]))
+        # o = B's midpoint − A's as a sum of end differences (exact for ends a round-off apart, Sterbenz)
+        nx, ny, nz = _fallback_normal(d1x, d1y, d1z, d2x, d2y, d2z, 0.5 * ((b0[0] - a0[0]) + (b1[0] - a1[0])),
+                                      0.5 * ((b0[1] - a0[1]) + (b1[1] - a1[1])),
+                                      0.5 * ((b0[2] - a0[2]) + (b1[2] - a1[2])))
     separation = d - ra - rb
     key_a = _end_key(s, d1x == 0.0 and d1y == 0.0 and d1z == 0.0)
     key_b = _end_key(t, d2x == 0.0 and d2y == 0.0 and d2z == 0.0)
