@@ -370,7 +370,8 @@ def min_bounding_sphere(points: ArrayLike, *, seed: int = 0) -> tuple[np.ndarray
 
     The iterative move-to-front form, expected O(n) on a random order. Duplicates, collinear and coplanar
     points are fine (no NaN); the radius is re-measured about the centre found, so every point lies in the
-    sphere.
+    sphere. The answer scales exactly: for a cloud scaled by a power of two 2^k (coordinates kept normal
+    floats) the centre and radius are the original ones times 2^k, bit for bit, at every magnitude.
 
     Parameters
     ----------
@@ -400,17 +401,22 @@ def min_bounding_sphere(points: ArrayLike, *, seed: int = 0) -> tuple[np.ndarray
     if not isinstance(seed, int | np.integer) or isinstance(seed, bool):
         raise TypeError(f"seed must be an integer, got {type(seed).__name__}")
     n, d = pts.shape
+    # scale by a power of two 2^-e, exact, so that |coordinates| < 1: the kernels' squared lengths and their
+    # products (|u|^2 |v|^2 in _ball3) neither underflow for a tiny cloud nor overflow for a huge one, and
+    # the answer scales exactly with the cloud (min_bounding_sphere(2^k p) = 2^k min_bounding_sphere(p))
+    e = math.frexp(float(np.abs(pts).max()))[1] if n else 0
+    unit = np.ldexp(pts, -e)
     # work relative to the centroid (better conditioned circumsphere formulas; exact translation invariance
     # is not claimed, only to round-off)
-    origin = pts.mean(axis=0)
+    origin = unit.mean(axis=0)
     local = np.zeros((n, 3))
-    local[:, :d] = pts - origin
+    local[:, :d] = unit - origin
     local = local[np.random.default_rng(seed).permutation(n)]
     scale = float(np.abs(local).max()) if n else 0.0
     c, _ = _welzl_kernel(local, (OUTSIDE_ABS * scale) ** 2)
     # exact radius about the centre found: every point is inside by construction
     r = _max_dist(local, c)
-    return c[:d] + origin, float(r)
+    return np.ldexp(c[:d] + origin, e), float(np.ldexp(r, e))
 
 
 def overlap_spheres(centers_a: ArrayLike, radii_a: ArrayLike, centers_b: ArrayLike,
