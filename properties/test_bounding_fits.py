@@ -11,7 +11,7 @@ import itertools
 
 import numpy as np
 import pytest
-from hypothesis import assume, given, settings
+from hypothesis import assume, example, given, settings
 from hypothesis import strategies as st
 from scipy.optimize import linprog
 
@@ -108,7 +108,16 @@ def test_welzl_radius_is_at_most_ritters(pts):
 
 def brute_force_min_sphere(pts):
     """The smallest ball among those with 1 to d + 1 of the points on the boundary (the ball's centre in their
-    affine hull) that hold all points: the minimal ball, since its support has at most d + 1 points."""
+    affine hull) that hold all points: the minimal ball, since its support has at most d + 1 points.
+
+    It works on the cloud scaled by an exact power of two to |coordinates| < 1, as squared lengths of subnormal
+    or huge coordinates underflow or overflow (the minimal ball scales exactly with the cloud)."""
+    exponent = int(np.frexp(np.abs(pts).max())[1])
+    c, r = _brute_force_min_sphere_unit_scale(np.ldexp(pts, -exponent))
+    return np.ldexp(c, exponent), float(np.ldexp(r, exponent))
+
+
+def _brute_force_min_sphere_unit_scale(pts):
     n, d = pts.shape
     scale = scale_of(pts)
     best = (pts[0], np.inf)
@@ -131,6 +140,7 @@ def brute_force_min_sphere(pts):
 
 
 @given(clouds_any_dim(max_size=7))
+@example(np.ldexp(np.array([[0.0, 1.0], [1.0, 1.0]]), -1025))  # subnormal: the oracle's squares underflowed
 def test_welzl_matches_the_brute_force_minimal_sphere(pts):
     center, radius = min_bounding_sphere(pts)
     c_ref, r_ref = brute_force_min_sphere(pts)

@@ -325,12 +325,20 @@ def _overlap_spheres_kernel(ca, ra, cb, rb, out):
 # ---------------------------------------------------------------------------------------------------------
 # public functions
 # ---------------------------------------------------------------------------------------------------------
+def _unit_exponent(points: np.ndarray, axis: Any = None) -> Any:
+    """The power of two e with |points| / 2^e < 1 (per cloud along ``axis``): the kernels work on the cloud
+    scaled by 2^-e, an exact scaling, so their squared lengths (and products of them) neither underflow for a
+    tiny cloud nor overflow for a huge one, and the answer is the unit-scale one times 2^e, bit for bit."""
+    return np.frexp(np.abs(points).max(axis=axis, initial=0.0))[1]
+
+
 def ritter_sphere(points: ArrayLike) -> tuple[np.ndarray, float]:
     """Ritter's fast bounding sphere (Ericson 4.3.2): O(n), typically 5-20 % larger than the minimal one.
 
     The most separated pair among the extreme points along the axes gives a first sphere, grown in one pass
     just enough to hold each point outside it; the radius is then re-measured about the final centre, so every
-    point lies in the sphere.
+    point lies in the sphere. The answer scales exactly: for a cloud scaled by a power of two 2^k (coordinates
+    kept normal floats) the centre and radius are the original ones times 2^k, bit for bit.
 
     Parameters
     ----------
@@ -343,9 +351,10 @@ def ritter_sphere(points: ArrayLike) -> tuple[np.ndarray, float]:
     radius : float
     """
     pts = as_points(points)
+    e = int(_unit_exponent(pts))
     center = np.empty(pts.shape[1])
-    r = _ritter_kernel(pts, center)
-    return center, float(r)
+    r = _ritter_kernel(np.ldexp(pts, -e), center)
+    return np.ldexp(center, e), float(np.ldexp(r, e))
 
 
 def ritter_spheres(clouds: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
@@ -359,10 +368,11 @@ def ritter_spheres(clouds: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
     radii : numpy.ndarray, shape (m,), float64
     """
     arr = as_clouds(clouds)
+    e = _unit_exponent(arr, axis=(1, 2))
     centers = np.empty((arr.shape[0], arr.shape[2]))
     radii = np.empty(arr.shape[0])
-    _ritter_batch_kernel(arr, centers, radii)
-    return centers, radii
+    _ritter_batch_kernel(np.ldexp(arr, -e[:, None, None]), centers, radii)
+    return np.ldexp(centers, e[:, None]), np.ldexp(radii, e)
 
 
 def min_bounding_sphere(points: ArrayLike, *, seed: int = 0) -> tuple[np.ndarray, float]:
@@ -401,10 +411,8 @@ def min_bounding_sphere(points: ArrayLike, *, seed: int = 0) -> tuple[np.ndarray
     if not isinstance(seed, int | np.integer) or isinstance(seed, bool):
         raise TypeError(f"seed must be an integer, got {type(seed).__name__}")
     n, d = pts.shape
-    # scale by a power of two 2^-e, exact, so that |coordinates| < 1: the kernels' squared lengths and their
-    # products (|u|^2 |v|^2 in _ball3) neither underflow for a tiny cloud nor overflow for a huge one, and
-    # the answer scales exactly with the cloud (min_bounding_sphere(2^k p) = 2^k min_bounding_sphere(p))
-    e = math.frexp(float(np.abs(pts).max()))[1] if n else 0
+    # exact power-of-two scaling to |coordinates| < 1 (|u|^2 |v|^2 in _ball3 would under/overflow otherwise)
+    e = int(_unit_exponent(pts))
     unit = np.ldexp(pts, -e)
     # work relative to the centroid (better conditioned circumsphere formulas; exact translation invariance
     # is not claimed, only to round-off)

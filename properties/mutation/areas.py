@@ -148,7 +148,7 @@ AREAS: dict[str, dict[str, list[str]]] = {
             # Welzl's three-point ball on a near-duplicate pair (its collinear fallback)
             "properties/test_welzl_near_duplicates.py",
             # Welzl at every magnitude (power-of-two scaling exact)
-            "properties/test_welzl_scale.py",
+            "properties/test_sphere_scale.py",
         ],
         # 1 in 5 (about 800 mutants with hull.py, ~6 s each interpreted) does not fit a nightly job
         "sample": 20,
