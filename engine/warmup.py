@@ -30,6 +30,8 @@ def _bounding() -> None:
     pts = np.random.default_rng(0).normal(size=(24, 3))
     bounding.describe_bounding_volumes(pts)
     bounding.describe_bounding_volumes(pts[:, :2])
+    for k in (2, 3, 4):
+        bounding.circumsphere(pts[:k])
     bounding.describe_hull(pts)
     bounding.describe_hull(pts[:, :2])
     bounding.describe_decomposition(np.array([[0, 0], [4, 0], [4, 3], [2, 1], [0, 3.0]]))

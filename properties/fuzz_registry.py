@@ -174,6 +174,7 @@ for _name, _fn in [("fit_obb", engine.fit_obb), ("min_bounding_sphere", engine.m
                    ("describe_bounding_volumes", bounding.describe_bounding_volumes)]:
     api(_name, _fn)(lambda draw: dict(points=draw(points(1, 12))))
 
+api("circumsphere", bounding.circumsphere)(lambda draw: dict(points=draw(points(2, 4))))
 api("convex_hull", engine.convex_hull)(lambda draw: dict(points=draw(general_points())))
 api("describe_hull", bounding.describe_hull)(lambda draw: dict(points=draw(general_points())))
 api("is_convex", engine.is_convex)(lambda draw: dict(vertices=draw(convex_polygon())))

@@ -48,6 +48,7 @@ from .kdop import (
 )
 from .obb import OBB, fit_obb, merge_obb, transform_obb
 from .sphere import (
+    circumsphere,
     merge_spheres,
     min_bounding_sphere,
     overlap_sphere_sphere,
@@ -60,8 +61,8 @@ from .sphere import (
 
 __all__ = [
     # sphere
-    "ritter_sphere", "ritter_spheres", "min_bounding_sphere", "overlap_sphere_sphere", "overlap_spheres",
-    "merge_spheres", "sphere_contains", "transform_sphere",
+    "ritter_sphere", "ritter_spheres", "min_bounding_sphere", "circumsphere", "overlap_sphere_sphere",
+    "overlap_spheres", "merge_spheres", "sphere_contains", "transform_sphere",
     # AABB
     "fit_aabb", "fit_aabbs", "overlap_aabb_aabb", "overlap_aabbs", "merge_aabb", "aabb_contains",
     "transform_aabb", "transform_aabbs",

@@ -218,9 +218,9 @@ def _ball4(a, b, p, q, c):
                     best = r2
                     c[:] = tmp
     if best == np.inf:  # cannot happen for 4 coplanar points (their minimal disc has 2 or 3 support points)
-        best = _ball3(a, b, p, c)
-        best = max(best, _dist2(q, c))
-    return best
+        _ball3(a, b, p, c)
+    # r^2 about the centre kept: the largest of the four (_holds let a point sit outside by round-off)
+    return max(_dist2(a, c), _dist2(b, c), _dist2(p, c), _dist2(q, c))
 
 
 @njit
@@ -332,6 +332,19 @@ def _unit_exponent(points: np.ndarray, axis: Any = None) -> Any:
     return np.frexp(np.abs(points).max(axis=axis, initial=0.0))[1]
 
 
+def _unit_local_frame(pts: np.ndarray) -> tuple[np.ndarray, np.ndarray, int]:
+    """The points (n, d) as the 3-D rows (n, 3) the Welzl kernels take (2-D at z = 0), scaled by 2^-e to
+    |coordinates| < 1 (see _unit_exponent) and taken relative to their centroid ``origin`` (better conditioned
+    circumsphere formulas): a point x is ``2^e (local[:d] + origin)``."""
+    n, d = pts.shape
+    e = int(_unit_exponent(pts))
+    unit = np.ldexp(pts, -e)
+    origin = unit.mean(axis=0)
+    local = np.zeros((n, 3))
+    local[:, :d] = unit - origin
+    return local, origin, e
+
+
 def ritter_sphere(points: ArrayLike) -> tuple[np.ndarray, float]:
     """Ritter's fast bounding sphere (Ericson 4.3.2): O(n), typically 5-20 % larger than the minimal one.
 
@@ -411,20 +424,57 @@ def min_bounding_sphere(points: ArrayLike, *, seed: int = 0) -> tuple[np.ndarray
     if not isinstance(seed, int | np.integer) or isinstance(seed, bool):
         raise TypeError(f"seed must be an integer, got {type(seed).__name__}")
     n, d = pts.shape
-    # exact power-of-two scaling to |coordinates| < 1 (|u|^2 |v|^2 in _ball3 would under/overflow otherwise)
-    e = int(_unit_exponent(pts))
-    unit = np.ldexp(pts, -e)
-    # work relative to the centroid (better conditioned circumsphere formulas; exact translation invariance
-    # is not claimed, only to round-off)
-    origin = unit.mean(axis=0)
-    local = np.zeros((n, 3))
-    local[:, :d] = unit - origin
+    local, origin, e = _unit_local_frame(pts)
     local = local[np.random.default_rng(seed).permutation(n)]
     scale = float(np.abs(local).max()) if n else 0.0
     c, _ = _welzl_kernel(local, (OUTSIDE_ABS * scale) ** 2)
     # exact radius about the centre found: every point is inside by construction
     r = _max_dist(local, c)
     return np.ldexp(c[:d] + origin, e), float(np.ldexp(r, e))
+
+
+def circumsphere(points: ArrayLike) -> tuple[np.ndarray, float]:
+    """The smallest sphere (circle in 2-D) with every one of 2 to 4 points on its boundary: the balls Welzl's
+    algorithm is built from (Ericson 4.3.5).
+
+    Two points give the sphere on them as diameter; three, the circumsphere of their triangle (centre in its
+    plane: the circumcircle in 2-D); four, the circumsphere of their tetrahedron. Degenerate points have no
+    such sphere: for three collinear points (or a triangle flat to round-off, sin of its angles ~1e-10) and
+    four coplanar ones (in 2-D, any four) the answer is instead the smallest sphere holding them all, which
+    then has 2 or 3 of them on its boundary. Never NaN; the answer scales exactly with a power of two, as
+    :func:`min_bounding_sphere`'s.
+
+    Parameters
+    ----------
+    points : array_like, shape (k, d)
+        2 <= k <= 4 points, d = 2 or 3, see :ref:`bounding-arguments`; duplicates are allowed.
+
+    Returns
+    -------
+    center : numpy.ndarray, shape (d,), float64
+    radius : float
+        The distance from ``center`` to the farthest of the points, so every point lies in the sphere (to the
+        round-off of moving the centre back from the points' centroid, where the kernels work).
+
+    Examples
+    --------
+    >>> from engine.bounding import circumsphere
+    >>> center, radius = circumsphere([[0.0, 0.0], [2.0, 0.0], [0.0, 2.0]])
+    >>> center.tolist(), round(radius, 12)
+    ([1.0, 1.0], 1.414213562373)
+    """
+    pts = as_points(points, min_rows=2)
+    if pts.shape[0] > 4:
+        raise ValueError(f"points must have 2 to 4 rows (the sphere's boundary points), got {pts.shape[0]}")
+    local, origin, e = _unit_local_frame(pts)
+    c = np.empty(3)
+    if pts.shape[0] == 2:
+        r2 = _ball2(local[0], local[1], c)
+    elif pts.shape[0] == 3:
+        r2 = _ball3(local[0], local[1], local[2], c)
+    else:
+        r2 = _ball4(local[0], local[1], local[2], local[3], c)
+    return np.ldexp(c[:pts.shape[1]] + origin, e), float(np.ldexp(math.sqrt(r2), e))
 
 
 def overlap_spheres(centers_a: ArrayLike, radii_a: ArrayLike, centers_b: ArrayLike,
