@@ -33,6 +33,7 @@ __all__ = [
     "pair_indices",
     "check_orthonormal_rows",
     "orthonormal_error",
+    "unit_scale_exponent",
 ]
 
 
@@ -292,3 +293,13 @@ def as_choice(value, name: str, choices) -> str:
 
 def _shape_text(shape) -> str:
     return "(" + ", ".join("n" if s is None else str(s) for s in shape) + ("," if len(shape) == 1 else "") + ")"
+
+
+def unit_scale_exponent(values: np.ndarray, axis=None):
+    """The exponent e (int, or an int array along ``axis``) with |values| / 2^e < 1, and e = 0 for all zeros.
+
+    Scaling by 2^-e is exact on normal floats, so a kernel that squares coordinates (or multiplies squares) can
+    work on ``np.ldexp(values, -e)``, where nothing underflows or overflows, and its answer scaled back by 2^e
+    (lengths), 2^(2e) (areas) or 2^(3e) (volumes) is the unit-scale answer scaled bit for bit.
+    """
+    return np.frexp(np.abs(values).max(axis=axis, initial=0.0))[1]

@@ -24,7 +24,7 @@ from collections import namedtuple
 import numpy as np
 
 from .._config import njit
-from .._validate import as_nonnegative
+from .._validate import as_nonnegative, unit_scale_exponent
 from .aabb import as_points
 from .horizon import link_neighbours, stitch_cone, visible_faces_and_horizon
 
@@ -66,9 +66,9 @@ class ConvexHull:
     offsets : numpy.ndarray, shape (m,), float64
         A point x is inside iff ``normals @ x <= offsets`` for every face.
     volume : float
-        The enclosed volume (the area in 2-D).
+        The enclosed volume (the area in 2-D); inf when it exceeds the float range (~1.8e308).
     area : float
-        The surface area (the perimeter in 2-D).
+        The surface area (the perimeter in 2-D); inf likewise.
     """
 
     __slots__ = ("points", "dim", "vertices", "faces", "normals", "offsets", "volume", "area")
@@ -573,7 +573,9 @@ def convex_hull(points) -> ConvexHull:
 
     Quickhull (Barber, Dobkin, Huhdanpaa 1996; Ericson 12.4.2): start from a simplex of extreme points, then
     repeatedly take the point farthest outside a face, remove the faces it sees and join their horizon to it.
-    Collinear and coplanar points on the boundary are not vertices.
+    Collinear and coplanar points on the boundary are not vertices. The hull scales exactly: for points scaled
+    by a power of two 2^k (coordinates kept normal floats) the vertices, faces and normals are the same and the
+    offsets, area and volume are scaled by 2^k, 2^(k(d-1)) and 2^(kd), bit for bit, at every magnitude.
 
     Parameters
     ----------
@@ -603,7 +605,16 @@ def convex_hull(points) -> ConvexHull:
     (array([0, 1, 2, 3, 4, 5, 6, 7]), (12, 3), 1.0, 6.0)
     """
     pts = as_points(points)
-    return _hull_2d(pts) if pts.shape[1] == 2 else _hull_3d(pts)
+    d = pts.shape[1]
+    # on the cloud scaled by an exact power of two (|coordinates| < 1): cross products and squared lengths
+    # neither underflow for a tiny cloud nor overflow for a huge one, and the hull scales exactly
+    e = int(unit_scale_exponent(pts))
+    unit = np.ldexp(pts, -e)
+    hull = _hull_2d(unit) if d == 2 else _hull_3d(unit)
+    with np.errstate(over="ignore"):  # a volume beyond the float range is inf (documented)
+        volume, area = np.ldexp(hull.volume, d * e), np.ldexp(hull.area, (d - 1) * e)
+    return ConvexHull(pts, hull.vertices.copy(), hull.faces.copy(), hull.normals.copy(),
+                      np.ldexp(hull.offsets, e), volume, area)
 
 
 # ---------------------------------------------------------------------------------------------------------

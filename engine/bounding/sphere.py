@@ -21,7 +21,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .._config import njit
-from .._validate import as_float_array, as_nonnegative
+from .._validate import as_float_array, as_nonnegative, unit_scale_exponent
 from .aabb import as_clouds, as_points, as_rotation
 
 __all__ = [
@@ -325,19 +325,12 @@ def _overlap_spheres_kernel(ca, ra, cb, rb, out):
 # ---------------------------------------------------------------------------------------------------------
 # public functions
 # ---------------------------------------------------------------------------------------------------------
-def _unit_exponent(points: np.ndarray, axis: Any = None) -> Any:
-    """The power of two e with |points| / 2^e < 1 (per cloud along ``axis``): the kernels work on the cloud
-    scaled by 2^-e, an exact scaling, so their squared lengths (and products of them) neither underflow for a
-    tiny cloud nor overflow for a huge one, and the answer is the unit-scale one times 2^e, bit for bit."""
-    return np.frexp(np.abs(points).max(axis=axis, initial=0.0))[1]
-
-
 def _unit_local_frame(pts: np.ndarray) -> tuple[np.ndarray, np.ndarray, int]:
     """The points (n, d) as the 3-D rows (n, 3) the Welzl kernels take (2-D at z = 0), scaled by 2^-e to
-    |coordinates| < 1 (see _unit_exponent) and taken relative to their centroid ``origin`` (better conditioned
-    circumsphere formulas): a point x is ``2^e (local[:d] + origin)``."""
+    |coordinates| < 1 (exact: see _validate.unit_scale_exponent) and taken relative to their centroid
+    ``origin`` (better conditioned circumsphere formulas): a point x is ``2^e (local[:d] + origin)``."""
     n, d = pts.shape
-    e = int(_unit_exponent(pts))
+    e = int(unit_scale_exponent(pts))
     unit = np.ldexp(pts, -e)
     origin = unit.mean(axis=0)
     local = np.zeros((n, 3))
@@ -364,7 +357,7 @@ def ritter_sphere(points: ArrayLike) -> tuple[np.ndarray, float]:
     radius : float
     """
     pts = as_points(points)
-    e = int(_unit_exponent(pts))
+    e = int(unit_scale_exponent(pts))
     center = np.empty(pts.shape[1])
     r = _ritter_kernel(np.ldexp(pts, -e), center)
     return np.ldexp(center, e), float(np.ldexp(r, e))
@@ -381,7 +374,7 @@ def ritter_spheres(clouds: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
     radii : numpy.ndarray, shape (m,), float64
     """
     arr = as_clouds(clouds)
-    e = _unit_exponent(arr, axis=(1, 2))
+    e = unit_scale_exponent(arr, axis=(1, 2))
     centers = np.empty((arr.shape[0], arr.shape[2]))
     radii = np.empty(arr.shape[0])
     _ritter_batch_kernel(np.ldexp(arr, -e[:, None, None]), centers, radii)

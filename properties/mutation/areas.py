@@ -151,6 +151,8 @@ AREAS: dict[str, dict[str, list[str]]] = {
             "properties/test_sphere_scale.py",
             # Welzl's 2-, 3- and 4-point balls on their own (the flat branches it reaches only by round-off)
             "properties/test_circumsphere.py",
+            # the hull at every magnitude (power-of-two scaling exact)
+            "properties/test_hull_scale.py",
         ],
         # 1 in 5 (about 800 mutants with hull.py, ~6 s each interpreted) does not fit a nightly job
         "sample": 20,
