@@ -52,6 +52,12 @@ def scale_of(points) -> float:
     return float(np.abs(points).max() + np.ptp(points, axis=0).max() + 1e-300)
 
 
+def norm_at_any_scale(v) -> float:
+    """|v| without the underflow of np.linalg.norm's squares below ~1e-154 (computed on v scaled by 2^-e)."""
+    e = int(np.frexp(np.abs(v).max(initial=0.0))[1])
+    return float(np.ldexp(np.linalg.norm(np.ldexp(v, -e)), e))
+
+
 dims = st.sampled_from([2, 3])
 kdops_3d = st.sampled_from([14, 18, 26])
 
@@ -323,6 +329,7 @@ def test_kdop_update_equals_refit_and_transform_is_conservative(case, data):
 # merges and batched forms
 # ------------------------------------------------------------------------------------------------------------
 @given(clouds_any_dim(), clouds_any_dim())
+@example(np.array([[0.0, 0.0]]), np.ldexp(np.array([[1.0, 1.0]]), -754))  # |cb - ca|^2 underflowed to 0
 def test_merges_hold_both_volumes(a, b):
     assume(a.shape[1] == b.shape[1])
     both = np.vstack([a, b])
@@ -331,8 +338,8 @@ def test_merges_hold_both_volumes(a, b):
     assert np.array_equal(lo, both.min(axis=0)) and np.array_equal(hi, both.max(axis=0))
     (ca, ra), (cb, rb) = min_bounding_sphere(a), min_bounding_sphere(b)
     c, r = merge_spheres(ca, ra, cb, rb)
-    assert np.linalg.norm(c - ca) + ra <= r + tol and np.linalg.norm(c - cb) + rb <= r + tol
-    assert r <= max(ra, rb, (np.linalg.norm(ca - cb) + ra + rb) / 2) + tol  # and no larger than needed
+    assert norm_at_any_scale(c - ca) + ra <= r + tol and norm_at_any_scale(c - cb) + rb <= r + tol
+    assert r <= max(ra, rb, (norm_at_any_scale(ca - cb) + ra + rb) / 2) + tol  # and no larger than needed
     assert sphere_contains(c, r + tol, both).all()
     k = 8 if a.shape[1] == 2 else 26
     lo, hi = merge_kdop(*fit_kdop(a, k), *fit_kdop(b, k), k)

@@ -10,7 +10,8 @@ Two fits:
   support points and a fall-back for collinear / coplanar supports, so duplicates never produce NaN.
 
 Points are (n, d) with d = 2 (circles) or 3. Both fits finish by setting the radius to the largest distance
-from the centre to a point, so every point lies in the returned sphere.
+from the centre to a point, raised by the ulps round-off needs, so that ``sphere_contains(center, radius, points)``
+is True for every point of the cloud (its |p - c|^2 <= r^2 rounds either way on a boundary point otherwise).
 """
 from __future__ import annotations
 
@@ -325,6 +326,38 @@ def _overlap_spheres_kernel(ca, ra, cb, rb, out):
 # ---------------------------------------------------------------------------------------------------------
 # public functions
 # ---------------------------------------------------------------------------------------------------------
+def _scaled_square_gaps(points: np.ndarray, centers: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """|p - c|^2 / 4^e for clouds (m, n, d) about centres (m, d), and the exponents e (m,) with
+    |p - c| / 2^e < 1 (_validate.unit_scale_exponent): the squares neither underflow nor overflow, and the
+    containment test |p - c|^2 <= r^2 on them is the same at every scale (:func:`sphere_contains`)."""
+    gaps = points - centers[:, None, :]
+    e = unit_scale_exponent(gaps, axis=(1, 2))
+    return (np.ldexp(gaps, -e[:, None, None]) ** 2).sum(axis=2), e
+
+
+def _radii_holding(clouds: np.ndarray, centers: np.ndarray, radii: np.ndarray) -> np.ndarray:
+    """The radii (m,) raised by the fewest ulps with which :func:`sphere_contains` holds every point of each
+    cloud (m, n, d) about its centre (m, d): re-measured in the cloud's own frame, a radius rounds either way.
+
+    On the scaled squares (the largest in [1/4, 3)), r is raised to the square root of the next target until
+    r * r reaches the largest square: one or two ulps."""
+    squares, e = _scaled_square_gaps(clouds, centers)
+    need = squares.max(axis=1, initial=0.0)
+    scaled = np.ldexp(radii, -e)
+    target = need.copy()
+    short = scaled * scaled < need
+    while short.any():
+        scaled[short] = np.maximum(scaled[short], np.sqrt(target[short]))
+        target[short] = np.nextafter(target[short], np.inf)
+        short = scaled * scaled < need
+    return np.ldexp(scaled, e)
+
+
+def _radius_holding(points: np.ndarray, center: np.ndarray, radius: float) -> float:
+    """:func:`_radii_holding` for one cloud (n, d)."""
+    return float(_radii_holding(points[None], center[None], np.array([radius]))[0])
+
+
 def _unit_local_frame(pts: np.ndarray) -> tuple[np.ndarray, np.ndarray, int]:
     """The points (n, d) as the 3-D rows (n, 3) the Welzl kernels take (2-D at z = 0), scaled by 2^-e to
     |coordinates| < 1 (exact: see _validate.unit_scale_exponent) and taken relative to their centroid
@@ -343,8 +376,10 @@ def ritter_sphere(points: ArrayLike) -> tuple[np.ndarray, float]:
 
     The most separated pair among the extreme points along the axes gives a first sphere, grown in one pass
     just enough to hold each point outside it; the radius is then re-measured about the final centre, so every
-    point lies in the sphere. The answer scales exactly: for a cloud scaled by a power of two 2^k (coordinates
-    kept normal floats) the centre and radius are the original ones times 2^k, bit for bit.
+    point lies in the sphere: :func:`sphere_contains` is True for every point (the radius is raised by an ulp
+    or two where round-off needs it). The answer scales exactly: for a cloud scaled by a power of two 2^k
+    (coordinates and their squares kept normal floats) the centre and radius are the original ones times 2^k,
+    bit for bit.
 
     Parameters
     ----------
@@ -360,7 +395,8 @@ def ritter_sphere(points: ArrayLike) -> tuple[np.ndarray, float]:
     e = int(unit_scale_exponent(pts))
     center = np.empty(pts.shape[1])
     r = _ritter_kernel(np.ldexp(pts, -e), center)
-    return np.ldexp(center, e), float(np.ldexp(r, e))
+    center = np.ldexp(center, e)
+    return center, _radius_holding(pts, center, float(np.ldexp(r, e)))
 
 
 def ritter_spheres(clouds: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
@@ -378,7 +414,8 @@ def ritter_spheres(clouds: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
     centers = np.empty((arr.shape[0], arr.shape[2]))
     radii = np.empty(arr.shape[0])
     _ritter_batch_kernel(np.ldexp(arr, -e[:, None, None]), centers, radii)
-    return np.ldexp(centers, e[:, None]), np.ldexp(radii, e)
+    centers = np.ldexp(centers, e[:, None])
+    return centers, _radii_holding(arr, centers, np.ldexp(radii, e))
 
 
 def min_bounding_sphere(points: ArrayLike, *, seed: int = 0) -> tuple[np.ndarray, float]:
@@ -386,8 +423,9 @@ def min_bounding_sphere(points: ArrayLike, *, seed: int = 0) -> tuple[np.ndarray
 
     The iterative move-to-front form, expected O(n) on a random order. Duplicates, collinear and coplanar
     points are fine (no NaN); the radius is re-measured about the centre found, so every point lies in the
-    sphere. The answer scales exactly: for a cloud scaled by a power of two 2^k (coordinates kept normal
-    floats) the centre and radius are the original ones times 2^k, bit for bit, at every magnitude.
+    sphere: :func:`sphere_contains` is True for every point (the radius is raised by an ulp or two where
+    round-off needs it). The answer scales exactly: for a cloud scaled by a power of two 2^k (coordinates and
+    their squares kept normal floats) the centre and radius are the original ones times 2^k, bit for bit.
 
     Parameters
     ----------
@@ -423,7 +461,8 @@ def min_bounding_sphere(points: ArrayLike, *, seed: int = 0) -> tuple[np.ndarray
     c, _ = _welzl_kernel(local, (OUTSIDE_ABS * scale) ** 2)
     # exact radius about the centre found: every point is inside by construction
     r = _max_dist(local, c)
-    return np.ldexp(c[:d] + origin, e), float(np.ldexp(r, e))
+    center = np.ldexp(c[:d] + origin, e)
+    return center, _radius_holding(pts, center, float(np.ldexp(r, e)))
 
 
 def circumsphere(points: ArrayLike) -> tuple[np.ndarray, float]:
@@ -446,8 +485,8 @@ def circumsphere(points: ArrayLike) -> tuple[np.ndarray, float]:
     -------
     center : numpy.ndarray, shape (d,), float64
     radius : float
-        The distance from ``center`` to the farthest of the points, so every point lies in the sphere (to the
-        round-off of moving the centre back from the points' centroid, where the kernels work).
+        The distance from ``center`` to the farthest of the points, raised by an ulp or two where round-off
+        needs it, so that :func:`sphere_contains` is True for every point.
 
     Examples
     --------
@@ -467,7 +506,8 @@ def circumsphere(points: ArrayLike) -> tuple[np.ndarray, float]:
         r2 = _ball3(local[0], local[1], local[2], c)
     else:
         r2 = _ball4(local[0], local[1], local[2], local[3], c)
-    return np.ldexp(c[:pts.shape[1]] + origin, e), float(np.ldexp(math.sqrt(r2), e))
+    center = np.ldexp(c[:pts.shape[1]] + origin, e)
+    return center, _radius_holding(pts, center, float(np.ldexp(math.sqrt(r2), e)))
 
 
 def overlap_spheres(centers_a: ArrayLike, radii_a: ArrayLike, centers_b: ArrayLike,
@@ -562,24 +602,33 @@ def merge_spheres(center_a: ArrayLike, radius_a: float, center_b: ArrayLike,
     -------
     center : numpy.ndarray, shape (d,), float64
     radius : float
-        Widened by round-off if needed, so that it holds both spheres.
+        Widened by round-off if needed, so that it holds both spheres. Computed on the spheres scaled by a power
+        of two, so the merge of spheres far below unit size is not lost to underflow.
     """
     ca, ra, cb, rb = _two_spheres(center_a, radius_a, center_b, radius_b)
+    # on the spheres scaled by an exact power of two (|values| < 1): |cb - ca|^2 does not underflow
+    e = int(unit_scale_exponent(np.concatenate([ca, cb, [ra, rb]])))
+    ca, ra, cb, rb = np.ldexp(ca, -e), math.ldexp(ra, -e), np.ldexp(cb, -e), math.ldexp(rb, -e)
     delta = cb - ca
     dist = float(np.sqrt(delta @ delta))
     if dist + rb <= ra:  # b inside a
-        return ca, ra
-    if dist + ra <= rb:  # a inside b
-        return cb, rb
-    r = 0.5 * (dist + ra + rb)
-    c = ca + ((r - ra) / dist) * delta
-    # guard against round-off: the result must hold both spheres
-    r = max(r, float(np.linalg.norm(c - ca)) + ra, float(np.linalg.norm(c - cb)) + rb)
-    return c, r
+        c, r = ca, ra
+    elif dist + ra <= rb:  # a inside b
+        c, r = cb, rb
+    else:
+        r = 0.5 * (dist + ra + rb)
+        c = ca + ((r - ra) / dist) * delta
+        # guard against round-off: the result must hold both spheres
+        r = max(r, float(np.linalg.norm(c - ca)) + ra, float(np.linalg.norm(c - cb)) + rb)
+    return np.ldexp(c, e), math.ldexp(r, e)
 
 
 def sphere_contains(center: ArrayLike, radius: float, points: ArrayLike) -> np.ndarray:
     """Which points lie in a closed sphere (the boundary included): ``|p - c|² <= r²``.
+
+    Evaluated on the gaps p - c and r scaled by a power of two (the largest gap below 1), so no square
+    underflows or overflows and the answer is the same at every scale. The fits (:func:`min_bounding_sphere`,
+    :func:`ritter_sphere`, :func:`circumsphere`) return spheres that this test says hold all their points.
 
     Parameters
     ----------
@@ -595,7 +644,10 @@ def sphere_contains(center: ArrayLike, radius: float, points: ArrayLike) -> np.n
     c = as_float_array(center, "center", ndim=1)
     r = as_nonnegative(radius, "radius")
     pts = as_points(points, min_rows=0, dims=(c.shape[0],))
-    return ((pts - c) ** 2).sum(axis=1) <= r * r
+    squares, e = _scaled_square_gaps(pts[None], c[None])
+    # on the scale of the gaps: a radius beyond 2^500 of it holds every point (its square would overflow)
+    scaled = min(float(np.ldexp(r, -e[0])), 2.0**500)
+    return squares[0] <= scaled * scaled
 
 
 def transform_sphere(center: ArrayLike, radius: float, rotation: ArrayLike,

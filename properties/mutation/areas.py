@@ -153,6 +153,8 @@ AREAS: dict[str, dict[str, list[str]]] = {
             "properties/test_circumsphere.py",
             # the hull at every magnitude (power-of-two scaling exact)
             "properties/test_hull_scale.py",
+            # fitted spheres hold their points by sphere_contains, at every magnitude
+            "properties/test_sphere_fits_contain.py",
         ],
         # 1 in 5 (about 800 mutants with hull.py, ~6 s each interpreted) does not fit a nightly job
         "sample": 20,
