@@ -18,6 +18,11 @@
    the largest area: ``contacts.reduce_manifold``), and each is placed halfway between itself and the
    reference face. An edge axis: the closest points of the two edges (Ericson 5.1.9), one point halfway.
 
+Feature kinds (``feature_a``, ``feature_b``: the feature of each side that touches): a face axis reports the
+reference box's FACE and, for the incident box, the feature its kept points span — 1 point a VERTEX (a corner
+pressed into the face), 2 an EDGE (a box resting on one of its edges: "face-edge"), 3 or 4 a FACE; an edge axis
+reports EDGE on both sides ("edge-edge").
+
 Point ids (Box2D's ``b2ContactFeature``): a vertex of the incident face inside the reference face is (reference
 face, incident vertex); a crossing of an incident edge with a side of the reference face is (the reference edge
 on that side, incident edge); a corner of the reference face inside the incident face is (reference vertex,

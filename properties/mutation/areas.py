@@ -127,6 +127,10 @@ AREAS: dict[str, dict[str, list[str]]] = {
             "properties/test_simplex_edge_boundaries.py",
             # a vertex on a side of the reference face is one box-box contact point
             "properties/test_box_box_points_distinct.py",
+            # written against the survivors of the narrowphase run on 4a77c01 (properties/MUTATION.md)
+            "properties/test_box_box_feature_kinds.py",
+            # the compiled curve search (_search_jit), called directly: reached with the JIT off too
+            "properties/test_curve_search_kernel.py",
         ],
         "sample": 64,
     },
