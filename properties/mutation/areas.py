@@ -62,6 +62,7 @@ AREAS: dict[str, dict[str, list[str]]] = {
             "properties/test_sphere_pairs_work_arrays.py",
             # written against the survivors of the broadphase runs on 7a481eb / 4a77c01 (properties/MUTATION.md)
             "properties/test_sap_keys_and_columns.py",
+            "properties/test_sphere_column_ranges.py",
         ],
         # 1 in 60 (109 of 6727 mutants; a third of the 1-in-20 sample, since 60 is a multiple of 20): its stats and
         # clean runs interpret the whole area suite twice (about 45 min at load 6 on 2 cores), so 1 in 20 does
