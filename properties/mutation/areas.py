@@ -83,6 +83,8 @@ AREAS: dict[str, dict[str, list[str]]] = {
             "properties/test_gas_neighbour_lists.py",
             # written against mutants of the gas sample (properties/MUTATION.md, gas)
             "properties/test_gas_start_state_edges.py",
+            # the lattice start's sites, walls and periodic (written against place_spheres_149)
+            "properties/test_gas_lattice_sites.py",
         ],
         # 1 in 40 (141 of 5427 mutants, half of the 1-in-20 sample): about 85 min at load 8-10 on 2 cores; the
         # event-loop kernels' survivors each run the area's interpreted suite
