@@ -7,14 +7,21 @@ see them change.
   sort do the sorting (keys squeezed into a few values would leave it all to the runs of equal keys);
 - ``_choose_columns``: a sparse grid keeps its column size, up to 2^30 columns per axis (tiny boxes far apart:
   the cap decides the grid), and every box's columns lie in the grid.
+
+And the sweep's second try: its first buffer of pair keys has room for about one pair per (box, column) entry, a
+thread's work array that earlier, larger sweeps may have grown; on a thread of its own (fresh work arrays), a
+clique of m boxes has m (m − 1) / 2 pairs and must take the second try, with brute force's pairs as the answer.
 """
 from __future__ import annotations
+
+import threading
+from unittest import mock
 
 import numpy as np
 from hypothesis import example, given
 from hypothesis import strategies as st
 
-from engine.broadphase import brute_force_pairs, sap_pairs
+from engine.broadphase import brute_force_pairs, sap_pairs, sweep_and_prune
 from engine.broadphase.counting_sort import cell_of
 from engine.broadphase.sweep_and_prune import (
     ENTRY_WIDTH,
@@ -79,3 +86,26 @@ def test_sparse_column_grid_has_at_most_2_30_columns_per_axis(seed, axis, extra)
     assert (ranges[2] >= 0).all() and (ranges[2] <= ranges[3]).all() and (ranges[3] < grid.k2).all()
     assert entries == int(((ranges[1] - ranges[0] + 1) * (ranges[3] - ranges[2] + 1)).sum())
     np.testing.assert_array_equal(sap_pairs(lo, hi, axis=axis), brute_force_pairs(lo, hi))
+
+
+def on_a_fresh_thread(call):
+    """call() run on a new thread (whose work arrays start empty), its result returned."""
+    out = []
+    worker = threading.Thread(target=lambda: out.append(call()))
+    worker.start()
+    worker.join()
+    assert out, "the call raised (see the thread's traceback above)"
+    return out[0]
+
+
+@given(seed=st.integers(0, 2**32 - 1), m=st.integers(20, 80), threads=st.sampled_from([1, 2, 3]))
+def test_pairs_outnumbering_the_first_buffer_take_the_second_try(seed, m, threads):
+    """(m >= 20 boxes make at most 4 m entries, a first buffer of at most 5 m keys, and m (m − 1) / 2 >= 9.5 m
+    pairs; threads > 1 split the columns whatever their work, each range with a fresh buffer of its own.)"""
+    rng = np.random.default_rng(seed)
+    lo = rng.uniform(0.0, 1.0, (m, 3))
+    hi = lo + 2.0  # every box contains [1, 2]^3: a clique
+    with mock.patch.object(sweep_and_prune, "MIN_ENTRIES_PER_THREAD", 1):
+        pairs, tests = on_a_fresh_thread(lambda: sap_pairs(lo, hi, return_tests=True, threads=threads))
+    np.testing.assert_array_equal(pairs, brute_force_pairs(lo, hi))
+    assert pairs.shape[0] == m * (m - 1) // 2 and tests >= pairs.shape[0]
