@@ -55,3 +55,19 @@ def test_the_figure_is_written_only_when_a_path_is_given(tmp_path, monkeypatch):
     assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert again is not fig
     assert plt.get_fignums() == before  # pyplot's figure manager never saw them
+
+
+def test_the_impacts_are_marked_in_a_colour_distinct_from_the_curve():
+    """The impact marks lie on the curve: drawn in the curve's own colour they would be hard to see (matplotlib's
+    default for a scatter after one line is that line's colour, C0)."""
+    from matplotlib.colors import to_rgba
+
+    t = np.linspace(0.0, 1.0, 11)
+    y = 1.0 - t**2
+    fig = plot_fall(t, y, [0.5, 1.0], [0.75, 0.0])
+    (ax,) = fig.axes
+    curve = next(line for line in ax.get_lines() if len(line.get_xdata()) == len(t))
+    (marks,) = ax.collections
+    curve_colour = np.array(to_rgba(curve.get_color()))
+    for colour in (*marks.get_facecolors(), *marks.get_edgecolors()):
+        assert not np.allclose(colour, curve_colour), (colour, curve_colour)

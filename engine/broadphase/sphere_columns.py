@@ -196,7 +196,9 @@ def pair_hit(ddx, ddy, ddz, s):
 
 @njit
 def sweep_columns(layout, keys, m, sx, sy, sz, sr, sid, col_ids, col_start, first, last, buf, count):
-    """The sweeps from the home columns col_ids[first:last] (see the module's description).
+    """The sweeps from the home columns col_ids[first:last] (see the module's description), and from no other: the
+    ranges of a split of 0 .. c record, between them, each pair of the whole sweep exactly once (the threads of
+    sphere_pairs share the columns that way).
 
     The arguments are the layout, the outputs of ``sort_into_columns`` (keys (m + 1,), m, sx, sy, sz, sr (m,)
     float64, sid (m,) int64) and of ``home_columns`` (col_ids (c,), col_start (c + 1,) int64). Records the

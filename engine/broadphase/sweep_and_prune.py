@@ -322,7 +322,8 @@ SweepKeys = namedtuple("SweepKeys", ["origin", "scale"])
 @njit
 def sweep_keys(origin, top):
     """The SweepKeys of boxes whose range along the sweep axis is [origin, top]: that range mapped onto
-    0 .. KEY_STEPS − 1."""
+    0 .. KEY_STEPS − 1 (key(origin) = 0, key(top) = KEY_STEPS − 1, linear in between to within a key step), so
+    that the radix sort does the sorting and the runs of equal keys stay short."""
     span = top - origin
     return SweepKeys(origin, KEY_STEPS / span if span > 0.0 else 0.0)
 

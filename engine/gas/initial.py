@@ -204,6 +204,11 @@ def place_spheres(n: int, radii: np.ndarray, box: float, boundary: str, rng: np.
 
     initial: "random" (random sequential addition), "lattice" (FCC sites, a random subset) or "auto" (random
     below η = 0.25, else the lattice; the other one when the first cannot place the spheres).
+
+    The lattice: k³ cubic cells of side a, k the smallest with 4k³ >= n, and the sites lo + a (i + b + s) for i in
+    {0 .. k − 1}³ and b in the FCC basis {(0, 0, 0), (½, ½, 0), (½, 0, ½), (0, ½, ½)}. With walls a = (L − 2r)/k,
+    lo = −L/2 + r and s = ¼ (the outermost sites a/4 inside the faces of the reachable cube); periodic a = L/k,
+    lo = −L/2 and s = 0 (the lattice origin at the box corner (−L/2, −L/2, −L/2), every site in [−L/2, L/2)).
     """
     periodic = boundary == "periodic"
     rmean = float(radii.mean())

@@ -60,6 +60,9 @@ AREAS: dict[str, dict[str, list[str]]] = {
             # the padded cell grid of sphere_pairs on dense scenes (sphere_cells.py)
             "properties/test_broadphase_sphere_cells.py",
             "properties/test_sphere_pairs_work_arrays.py",
+            # written against the survivors of the broadphase runs on 7a481eb / 4a77c01 (properties/MUTATION.md)
+            "properties/test_sap_keys_and_columns.py",
+            "properties/test_sphere_column_ranges.py",
         ],
         # 1 in 60 (109 of 6727 mutants; a third of the 1-in-20 sample, since 60 is a multiple of 20): its stats and
         # clean runs interpret the whole area suite twice (about 45 min at load 6 on 2 cores), so 1 in 20 does
@@ -80,6 +83,8 @@ AREAS: dict[str, dict[str, list[str]]] = {
             "properties/test_gas_neighbour_lists.py",
             # written against mutants of the gas sample (properties/MUTATION.md, gas)
             "properties/test_gas_start_state_edges.py",
+            # the lattice start's sites, walls and periodic (written against place_spheres_149)
+            "properties/test_gas_lattice_sites.py",
         ],
         # 1 in 40 (141 of 5427 mutants, half of the 1-in-20 sample): about 85 min at load 8-10 on 2 cores; the
         # event-loop kernels' survivors each run the area's interpreted suite
