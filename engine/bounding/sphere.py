@@ -11,7 +11,7 @@ Two fits:
 
 Points are (n, d) with d = 2 (circles) or 3. Both fits finish by setting the radius to the largest distance
 from the centre to a point, raised by the ulps round-off needs, so that ``sphere_contains(center, radius, points)``
-is True for every point of the cloud (its |p - c|^2 <= r^2 rounds either way on a boundary point otherwise).
+is True for every point of the cloud (its ``|p - c|^2 <= r^2`` rounds either way on a boundary point otherwise).
 """
 from __future__ import annotations
 
