@@ -613,8 +613,7 @@ def convex_hull(points) -> ConvexHull:
     hull = _hull_2d(unit) if d == 2 else _hull_3d(unit)
     with np.errstate(over="ignore"):  # a volume beyond the float range is inf (documented)
         volume, area = np.ldexp(hull.volume, d * e), np.ldexp(hull.area, (d - 1) * e)
-    return ConvexHull(pts, hull.vertices.copy(), hull.faces.copy(), hull.normals.copy(),
-                      np.ldexp(hull.offsets, e), volume, area)
+    return ConvexHull(pts, hull.vertices, hull.faces, hull.normals, np.ldexp(hull.offsets, e), volume, area)
 
 
 # ---------------------------------------------------------------------------------------------------------
