@@ -24,7 +24,7 @@ from .narrowphase import (
     overlap_convex_sat_pairs,
     time_of_impact,
 )
-from .world import Box, Capsule, ConvexPolyhedron, HeightCurve, Plane, Sphere, World
+from .world import ALL, Box, Capsule, Compound, ConvexPolyhedron, HeightCurve, Plane, Sphere, World
 
 
 def _installed_version() -> str:
@@ -53,5 +53,5 @@ __all__ = [
     # the confined gas
     "simulate_gas", "GasResult",
     # the collision pipeline: shapes and World
-    "Sphere", "Box", "Capsule", "ConvexPolyhedron", "Plane", "HeightCurve", "World",
+    "Sphere", "Box", "Capsule", "ConvexPolyhedron", "Compound", "Plane", "HeightCurve", "World", "ALL",
 ]

@@ -132,7 +132,7 @@ def cmd_sap_example(args) -> int:
 
 def cmd_contact(args) -> int:
     """Whether, where (point, normal, feature) and when two shapes given as JSON files collide."""
-    from .narrowphase import describe_contact
+    from .contact_io import describe_contact
 
     a = readable_file(args.shape_a, "shape_a")
     b = readable_file(args.shape_b, "shape_b")
@@ -152,7 +152,7 @@ def cmd_gas(args) -> int:
 
 def cmd_demo(args) -> int:
     """Boxes, spheres and capsules falling with RK4 onto a curved ground: an animated GIF and/or a still PNG."""
-    from .world.demo_plot import run_demo
+    from .demo_plot import run_demo
 
     if not args.no_gif:
         writable_file(args.out, "--out")
@@ -253,7 +253,7 @@ def _add_shapes(sub) -> None:
     decompose.set_defaults(func=cmd_decompose)
     contact = sub.add_parser("contact", help="whether, where and when two shapes (JSON files) collide",
                              description="Shapes, poses and velocities in the JSON format documented in "
-                                         "engine/narrowphase/contact_io.py.")
+                                         "engine/contact_io.py.")
     contact.add_argument("shape_a", help="JSON file of shape A")
     contact.add_argument("shape_b", help="JSON file of shape B")
     contact.add_argument("--t-max", type=_float, default=10.0, help="look for an impact up to this time (s)")

@@ -19,6 +19,7 @@ from hypothesis.extra import numpy as hnp
 import engine
 import engine.bounding as bounding
 import engine.broadphase as broadphase
+import engine.contact_io as contact_io
 import engine.gas as gas
 import engine.narrowphase as narrow
 
@@ -766,8 +767,8 @@ api("speed_moment_ratio", gas.speed_moment_ratio)(
     lambda draw: dict(speeds=draw(hnp.arrays(np.float64, (draw(st.integers(1, 30)),), elements=pos(0.01, 5)))))
 
 def _load_box(center, half_extents, velocity, rotation):
-    return narrow.load_shape({"shape": "box", "center": center, "half_extents": half_extents, "velocity": velocity,
-                              "rotation": rotation})
+    return contact_io.load_shape({"shape": "box", "center": center, "half_extents": half_extents, "velocity": velocity,
+                                  "rotation": rotation})
 
 
 @api("load_shape", _load_box, optional=("velocity", "rotation"))
@@ -800,6 +801,11 @@ api("Box", engine.Box, optional=("rotation",))(
                       rotation=draw(rotation())))
 api("Capsule", engine.Capsule)(lambda draw: dict(p0=draw(vec()), p1=draw(vec()), radius=draw(pos(0.01, 3))))
 api("ConvexPolyhedron", engine.ConvexPolyhedron)(lambda draw: dict(points=draw(general_points(4, 12))))
+api("Compound", lambda shapes, positions, rotations: engine.Compound(shapes, positions, rotations),
+    optional=("rotations",))(
+    lambda draw: dict(shapes=[engine.Sphere([0, 0, 0], draw(pos(0.01, 3))),
+                              engine.Box([0, 0, 0], draw(hnp.arrays(np.float64, (3,), elements=pos(0.01, 3))))],
+                      positions=draw(points(2, 2)), rotations=np.stack([draw(rotation()), draw(rotation())])))
 api("Plane", engine.Plane)(lambda draw: dict(altitude=draw(_coord)))
 api("HeightCurve", lambda samples: engine.HeightCurve(_curve, samples=samples))(
     lambda draw: dict(samples=draw(st.integers(2, 128))))
@@ -845,7 +851,8 @@ NOT_CALLABLE_API = {
     "BOUNDING_KINDS": "constant", "GAS_METHODS": "constant", "GAS_BOUNDARIES": "constant",
     "MAX_STEPS": "constant", "GasEventCapReached": "exception",
     "TOINotConverged": "exception", "EPANotConverged": "exception", "GJKNotConverged": "exception",
+    "ShapeSpec": "result record built by load_shape", "SHAPE_KINDS": "constant", "ALL": "constant",
     "describe_contact": "text front end over load_shape (fuzzed here) and time_of_impact/contact_feature (fuzzed)",
 }
 
-PUBLIC_MODULES = (engine, bounding, broadphase, narrow, gas)
+PUBLIC_MODULES = (engine, bounding, broadphase, narrow, gas, contact_io)

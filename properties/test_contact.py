@@ -8,7 +8,7 @@ import pytest
 from hypothesis import assume, example, given, settings
 from hypothesis import strategies as st
 
-from engine.narrowphase.contact_io import describe_contact, load_shape
+from engine.contact_io import describe_contact, load_shape
 from engine.narrowphase.contact_manifold import contact_feature
 from engine.narrowphase.gjk import gjk_distance, pack_point_sets
 from engine.narrowphase.penetration import epa_penetration

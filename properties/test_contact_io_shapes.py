@@ -1,4 +1,4 @@
-"""``load_shape`` (the contact JSON format of engine/narrowphase/contact_io.py) against independent oracles.
+"""``load_shape`` (the contact JSON format of engine/contact_io.py) against independent oracles.
 
 - The pose of a parsed shape at time t, ``ShapeSpec.at(t)``, is the rigid motion the format describes: every
   local vertex x goes to ``center + velocity t + R(ω t) rotation x`` with R(ω t) scipy's rotation of rotation
@@ -15,7 +15,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 from scipy.spatial.transform import Rotation
 
-from engine.narrowphase import load_shape
+from engine.contact_io import load_shape
 from properties.strategies.narrow import sizes, vectors
 
 quaternions = st.tuples(*[st.floats(-1.0, 1.0)] * 4).filter(lambda q: 0.1 < np.linalg.norm(q))

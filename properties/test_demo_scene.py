@@ -1,4 +1,4 @@
-"""``DemoScene.step`` (engine/world/demo.py), the physics of ``colldet demo``, against independent computations.
+"""``DemoScene.step`` (engine/demo.py), the physics of ``colldet demo``, against independent computations.
 
 - No body ends a frame below the ground: the gap y − f(x) over each body's documented lower boundary (the
   polygon of its supports in the ground's ``samples`` downward directions), its chords sampled densely, against
@@ -21,8 +21,8 @@ from hypothesis import example, given, settings
 from hypothesis import strategies as st
 from scipy.optimize import brentq
 
-from engine.world import Box, HeightCurve, World, demo, demo_plot
-from engine.world.demo import GRAVITY, DemoScene, build_scene
+from engine import Box, HeightCurve, World
+from engine.demo import GRAVITY, DemoScene, build_scene
 
 G = np.array([0.0, -9.81, 0.0])  # the documented gravity (m/s²), written here independently of GRAVITY
 REST_SPEED = 0.3  # documented: below e·|v·n| = 0.3 m/s a bounce comes to rest
@@ -39,7 +39,8 @@ def rot_z(angle):
 
 # ------------------------------------------------------------------------------------------------ the gap
 def outline_gap(world, body, samples=96, f=documented_ground) -> float:
-    """min of y − f(x) over the body's lower boundary as the curved ground documents it (engine/world/curve.py):
+    """min of y − f(x) over the body's lower boundary as the curved ground documents it
+    (engine/narrowphase/curve_ground.py):
     the polygon through the supports of its core points swept by its radius in ``samples`` directions spread
     evenly over the lower half-turn [π, 2π] (a vertex of a polytope with a narrower normal cone than π/samples
     lies above that polygon: the ground's narrow test does not see it, by design); each chord sampled every 2e-3,
@@ -319,14 +320,6 @@ def test_initial_velocities_are_the_documented_draws():
         want = [rng.uniform(-0.8, 0.8) for _ in range(7)]
         got = [scene.world.pose(b)[2][0] for b in scene.ids.tolist()]
         assert got == want
-
-
-def test_the_drawing_names_are_importable_from_the_simulation_module():
-    for name in ("draw", "demo_figure", "run_demo"):
-        assert getattr(demo, name) is getattr(demo_plot, name)
-    assert set(demo.DRAWING) == {"draw", "demo_figure", "run_demo"}
-    with pytest.raises(AttributeError, match="no_such_name"):
-        demo.no_such_name  # noqa: B018
 
 
 def test_at_most_four_impacts_per_body_and_frame():

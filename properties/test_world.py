@@ -36,9 +36,10 @@ from engine import (
     gjk_distance,
 )
 from engine.narrowphase import gjk_distance_batch
-from engine.narrowphase.contacts import DEFERRED, TOUCHING, contact_rows, kernel_scratch
+from engine.narrowphase.contacts import TOUCHING, kernel_scratch
 from engine.workloads import quaternion_matrices
-from engine.world.dispatch import DEFERRED_ROWS, OVERLAP_TABLE, answer_pairs, table_array
+from engine.world import TABLE
+from engine.world.dispatch import NarrowContext, answer
 from engine.world.shapes import BOX, as_rotation
 from properties.strategies.world import bodies, curves, planes, poses, positions, velocities
 
@@ -90,20 +91,16 @@ def oracle_pairs(model):
 
 
 def reference_pairs(world):
-    """Every pair of live ids (not ground-ground) through the overlap table, without any broad phase."""
+    """Every pair of live ids (not static-static) through the overlap table, without any broad phase."""
     ids = world.ids()
-    kind = world.bodies().kind
-    allp = np.array([(i, j) for x, i in enumerate(ids) for j in ids[x + 1:] if kind[i] < 4 or kind[j] < 4],
+    static = world.bodies().static
+    allp = np.array([(i, j) for x, i in enumerate(ids) for j in ids[x + 1:] if not (static[i] and static[j])],
                     dtype=np.int64).reshape(-1, 2)
-    rows = contact_rows(allp.shape[0])
     store = world._store.view()
-    table = table_array(OVERLAP_TABLE)
-    answer_pairs(store, allp, table, rows, kernel_scratch(store.points.shape[1]))
-    deferred = np.flatnonzero(rows.status == DEFERRED)
-    codes = table[store.kind[allp[deferred, 0]], store.kind[allp[deferred, 1]]]
-    for code in np.unique(codes).tolist():
-        DEFERRED_ROWS[code](store, allp, deferred[codes == code], rows, world._grounds)
-    return allp[rows.status == TOUCHING]
+    grounds = {g: world.shape(g) for g in ids.tolist() if not world.bodies().bounded[g]}
+    result = answer(TABLE, "overlap", NarrowContext(store, grounds, kernel_scratch(store.points.shape[1]), 0.0),
+                    allp)
+    return np.unique(allp[result.origin[result.out.status == TOUCHING]], axis=0).reshape(-1, 2)
 
 
 def check_against_oracles(world, model, oracle=None):
@@ -487,4 +484,4 @@ def test_validation_of_world_edits():
     b = w.add(Box(center, [1, 1, 1]))
     w.update(np.array([b]), center[None] + 1)
     np.testing.assert_array_equal(center, [1.0, 2.0, 3.0])  # the caller's arrays are never modified
-    assert w.kind(b) == "box" and w.bodies().kind[b] == BOX
+    assert w.kind(b) == "box" and w.bodies().kind[b] == BOX.code

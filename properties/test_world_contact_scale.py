@@ -1,11 +1,11 @@
-"""World's contact point ids do not depend on the scene's scale (engine.world.convex.feature_point_ids).
+"""World's contact point ids do not depend on the scene's scale (engine.narrowphase.convex_cores.feature_point_ids).
 
 A point's id names, for each shape, the support vertex nearest to the point among the vertices within
-``FEATURE_TOL`` × the pair's size of the support plane (engine/world/convex.py). The tolerance is relative, so a
-scene scaled by a power of two (exact in floating point) has the same features, the same points scaled, and the
-same ids. The scene: a small box pressed into the flat bottom face of a hull whose "shoulders" (four vertices
-outside that face) stand 0.05 of the hull's height above it; each clipped point (a corner of the box's top face)
-is nearer in the contact plane to a shoulder than to any corner of the bottom face, so a tolerance that is not
+``FEATURE_TOL`` × the pair's size of the support plane (engine/narrowphase/convex_cores.py). The tolerance is
+relative, so a scene scaled by a power of two (exact in floating point) has the same features, the same points
+scaled, and the same ids. The scene: a small box pressed into the flat bottom face of a hull whose "shoulders" (four
+vertices outside that face) stand 0.05 of the hull's height above it; each clipped point (a corner of the box's top
+face) is nearer in the contact plane to a shoulder than to any corner of the bottom face, so a tolerance that is not
 relative (one that reaches the shoulders at small scales) names other vertices.
 """
 from __future__ import annotations

@@ -1,6 +1,6 @@
-"""``engine.world.curve.ground_gap``: the gap between a body's lower boundary (a broken line through its points) and
-a HeightCurve is never more than the gap at any of the boundary's own points (they are among its samples, and
-the golden-section refinement only lowers it), and it is found within the boundary's x range.
+"""``engine.narrowphase.curve_ground.ground_gap``: the gap between a body's lower boundary (a broken line through
+its points) and a HeightCurve is never more than the gap at any of the boundary's own points (they are among its
+samples, and the golden-section refinement only lowers it), and it is found within the boundary's x range.
 
 The boundaries are arbitrary broken lines (increasing x, random heights) over curves with steep slopes and
 ripples, so the lowest point is anywhere along them: at the first point, at the last, or in between.
@@ -12,7 +12,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from engine import HeightCurve
-from engine.world.curve import ground_gap
+from engine.narrowphase.curve_ground import ground_gap
 
 
 @given(k=st.integers(1, 3), s=st.integers(3, 12), seed=st.integers(0, 2**32 - 1),

@@ -24,7 +24,7 @@ from numpy.typing import ArrayLike
 
 import engine.broadphase.pairs as pair_buffer
 from engine._config import njit
-from engine._validate import as_nonnegative
+from engine._validate import as_float_array, as_nonnegative
 from engine.bounding.aabb import enclose_aabbs
 from engine.broadphase.incremental import IncrementalBroadPhase
 from engine.broadphase.pairs import (
@@ -37,7 +37,7 @@ from engine.broadphase.pairs import (
     with_tests,
 )
 
-__all__ = ["DynamicAABBTree", "tree_pairs", "tree_leaf_pairs"]
+__all__ = ["DynamicAABBTree", "tree_pairs", "tree_leaf_pairs", "tree_query_boxes"]
 
 
 @njit
@@ -259,13 +259,10 @@ def tree_leaf_pairs(root, node_lo, node_hi, child1, child2, obj_of, obj_lo, obj_
 
 
 @njit
-def _query_box_kernel(root, node_lo, node_hi, child1, child2, obj_of, obj_lo, obj_hi, q_lo, q_hi):
-    """Ids of the objects whose exact box overlaps the query box [q_lo, q_hi] ((3,) each), ascending."""
-    found = np.empty(16, dtype=np.int64)
-    count = 0
-    if root == -1:
-        return found[:0].copy()
-    stack = np.empty(node_lo.shape[0] + 1, dtype=np.int64)
+def _descend_query(root, node_lo, node_hi, child1, child2, obj_of, obj_lo, obj_hi, q_lo, q_hi, row, stack, out,
+                   count):
+    """Push (row, j) for every object j whose exact box overlaps the query box [q_lo, q_hi] ((3,) each): descend
+    the nodes the query box overlaps (Ericson 6.5, Box2D ``b2DynamicTree_Query``). Returns (out, count)."""
     top = 1
     stack[0] = root
     while top > 0:
@@ -283,17 +280,39 @@ def _query_box_kernel(root, node_lo, node_hi, child1, child2, obj_of, obj_lo, ob
                 if q_lo[k] > obj_hi[j, k] or obj_lo[j, k] > q_hi[k]:
                     hit = False
             if hit:
-                if count == found.shape[0]:
-                    bigger = np.empty(2 * count, dtype=np.int64)
-                    bigger[:count] = found
-                    found = bigger
-                found[count] = j
-                count += 1
+                out, count = pair_buffer.push_pair(out, count, row, j)
         else:
             stack[top] = child1[node]
             stack[top + 1] = child2[node]
             top += 2
-    return np.sort(found[:count])
+    return out, count
+
+
+@njit
+def _query_box_kernel(root, node_lo, node_hi, child1, child2, obj_of, obj_lo, obj_hi, q_lo, q_hi):
+    """Ids of the objects whose exact box overlaps the query box [q_lo, q_hi] ((3,) each), ascending."""
+    if root == -1:
+        return np.empty(0, dtype=np.int64)
+    stack = np.empty(node_lo.shape[0] + 1, dtype=np.int64)
+    out, count = _descend_query(root, node_lo, node_hi, child1, child2, obj_of, obj_lo, obj_hi, q_lo, q_hi, 0,
+                                stack, pair_buffer.new_pair_buffer(16), 0)
+    return np.sort(out[:count, 1])
+
+
+@njit
+def tree_query_boxes(root, node_lo, node_hi, child1, child2, obj_of, obj_lo, obj_hi, q_lo, q_hi):
+    """Every (query row r, object j) whose boxes overlap, for the query boxes [q_lo[r], q_hi[r]] ((m, 3) each),
+    in the order of the rows (objects unordered within a row): int64 (k, 2). The tree as in
+    ``tree_leaf_pairs``."""
+    out = pair_buffer.new_pair_buffer(q_lo.shape[0])
+    count = 0
+    if root == -1:
+        return out[:0].copy()
+    stack = np.empty(node_lo.shape[0] + 1, dtype=np.int64)
+    for r in range(q_lo.shape[0]):
+        out, count = _descend_query(root, node_lo, node_hi, child1, child2, obj_of, obj_lo, obj_hi, q_lo[r],
+                                    q_hi[r], r, stack, out, count)
+    return out[:count].copy()
 
 
 class DynamicAABBTree(IncrementalBroadPhase):
@@ -594,6 +613,40 @@ class DynamicAABBTree(IncrementalBroadPhase):
         q_lo, q_hi = self._one_box(lo_q, hi_q, ("lo_q", "hi_q"))
         return _query_box_kernel(self._root, self._node_lo, self._node_hi, self._child1, self._child2,
                                  self._obj_of, self._obj_lo, self._obj_hi, q_lo, q_hi)
+
+    def query_boxes(self, lo_q: ArrayLike, hi_q: ArrayLike) -> np.ndarray:
+        """Every (query box, object) pair whose boxes overlap, for m query boxes in one compiled call (Box2D
+        queries its static tree with the moved proxies this way).
+
+        Parameters
+        ----------
+        lo_q, hi_q : array_like, shape (m, d)
+            The query boxes' corners, ``lo_q <= hi_q``, finite; closed, so touching counts.
+
+        Returns
+        -------
+        numpy.ndarray, shape (k, 2), int64
+            Rows (query row, object id) in lexicographic order, no repeat.
+
+        Raises
+        ------
+        ValueError
+            When the corners are not (m, d), not finite, or ``lo_q > hi_q`` somewhere (named with the index).
+        TypeError
+            For non-numeric corners.
+        """
+        lo_d = as_float_array(lo_q, "lo_q", shape=(None, self._d))
+        hi_d = as_float_array(hi_q, "hi_q", shape=lo_d.shape)
+        bad = np.argwhere(lo_d > hi_d)
+        if bad.size:
+            r, k = (int(x) for x in bad[0])
+            raise ValueError(f"lo_q must not exceed hi_q: lo_q[{r}, {k}] = {lo_d[r, k]!r} > hi_q[{r}, {k}] = "
+                             f"{hi_d[r, k]!r}")
+        q_lo, q_hi = np.zeros((lo_d.shape[0], 3)), np.zeros((lo_d.shape[0], 3))
+        q_lo[:, : self._d], q_hi[:, : self._d] = lo_d, hi_d
+        found = tree_query_boxes(self._root, self._node_lo, self._node_hi, self._child1, self._child2,
+                                 self._obj_of, self._obj_lo, self._obj_hi, q_lo, q_hi)
+        return found[np.lexsort((found[:, 1], found[:, 0]))]
 
     def rebuild(self) -> None:
         """Rebuild the whole tree top-down from the live objects' fat boxes (restores balance).

@@ -90,7 +90,6 @@ module: kernels                   what they compute (shapes)
 """
 from __future__ import annotations
 
-from .contact_io import describe_contact, load_shape
 from .contact_manifold import Contact, ContactBatch, contact_feature, contact_feature_pairs
 from .gjk import gjk_distance, gjk_distance_batch, gjk_distance_pairs, pack_point_sets
 from .penetration import epa_penetration, epa_penetration_pairs
@@ -124,7 +123,6 @@ from .time_of_impact import time_of_impact, time_of_impact_pairs
 __all__ = [
     "Contact", "ContactBatch", "TOINotConverged", "contact_feature", "contact_feature_pairs", "time_of_impact",
     "time_of_impact_pairs",
-    "describe_contact", "load_shape",
     "EPANotConverged", "epa_penetration", "epa_penetration_pairs",
     "GJKNotConverged", "gjk_distance", "gjk_distance_batch", "gjk_distance_pairs", "pack_point_sets",
     "distance_point_segment", "max_on_intervals", "min_distance_to_curve",

@@ -297,7 +297,8 @@ class ContactSet(PairFeatureNames):
     Attributes
     ----------
     pairs : numpy.ndarray, shape (k, 2), int64
-        The two shapes of each pair (for ``World``: canonical body ids, i < j).
+        The two shapes of each pair (for ``World``: body ids, i < j, rows in lexicographic order of (i, j,
+        part_a, part_b): a pair of bodies has one row, a compound one row per touching pair of parts).
     separation, depth : numpy.ndarray, shape (k,), float64
         Signed distance (< 0 penetrating, 0 touching, > 0 apart), and depth = max(−separation, 0).
     normal : numpy.ndarray, shape (k, 3), float64
@@ -320,6 +321,8 @@ class ContactSet(PairFeatureNames):
         GJK's closest (or EPA's deepest) points, when given.
     exact_fallback : numpy.ndarray, shape (k,), bool, or None
         Pairs whose depth came from Qhull, when given.
+    part_a, part_b : numpy.ndarray, shape (k,), int64, or None
+        For ``World``: the part of each side that touches (a ``Compound``'s part number; 0 for any other body).
     """
 
     pairs: np.ndarray
@@ -337,6 +340,8 @@ class ContactSet(PairFeatureNames):
     closest_a: np.ndarray | None = None
     closest_b: np.ndarray | None = None
     exact_fallback: np.ndarray | None = None
+    part_a: np.ndarray | None = None
+    part_b: np.ndarray | None = None
 
     def __len__(self) -> int:
         return int(self.pairs.shape[0])

@@ -31,7 +31,7 @@ from .contacts import (
     write_pair,
 )
 
-__all__ = ["contact_points_plane", "contact_points_plane_pair"]
+__all__ = ["contact_points_plane", "contact_points_plane_pair", "impact_time_plane"]
 
 
 @njit
@@ -67,6 +67,25 @@ def contact_points_plane(points, counts, radii, i, origin, up, rows, p, flip, sc
         rows.ids[p, v] = swap_point_id(ids[v]) if flip else ids[v]
     write_pair(rows, p, -depth, -up[0], -up[1], -up[2], kind, FACE, n, flip)
     return -depth
+
+
+@njit
+def impact_time_plane(points, counts, radii, velocity, i, origin, up, dt):
+    """First t in [0, dt] at which body i (core ``points[i, :counts[i]]`` swept by ``radii[i]``, translating with
+    ``velocity`` (3,)) touches the ground through ``origin`` of outward normal ``up``: its lowest point moves
+    linearly, so t = gap / (−v·u); 0 when it already touches, inf when it does not within dt."""
+    low = np.inf
+    for v in range(counts[i]):
+        low = min(low, (points[i, v, 0] - origin[0]) * up[0] + (points[i, v, 1] - origin[1]) * up[1]
+                  + (points[i, v, 2] - origin[2]) * up[2])
+    gap = low - radii[i]
+    if gap <= 0.0:
+        return 0.0
+    rate = velocity[0] * up[0] + velocity[1] * up[1] + velocity[2] * up[2]
+    if rate >= 0.0:
+        return np.inf
+    t = gap / -rate
+    return t if t <= dt else np.inf
 
 
 def contact_points_plane_pair(points, radius, altitude):

@@ -3,24 +3,34 @@ upload (one validation pass over the whole batch, then one compiled kernel).
 
 ``BodyStore`` arrays (capacity ``cap`` rows; row ``id`` is body ``id``; rows of removed ids have kind −1):
 
-- ``kind`` (cap,) int8 — a shape code of engine.world.shapes (SPHERE, BOX, CAPSULE, HULL, PLANE, CURVE);
+- ``kind`` (cap,) int8 — the code of the shape's kind (engine/world/kinds.py);
 - ``center`` (cap, 3), ``rotation`` (cap, 3, 3) (columns = the body's axes in the world), ``velocity`` (cap, 3);
 - ``radius`` (cap,) — the ball sweeping the core (sphere and capsule radius, 0 for boxes and hulls);
 - ``half`` (cap, 3) — a box's half extents (0 for the others);
 - ``count`` (cap,) int64, ``local`` (cap, M, 3) — the core's points in the body frame, ``points`` (cap, M, 3) —
   the same in the world (center + rotation @ local); rows past ``count`` repeat the first point;
-- ``lo``, ``hi`` (cap, 3) — the body's AABB (the points' min / max, grown by the radius);
-- ``fat_lo``, ``fat_hi`` (cap, 3) — the enlarged box the tree broad phase holds, ``escaped`` (cap,) bool —
-  the body's AABB left it since the broad phase last looked.
+- ``lo``, ``hi`` (cap, 3) — the body's AABB (the points' min / max, grown by the radius; a compound's: the union
+  of its parts'; an unbounded kind's: the whole space);
+- ``fat_lo``, ``fat_hi`` (cap, 3) — the enlarged box the broad phase holds, ``escaped`` (cap,) bool — the body's
+  AABB left it since the broad phase last looked;
+- ``bounded``, ``static``, ``sensor`` (cap,) bool — the kind has a finite AABB; the body never moves (level
+  geometry); it is a sensor (reported by ``pairs`` and ``events``, never by ``contacts``);
+- ``category``, ``mask`` (cap,) uint64, ``group`` (cap,) int64 — the collision filter (engine/world/filters.py);
+- ``owner`` (cap,) int64 — −1 for a body; for a part of a compound, the compound's id (the part's row is not a
+  body of the world: it is moved with its compound and answers for it in the narrow phase); ``part`` (cap,)
+  int64 — the part's number in its compound (0 for a body); ``first_part``, ``next_part`` (cap,) int64 — a
+  compound's parts as a linked list (−1 ends it); ``part_center`` (cap, 3), ``part_rotation`` (cap, 3, 3) — a
+  part's pose in its compound's frame.
 A ground (``Plane``) stores a point of its surface in ``center``, its rotation's second column is its outward
-normal (+y), and its AABB is unbounded below the surface.
+normal (+y).
 
 ``view()`` returns the arrays as a ``BodyArrays`` bundle (no copy: the compiled kernels' argument);
 ``World.bodies()`` gives users read-only views of the live rows.
 
 Rotations of an update: ``(k, 3, 3)`` matrices (columns = the body axes, orthonormal with det +1, to
 ``ROTATION_TOL``), ``(k, 4)`` unit quaternions in (w, x, y, z) order (scalar first, as MuJoCo and scipy's
-``as_quat(scalar_first=True)``; not normalised for you), or a ``scipy.spatial.transform.Rotation`` of length k.
+``as_quat(scalar_first=True)``; not normalised for you), or a ``scipy.spatial.transform.Rotation`` of length k
+(engine.world.shapes.as_rotation_batch).
 """
 from __future__ import annotations
 
@@ -29,28 +39,29 @@ from collections import namedtuple
 import numpy as np
 
 from engine._config import njit
-from engine._validate import as_float_array
-from engine.bounding.aabb import ROTATION_TOL
 
-from .shapes import PLANE
-
-__all__ = ["BodyArrays", "BodyStore", "as_rotation_batch", "refresh_bodies", "QUATERNION_ORDER"]
-
-#: the quaternion convention of every rotation argument, as the error messages say it
-QUATERNION_ORDER = "(w, x, y, z)"
+__all__ = ["BodyArrays", "BodyStore", "refresh_bodies", "place_body"]
 
 #: the compiled kernels' view of the store (one namedtuple of arrays)
 BodyArrays = namedtuple("BodyArrays", "kind center rotation velocity radius half count local points lo hi "
-                                      "fat_lo fat_hi escaped")
+                                      "fat_lo fat_hi escaped bounded static sensor category mask group owner part "
+                                      "first_part next_part part_center part_rotation")
 
+_ALL_BITS = np.iinfo(np.uint64).max
 _FIELDS = {"kind": ((), np.int8, -1), "center": ((3,), np.float64, 0.0), "rotation": ((3, 3), np.float64, 0.0),
            "velocity": ((3,), np.float64, 0.0), "radius": ((), np.float64, 0.0), "half": ((3,), np.float64, 0.0),
            "count": ((), np.int64, 1), "lo": ((3,), np.float64, 0.0), "hi": ((3,), np.float64, 0.0),
-           "fat_lo": ((3,), np.float64, 0.0), "fat_hi": ((3,), np.float64, 0.0), "escaped": ((), np.bool_, False)}
+           "fat_lo": ((3,), np.float64, 0.0), "fat_hi": ((3,), np.float64, 0.0), "escaped": ((), np.bool_, False),
+           "bounded": ((), np.bool_, True), "static": ((), np.bool_, False), "sensor": ((), np.bool_, False),
+           "category": ((), np.uint64, 1), "mask": ((), np.uint64, _ALL_BITS), "group": ((), np.int64, 0),
+           "owner": ((), np.int64, -1), "part": ((), np.int64, 0), "first_part": ((), np.int64, -1),
+           "next_part": ((), np.int64, -1), "part_center": ((3,), np.float64, 0.0),
+           "part_rotation": ((3, 3), np.float64, 0.0)}
+_CORE = ("local", "points")
 
 
 class BodyStore:
-    """Structure-of-arrays state of the bodies (see the module docstring); ids are reused after ``remove``."""
+    """Structure-of-arrays state of the bodies (see the module docstring); ids are reused after ``release``."""
 
     # the state arrays, set by _alloc from _FIELDS (+ local, points); shapes and dtypes in the module docstring
     kind: np.ndarray
@@ -67,6 +78,18 @@ class BodyStore:
     fat_lo: np.ndarray
     fat_hi: np.ndarray
     escaped: np.ndarray
+    bounded: np.ndarray
+    static: np.ndarray
+    sensor: np.ndarray
+    category: np.ndarray
+    mask: np.ndarray
+    group: np.ndarray
+    owner: np.ndarray
+    part: np.ndarray
+    first_part: np.ndarray
+    next_part: np.ndarray
+    part_center: np.ndarray
+    part_rotation: np.ndarray
 
     def __init__(self, capacity: int = 16, max_points: int = 1):
         self.n_ids = 0
@@ -79,14 +102,15 @@ class BodyStore:
             if old is not None:
                 arr[: old[name].shape[0]] = old[name]
             setattr(self, name, arr)
-        self.rotation[self.kind < 0] = np.eye(3)
-        for name in ("local", "points"):
+        for name in _CORE:
             arr = np.zeros((cap, m, 3))
             if old is not None:
                 n_old, m_old = old[name].shape[:2]
                 arr[:n_old, :m_old] = old[name]
                 arr[:n_old, m_old:] = old[name][:, :1]  # padding repeats the first point
             setattr(self, name, arr)
+        fresh = slice(0 if old is None else old["kind"].shape[0], cap)
+        self.rotation[fresh] = self.part_rotation[fresh] = np.eye(3)
 
     @property
     def capacity(self) -> int:
@@ -101,35 +125,66 @@ class BodyStore:
         if body == self.n_ids:
             self.n_ids += 1
         if body >= self.capacity or m > self.local.shape[1]:
-            old = {name: getattr(self, name) for name in (*_FIELDS, "local", "points")}
+            old = {name: getattr(self, name) for name in (*_FIELDS, *_CORE)}
             self._alloc(max(self.capacity, 2 * body + 2), max(m, self.local.shape[1]), old)
         return body
+
+    def write_shape(self, body: int, shape) -> None:
+        """Row ``body`` from a shape's core (``local``, ``radius``, ``half``) and its kind's flags; the pose is
+        set by the upload (``refresh_bodies``), the filter and the parts by the world."""
+        m = shape.local.shape[0]
+        self.kind[body] = shape.kind.code
+        self.bounded[body] = shape.kind.bounded
+        self.radius[body] = shape.radius
+        self.half[body] = shape.half
+        self.count[body] = m
+        self.local[body, :m] = shape.local
+        self.local[body, m:] = shape.local[0]
+        self.velocity[body] = 0.0
+        self.owner[body] = -1
+        self.part[body] = 0
+        self.first_part[body] = self.next_part[body] = -1
+        self.escaped[body] = False
+        if not shape.kind.bounded:
+            self.lo[body], self.hi[body] = -np.inf, np.inf
 
     def release(self, body: int) -> None:
         self.kind[body] = -1
         self.escaped[body] = False
+        self.first_part[body] = self.owner[body] = -1
         self.free.append(body)
 
     def live(self) -> np.ndarray:
-        """Ids of the live rows (bodies and grounds), ascending."""
-        return np.flatnonzero(self.kind[: self.n_ids] >= 0)
+        """Ids of the live bodies (grounds included, parts of compounds excluded), ascending."""
+        n = self.n_ids
+        return np.flatnonzero((self.kind[:n] >= 0) & (self.owner[:n] < 0))
+
+    def parts_of(self, body: int) -> list[int]:
+        """The rows of a compound's parts, in part order (empty for any other body)."""
+        rows = []
+        s = int(self.first_part[body])
+        while s >= 0:
+            rows.append(s)
+            s = int(self.next_part[s])
+        return rows
 
     def check_ids(self, ids, name: str = "ids") -> np.ndarray:
-        """ids (k,) as int64, each a live movable body, all distinct — else TypeError / ValueError naming
-        ``name`` and the index."""
+        """ids (k,) as int64, each a live body that may move (not static, not a ground), all distinct — else
+        TypeError / ValueError naming ``name`` and the index."""
         idx = np.asarray(ids)
         if idx.dtype.kind not in "iu" or idx.ndim != 1:
             raise TypeError(f"{name} must be a 1-D integer array, got dtype {idx.dtype} and shape {idx.shape}")
         idx = idx.astype(np.int64)
         outside = (idx < 0) | (idx >= self.n_ids)
-        kind = np.where(outside, -1, self.kind[np.where(outside, 0, idx)])
-        bad = np.flatnonzero(kind < 0)
+        at = np.where(outside, 0, idx)
+        bad = np.flatnonzero(outside | (self.kind[at] < 0) | (self.owner[at] >= 0))
         if bad.size:
             raise ValueError(f"{name}[{bad[0]}] = {idx[bad[0]]} is not a body of this world (never added, or "
                              f"removed)")
-        bad = np.flatnonzero(kind >= PLANE)
+        bad = np.flatnonzero(self.static[idx])
         if bad.size:
-            raise ValueError(f"{name}[{bad[0]}] = {idx[bad[0]]} is a ground, which cannot move")
+            what = "a ground" if not self.bounded[idx[bad[0]]] else "static (level geometry)"
+            raise ValueError(f"{name}[{bad[0]}] = {idx[bad[0]]} is {what}, which cannot move")
         order = np.argsort(idx, kind="stable")
         same = np.flatnonzero(idx[order][1:] == idx[order][:-1])
         if same.size:
@@ -138,45 +193,11 @@ class BodyStore:
         return idx
 
 
-def as_rotation_batch(rotations, k: int, name: str = "rotations"):
-    """``(mode, array)``: mode 1 with (k, 3, 3) proper rotation matrices, or mode 2 with (k, 4) unit quaternions
-    (w, x, y, z); from matrices, quaternions or a scipy Rotation of length k (see the module docstring).
-    ValueError naming ``name`` and the first bad index."""
-    if hasattr(rotations, "as_matrix") and not isinstance(rotations, np.ndarray):  # scipy Rotation
-        mats = np.asarray(rotations.as_matrix(), dtype=float)
-        rotations = mats.reshape(1, 3, 3) if mats.shape == (3, 3) else mats
-    r = as_float_array(rotations, name, ndim=None)
-    if r.shape == (k, 4):
-        err = np.abs(np.sqrt((r * r).sum(axis=1)) - 1.0)
-        bad = np.flatnonzero(~(err <= ROTATION_TOL))
-        if bad.size:
-            q = r[bad[0]]
-            raise ValueError(f"{name}[{bad[0]}] must be a unit quaternion in {QUATERNION_ORDER} order, got |q| = "
-                             f"{float(np.sqrt(q @ q))!r} (normalise it first)")
-        return 2, r
-    if r.shape == (k, 3, 3):
-        gram = np.einsum("kji,kjl->kil", r, r) - np.eye(3)
-        err = np.abs(gram).max(axis=(1, 2)) if k else np.zeros(0)
-        bad = np.flatnonzero(~(err <= ROTATION_TOL))
-        if bad.size:
-            raise ValueError(f"{name}[{bad[0]}] must be an orthonormal matrix (columns = the body axes): max "
-                             f"|R^T R - I| = {err[bad[0]]:.3g}")
-        det = np.linalg.det(r) if k else np.zeros(0)
-        bad = np.flatnonzero(det < 0)
-        if bad.size:
-            raise ValueError(f"{name}[{bad[0]}] must be a proper rotation (det = -1: a reflection)")
-        return 1, r
-    raise ValueError(f"{name} must have shape ({k}, 3, 3) (rotation matrices, columns = the body axes) or "
-                     f"({k}, 4) (unit quaternions in {QUATERNION_ORDER} order), or be a scipy Rotation of length "
-                     f"{k}; got shape {r.shape}")
-
-
 @njit
 def refresh_bodies(bodies, ids, centers, mode, rotations, quaternions, velocities):
     """The pose upload: for each body ids[r], centre centers[r]; rotation rotations[r] (mode 1), from the unit
     quaternion quaternions[r] = (w, x, y, z) (mode 2) or unchanged (mode 0); velocity velocities[r] when
-    velocities has k rows; then its world points (center + R @ local, the padding rows repeating the first)
-    and AABB (min / max of the points ∓ the radius), and whether the AABB left its fat box."""
+    velocities has k rows; then its world points and AABB (``place_body``)."""
     has_velocity = velocities.shape[0] == ids.shape[0]
     for r in range(ids.shape[0]):
         b = ids[r]
@@ -193,13 +214,45 @@ def refresh_bodies(bodies, ids, centers, mode, rotations, quaternions, velocitie
         if has_velocity:
             for c in range(3):
                 bodies.velocity[b, c] = velocities[r, c]
-        world_points(bodies, b)
+        place_body(bodies, b)
 
 
 @njit
-def world_points(bodies, b):
-    """Body b's world points and AABB from its pose (Ericson 4.2.6: the AABB of the rotated core), and its
-    ``escaped`` flag."""
+def place_body(bodies, b):
+    """Body b's world points and AABB from its pose — a compound's parts placed by its pose and its AABB the
+    union of theirs — and its ``escaped`` flag (the AABB left its fat box)."""
+    if bodies.first_part[b] < 0:
+        _core_points(bodies, b)
+    else:
+        for c in range(3):
+            bodies.lo[b, c], bodies.hi[b, c] = np.inf, -np.inf
+        s = bodies.first_part[b]
+        while s >= 0:
+            _place_part(bodies, b, s)
+            _core_points(bodies, s)
+            for c in range(3):
+                bodies.lo[b, c] = min(bodies.lo[b, c], bodies.lo[s, c])
+                bodies.hi[b, c] = max(bodies.hi[b, c], bodies.hi[s, c])
+            s = bodies.next_part[s]
+    for c in range(3):
+        if bodies.lo[b, c] < bodies.fat_lo[b, c] or bodies.hi[b, c] > bodies.fat_hi[b, c]:
+            bodies.escaped[b] = True
+
+
+@njit
+def _place_part(bodies, b, s):
+    """Part s of compound b: centre c_b + R_b p_s, rotation R_b R_s, the compound's velocity."""
+    R, p, P = bodies.rotation[b], bodies.part_center[s], bodies.part_rotation[s]
+    for i in range(3):
+        bodies.center[s, i] = bodies.center[b, i] + R[i, 0] * p[0] + R[i, 1] * p[1] + R[i, 2] * p[2]
+        bodies.velocity[s, i] = bodies.velocity[b, i]
+        for j in range(3):
+            bodies.rotation[s, i, j] = R[i, 0] * P[0, j] + R[i, 1] * P[1, j] + R[i, 2] * P[2, j]
+
+
+@njit
+def _core_points(bodies, b):
+    """Body b's world points and AABB from its pose (Ericson 4.2.6: the AABB of the rotated core)."""
     m = bodies.count[b]
     R = bodies.rotation[b]
     rad = bodies.radius[b]
@@ -216,8 +269,6 @@ def world_points(bodies, b):
     for v in range(m, bodies.points.shape[1]):  # the padding repeats the first point
         for c in range(3):
             bodies.points[b, v, c] = bodies.points[b, 0, c]
-    bodies.lo[b, 0], bodies.lo[b, 1], bodies.lo[b, 2] = lo0 - rad, lo1 - rad, lo2 - rad
-    bodies.hi[b, 0], bodies.hi[b, 1], bodies.hi[b, 2] = hi0 + rad, hi1 + rad, hi2 + rad
-    for c in range(3):
-        if bodies.lo[b, c] < bodies.fat_lo[b, c] or bodies.hi[b, c] > bodies.fat_hi[b, c]:
-            bodies.escaped[b] = True
+    if bodies.bounded[b]:
+        bodies.lo[b, 0], bodies.lo[b, 1], bodies.lo[b, 2] = lo0 - rad, lo1 - rad, lo2 - rad
+        bodies.hi[b, 0], bodies.hi[b, 1], bodies.hi[b, 2] = hi0 + rad, hi1 + rad, hi2 + rad

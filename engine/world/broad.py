@@ -8,9 +8,16 @@
   is rebuilt top-down (``DynamicAABBTree.from_boxes``) and its pairs found by one traversal.
 - "sap": an ``IncrementalSAP`` over the AABBs (insertion sort of last frame's order, then the sweep);
 - "grid", "octree", "brute": ``find_pairs`` over the AABBs each query (they keep no state).
-``candidates(store, bodies)`` returns pairs (k, 2) of body ids, i < j in each row, no repeat, whose boxes
-overlap — fat boxes for the tree (a superset: the narrow phase tests the AABBs first; its rows are not sorted),
-the AABBs for the others (sorted). Grounds never enter it.
+``candidates(store, bodies, escaped)`` returns pairs (k, 2) of body ids, i < j in each row, no repeat, whose
+boxes overlap — fat boxes for the tree (a superset: the narrow phase tests the AABBs first; its rows are not
+sorted), the AABBs for the others (sorted). Only the moving bodies enter it: static bodies and grounds never do.
+
+Static bodies (level geometry) are kept apart, as Jolt keeps its static tree apart from the dynamic one and Box2D
+queries its static tree with the moved proxies only: ``StaticPairs`` holds a tree of their AABBs, built when the
+static set changes, and the candidate pairs of each moving body against it, found again only when the body
+leaves its fat box. So a static level costs nothing per frame beyond the pairs it makes, and two static bodies
+are never paired. The fat boxes are the world's (``fatten``: each body's AABB grown by ``FAT_MARGIN`` × its
+largest side when it escapes), shared by the tree broad phase and the static pairs.
 """
 from __future__ import annotations
 
@@ -19,7 +26,7 @@ import numpy as np
 from engine.broadphase import DynamicAABBTree, IncrementalSAP, canonical_pairs, find_pairs
 
 __all__ = ["FAT_MARGIN", "REBUILD_THRESHOLD", "TreeBroadPhase", "SAPBroadPhase", "RebuildBroadPhase",
-           "make_broad_phase"]
+           "StaticPairs", "make_broad_phase", "fatten"]
 
 #: the tree's fat boxes: the AABB grown on each side by this fraction of its largest side (bodies jittering by
 #: 2 % of their size per frame then leave their fat box once every ~400 frames: a few tree queries per frame)
@@ -34,6 +41,21 @@ def _canonical(pairs: np.ndarray) -> np.ndarray:
     return canonical_pairs(pairs)
 
 
+def _drop_rows_of(pairs: np.ndarray, bodies, capacity: int) -> np.ndarray:
+    """The rows of ``pairs`` that involve none of ``bodies``."""
+    gone = np.zeros(capacity, np.bool_)
+    gone[bodies] = True
+    return pairs[~(gone[pairs[:, 0]] | gone[pairs[:, 1]])]
+
+
+def fatten(store, bodies) -> None:
+    """Give ``bodies`` new fat boxes: their AABB grown on each side by FAT_MARGIN × its largest side."""
+    grow = FAT_MARGIN * (store.hi[bodies] - store.lo[bodies]).max(axis=1, keepdims=True)
+    store.fat_lo[bodies] = store.lo[bodies] - grow
+    store.fat_hi[bodies] = store.hi[bodies] + grow
+    store.escaped[bodies] = False
+
+
 class RebuildBroadPhase:
     """``find_pairs(lo, hi, method)`` over the live bodies' AABBs at each query."""
 
@@ -46,7 +68,7 @@ class RebuildBroadPhase:
     def remove(self, store, body: int) -> None:
         pass
 
-    def candidates(self, store, bodies: np.ndarray) -> np.ndarray:
+    def candidates(self, store, bodies: np.ndarray, escaped: np.ndarray) -> np.ndarray:
         if bodies.shape[0] < 2:
             return np.empty((0, 2), np.int64)
         rows = find_pairs(store.lo[bodies], store.hi[bodies], self.method)
@@ -88,7 +110,7 @@ class SAPBroadPhase:
                 self.slot_of[body] = slot
         self.pending = []
 
-    def candidates(self, store, bodies: np.ndarray) -> np.ndarray:
+    def candidates(self, store, bodies: np.ndarray, escaped: np.ndarray) -> np.ndarray:
         if self.pending:
             self._insert_pending(store, bodies)
         slots = self.sap.ids()
@@ -112,17 +134,8 @@ class TreeBroadPhase:
         self.rebuilds = 0
         self.removed: list[int] = []  # bodies removed since the last query: their cached pairs are dropped then
 
-    @staticmethod
-    def _fatten(store, bodies) -> None:
-        grow = FAT_MARGIN * (store.hi[bodies] - store.lo[bodies]).max(axis=1, keepdims=True)
-        store.fat_lo[bodies] = store.lo[bodies] - grow
-        store.fat_hi[bodies] = store.hi[bodies] + grow
-        store.escaped[bodies] = False
-
     def add(self, store, body: int) -> None:
-        """Nothing until the next query: the body's fat box is empty, so the upload flags it as escaped."""
-        store.fat_lo[body], store.fat_hi[body] = np.inf, -np.inf
-        store.escaped[body] = True
+        """Nothing until the next query: the world gives the body an empty fat box, so it counts as escaped."""
 
     def remove(self, store, body: int) -> None:
         leaf = self.leaf_of.pop(body, None)
@@ -135,9 +148,7 @@ class TreeBroadPhase:
         """Drop the cached pairs of the bodies removed since the last query (one pass for all of them; an id
         reused by a body added since is dropped too, and that body, escaped, is queried afresh)."""
         if self.cached is not None:
-            gone = np.zeros(store.capacity, np.bool_)
-            gone[self.removed] = True
-            self.cached = self.cached[~(gone[self.cached[:, 0]] | gone[self.cached[:, 1]])]
+            self.cached = _drop_rows_of(self.cached, self.removed, store.capacity)
         self.removed = []
 
     def _rebuild(self, store, bodies) -> None:
@@ -172,12 +183,11 @@ class TreeBroadPhase:
         # the kept rows involve no escaped body, the found ones all do: only the found ones can repeat
         self.cached = np.concatenate([cached[keep], _canonical(np.concatenate(found))])
 
-    def candidates(self, store, bodies: np.ndarray) -> np.ndarray:
+    def candidates(self, store, bodies: np.ndarray, escaped: np.ndarray) -> np.ndarray:
+        """``escaped``: the bodies given new fat boxes since the last query (``fatten``)."""
         if self.removed:
             self._drop_removed(store)
-        escaped = bodies[store.escaped[bodies]]
         if escaped.shape[0]:
-            self._fatten(store, escaped)
             if escaped.shape[0] > self.rebuild_threshold or self.cached is None:
                 self._rebuild(store, bodies)
                 self.cached = None
@@ -186,6 +196,64 @@ class TreeBroadPhase:
         if self.cached is None:
             self.cached = _canonical(self.body_of[self.tree.pairs()]) if bodies.shape[0] > 1 else \
                 np.empty((0, 2), np.int64)
+        return self.cached
+
+
+class StaticPairs:
+    """The candidate pairs of the moving bodies against the static ones (see the module docstring): a
+    ``DynamicAABBTree`` of the static bodies' AABBs, and the cached pairs (moving id, static id) canonicalised."""
+
+    def __init__(self):
+        self.static: set[int] = set()
+        self.tree: DynamicAABBTree | None = None
+        self.static_of = np.empty(0, np.int64)  # tree object -> static body id
+        self.cached: np.ndarray | None = None
+        self.removed: list[int] = []  # moving bodies removed since the last query
+        self.dirty = False
+
+    def add(self, body: int) -> None:
+        self.static.add(body)
+        self.dirty = True
+
+    def remove(self, store, body: int) -> None:
+        """A body leaves the world: a static one changes the static set, a moving one loses its cached pairs."""
+        if body in self.static:
+            self.static.discard(body)
+            self.dirty = True
+        else:
+            self.removed.append(body)
+
+    def _build(self, store) -> None:
+        self.static_of = np.array(sorted(self.static), np.int64)
+        self.tree = (DynamicAABBTree.from_boxes(store.lo[self.static_of], store.hi[self.static_of], margin=0.0)
+                     if self.static_of.size else None)
+        self.dirty = False
+
+    def query(self, store, bodies, lo, hi) -> np.ndarray:
+        """Canonical pairs (body, static body) whose boxes overlap, for ``bodies`` (m,) with the boxes ``lo``,
+        ``hi`` (m, 3); uncached."""
+        if self.dirty:
+            self._build(store)
+        if self.tree is None or bodies.shape[0] == 0:
+            return np.empty((0, 2), np.int64)
+        found = self.tree.query_boxes(lo, hi)
+        a, b = bodies[found[:, 0]], self.static_of[found[:, 1]]
+        return np.stack([np.minimum(a, b), np.maximum(a, b)], axis=1)
+
+    def candidates(self, store, bodies: np.ndarray, escaped: np.ndarray) -> np.ndarray:
+        """The pairs of the moving ``bodies`` with the static ones, through their fat boxes; ``escaped``: the bodies
+        given new fat boxes since the last query, whose pairs are found again."""
+        if self.dirty or self.cached is None:
+            self.removed = []
+            self.cached = self.query(store, bodies, store.fat_lo[bodies], store.fat_hi[bodies])
+            return self.cached
+        if self.removed:
+            self.cached = _drop_rows_of(self.cached, self.removed, store.capacity)
+            self.removed = []
+        if escaped.shape[0]:
+            kept = _drop_rows_of(self.cached, escaped, store.capacity)
+            self.cached = np.concatenate([kept, self.query(store, escaped, store.fat_lo[escaped],
+                                                           store.fat_hi[escaped])])
         return self.cached
 
 

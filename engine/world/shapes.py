@@ -1,4 +1,5 @@
-"""The shapes a ``World`` holds: four convex bodies and two grounds.
+"""The shapes a ``World`` holds: four convex bodies, compounds of them, and two grounds — each class with its
+kind's registry entry (engine/world/kinds.py), declared once here.
 
 Every body is stored the same way: a pose (``center`` (3,), ``rotation`` (3, 3)) and a convex *core* given by
 local points (m, 3) — world = center + rotation @ local — swept by a ball of ``radius`` (Ericson 4.5, "sphere
@@ -14,8 +15,15 @@ An unnormalised quaternion is rejected (ValueError naming ``rotation`` and the e
 normalised: a quaternion of norm 2 is almost always a bug in the caller's integrator. Note that ``engine.OBB``
 stores the axes as ROWS: ``OBB(c, rotation.T, half)``.
 
+A ``Compound`` is one rigid body made of convex parts (each a shape above at a pose in the compound's frame),
+such as the pieces of a convex decomposition (``Compound.from_mesh``).
+
 Grounds fill the half-space below a height, the chapter's "sol plat" (``Plane(altitude)``: y <= a) and "Sol
-courbe" (``HeightCurve(f)``: y <= f(x), extruded along z). They never move and do not enter the broad phase.
+courbe" (``HeightCurve(f)``: y <= f(x), extruded along z). They are static (they never move) and unbounded: they
+do not enter the broad phase, their own candidate test picks the bodies that may touch them.
+
+Every class also gives ``example()``, a small instance (the warm-up compiles the dispatch rows with it), and
+``random(rng, center, size)``, a random instance about ``center`` of about ``size`` (the tests' strategies).
 """
 from __future__ import annotations
 
@@ -23,14 +31,37 @@ import numpy as np
 
 from engine._validate import as_float, as_float_array, as_half_extents, as_positive, check_callable
 from engine.bounding.aabb import ROTATION_TOL, as_rotation_matrix
+from engine.bounding.decompose import decompose_mesh
 from engine.bounding.hull import convex_hull
+from engine.narrowphase.curve_ground import curve_candidates
 
-__all__ = ["Shape", "Sphere", "Box", "Capsule", "ConvexPolyhedron", "Plane", "HeightCurve",
-           "as_rotation_matrix", "as_rotation", "SPHERE", "BOX", "CAPSULE", "HULL", "PLANE", "CURVE", "KIND_NAMES"]
+from .kinds import ShapeKind, register_kind
 
-# shape kinds: the row and column labels of the dispatch table (engine/world/dispatch.py)
-SPHERE, BOX, CAPSULE, HULL, PLANE, CURVE = range(6)
-KIND_NAMES = ("sphere", "box", "capsule", "hull", "plane", "curve")
+__all__ = ["Shape", "Sphere", "Box", "Capsule", "ConvexPolyhedron", "Compound", "Plane", "HeightCurve",
+           "as_rotation", "as_rotation_batch", "QUATERNION_ORDER", "SPHERE", "BOX", "CAPSULE", "HULL", "COMPOUND",
+           "PLANE", "CURVE"]
+
+#: the quaternion convention of every rotation argument, as the error messages say it
+QUATERNION_ORDER = "(w, x, y, z)"
+
+_CORNER_SIGNS = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)], dtype=float)
+
+
+def _plane_candidates(plane, lo, hi) -> np.ndarray:
+    # the contact kernel computes (altitude - centre) + radius, whose round-off can reach 0 where lo = centre -
+    # radius is a few ulps above the plane: the candidates take that round-off in, the kernel decides
+    slack = 4.0 * np.finfo(float).eps * (abs(plane.altitude) + np.abs(lo[:, 1]) + (hi[:, 1] - lo[:, 1]))
+    return lo[:, 1] <= plane.altitude + slack
+
+
+# the registry entries, in code order (the dispatch tables' rows and columns)
+SPHERE = register_kind("sphere")
+BOX = register_kind("box")
+CAPSULE = register_kind("capsule")
+HULL = register_kind("hull")
+COMPOUND = register_kind("compound", convex=False, composite=True)
+PLANE = register_kind("plane", bounded=False, static_only=True, convex=False, candidates=_plane_candidates)
+CURVE = register_kind("curve", bounded=False, static_only=True, convex=False, candidates=curve_candidates)
 
 def as_rotation(rotation, name: str = "rotation") -> np.ndarray:
     """A proper rotation matrix (3, 3) (columns = the body's axes) from None (identity), a 3x3 matrix, a unit
@@ -43,13 +74,54 @@ def as_rotation(rotation, name: str = "rotation") -> np.ndarray:
         q = as_float_array(rotation, name, shape=(4,))
         norm = float(np.sqrt(q @ q))
         if abs(norm - 1.0) > ROTATION_TOL:
-            raise ValueError(f"{name} must be a unit quaternion in (w, x, y, z) order, got |q| = {norm!r} "
+            raise ValueError(f"{name} must be a unit quaternion in {QUATERNION_ORDER} order, got |q| = {norm!r} "
                              f"(normalise it first)")
     return as_rotation_matrix(rotation, name)
 
 
+def as_rotation_batch(rotations, k: int, name: str = "rotations"):
+    """``(mode, array)``: mode 1 with (k, 3, 3) proper rotation matrices, or mode 2 with (k, 4) unit quaternions
+    (w, x, y, z); from matrices, quaternions or a scipy Rotation of length k (see the module docstring).
+    ValueError naming ``name`` and the first bad index."""
+    if hasattr(rotations, "as_matrix") and not isinstance(rotations, np.ndarray):  # scipy Rotation
+        mats = np.asarray(rotations.as_matrix(), dtype=float)
+        rotations = mats.reshape(1, 3, 3) if mats.shape == (3, 3) else mats
+    r = as_float_array(rotations, name, ndim=None)
+    if r.shape == (k, 4):
+        err = np.abs(np.sqrt((r * r).sum(axis=1)) - 1.0)
+        bad = np.flatnonzero(~(err <= ROTATION_TOL))
+        if bad.size:
+            q = r[bad[0]]
+            raise ValueError(f"{name}[{bad[0]}] must be a unit quaternion in {QUATERNION_ORDER} order, got |q| = "
+                             f"{float(np.sqrt(q @ q))!r} (normalise it first)")
+        return 2, r
+    if r.shape == (k, 3, 3):
+        gram = np.einsum("kji,kjl->kil", r, r) - np.eye(3)
+        err = np.abs(gram).max(axis=(1, 2)) if k else np.zeros(0)
+        bad = np.flatnonzero(~(err <= ROTATION_TOL))
+        if bad.size:
+            raise ValueError(f"{name}[{bad[0]}] must be an orthonormal matrix (columns = the body axes): max "
+                             f"|R^T R - I| = {err[bad[0]]:.3g}")
+        det = np.linalg.det(r) if k else np.zeros(0)
+        bad = np.flatnonzero(det < 0)
+        if bad.size:
+            raise ValueError(f"{name}[{bad[0]}] must be a proper rotation (det = -1: a reflection)")
+        return 1, r
+    raise ValueError(f"{name} must have shape ({k}, 3, 3) (rotation matrices, columns = the body axes) or "
+                     f"({k}, 4) (unit quaternions in {QUATERNION_ORDER} order), or be a scipy Rotation of length "
+                     f"{k}; got shape {r.shape}")
+
+
 def _vec3(value, name):
     return as_float_array(value, name, shape=(3,))
+
+
+def _random_rotation(rng) -> np.ndarray:
+    q = rng.normal(size=4)
+    w, x, y, z = q / np.linalg.norm(q)
+    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+                     [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+                     [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])
 
 
 class Shape:
@@ -60,8 +132,9 @@ class Shape:
 
     Attributes
     ----------
-    kind : int
-        The shape's row and column in the dispatch tables (``KIND_NAMES[kind]`` is its name).
+    kind : engine.world.kinds.ShapeKind
+        The shape's registry entry: ``kind.name`` ("sphere", ...) and ``kind.code``, its row and column in the
+        dispatch tables.
     center : numpy.ndarray, shape (3,), float64
         The pose's position.
     rotation : numpy.ndarray, shape (3, 3), float64
@@ -70,10 +143,13 @@ class Shape:
         The core's points in the body frame.
     radius : float
         The radius of the ball that sweeps the core, >= 0 (0 for a polyhedron).
+    half : numpy.ndarray, shape (3,), float64
+        A box's half extents (zeros for the other kinds).
     """
 
-    kind: int = -1
+    kind: ShapeKind  # each class sets its own entry
     radius: float = 0.0
+    half: np.ndarray = np.zeros(3)
     center: np.ndarray
     rotation: np.ndarray
     local: np.ndarray
@@ -87,6 +163,17 @@ class Shape:
             ``center + local @ rotation.T``, a new array.
         """
         return self.center + self.local @ self.rotation.T
+
+    @classmethod
+    def example(cls) -> Shape:
+        """A small instance near the origin (what the warm-up compiles each dispatch row with)."""
+        return cls.random(np.random.default_rng(0), np.zeros(3), 1.0)
+
+    @classmethod
+    def random(cls, rng, center, size) -> Shape:
+        """A random instance about ``center`` (3,) of about ``size`` (> 0), drawn from ``rng`` (a numpy
+        Generator): the tests' strategies build every kind through this."""
+        raise NotImplementedError(f"{cls.__name__} has no random instances")
 
     def __repr__(self) -> str:
         return f"{type(self).__name__}(center={self.center.tolist()}, radius={self.radius})"
@@ -115,6 +202,10 @@ class Sphere(Shape):
         self.radius = as_positive(radius, "radius")
         self.rotation = np.eye(3)
         self.local = np.zeros((1, 3))
+
+    @classmethod
+    def random(cls, rng, center, size) -> Sphere:
+        return cls(center, size * rng.uniform(0.3, 1.0))
 
 
 class Box(Shape):
@@ -147,10 +238,13 @@ class Box(Shape):
     def __init__(self, center, half_extents, rotation=None):
         self.center = _vec3(center, "center")
         half = as_half_extents(half_extents, "half_extents")
-        self.half_extents = half
+        self.half_extents = self.half = half
         self.rotation = as_rotation(rotation)
-        signs = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)], dtype=float)
-        self.local = signs * half
+        self.local = _CORNER_SIGNS * half
+
+    @classmethod
+    def random(cls, rng, center, size) -> Box:
+        return cls(center, size * rng.uniform(0.3, 1.0, 3), _random_rotation(rng))
 
 
 class Capsule(Shape):
@@ -181,6 +275,11 @@ class Capsule(Shape):
         self.center = 0.5 * (a + b)
         self.rotation = np.eye(3)
         self.local = np.stack([a - self.center, b - self.center])
+
+    @classmethod
+    def random(cls, rng, center, size) -> Capsule:
+        half = rng.uniform(-1.0, 1.0, 3) * size
+        return cls(center - half, center + half, size * rng.uniform(0.2, 0.5))
 
 
 class ConvexPolyhedron(Shape):
@@ -215,10 +314,126 @@ class ConvexPolyhedron(Shape):
         self.rotation = np.eye(3)
         self.local = verts - self.center
 
+    @classmethod
+    def random(cls, rng, center, size) -> ConvexPolyhedron:
+        return cls(center + rng.normal(size=(int(rng.integers(4, 21)), 3)) * size * 0.7)
+
+
+class Compound(Shape):
+    """One rigid body made of convex parts: each part a ``Sphere``, ``Box``, ``Capsule`` or ``ConvexPolyhedron``
+    placed at ``positions[k]`` with ``rotations[k]`` in the compound's frame (Box2D's shapes of one body, Bullet's
+    ``btCompoundShape``, MuJoCo's geoms of one body).
+
+    Only each part's geometry is used (its core, radius and half extents); the pose it was built with is replaced
+    by its place in the compound. The compound's own pose starts at ``center`` with ``rotation``; ``World.move``
+    and ``World.update`` move it as one body, every part with it. Its contacts name the part that touches
+    (``ContactSet.part_a``, ``part_b``); a concave object is the union of the convex pieces of its decomposition
+    (``Compound.from_mesh``).
+
+    Parameters
+    ----------
+    shapes : sequence of Shape
+        The parts, at least one, each of a convex kind (not a compound, not a ground).
+    positions : array_like, shape (n, 3)
+        Each part's centre in the compound's frame, finite.
+    rotations : array_like or scipy.spatial.transform.Rotation, optional
+        Each part's rotation in the compound's frame: (n, 3, 3) matrices (columns = the part's axes), (n, 4) unit
+        quaternions (w, x, y, z) or a scipy Rotation of length n; default: the rotation each part was built with.
+    center : array_like, shape (3,), optional
+        The compound's position (default the origin).
+    rotation : array_like or scipy.spatial.transform.Rotation, optional
+        The compound's rotation (default the identity).
+
+    Attributes
+    ----------
+    parts : tuple of (Shape, numpy.ndarray (3,), numpy.ndarray (3, 3))
+        Each part with its centre and rotation in the compound's frame.
+
+    Raises
+    ------
+    TypeError
+        For ``shapes`` that is not a sequence of engine shapes, or a part of a kind that cannot be one (named
+        ``shapes[k]``).
+    ValueError
+        For no part, positions or rotations of the wrong shape or not finite, a non-unit quaternion or an improper
+        matrix (named ``positions`` / ``rotations`` with the index).
+    """
+
+    kind = COMPOUND
+
+    def __init__(self, shapes, positions, rotations=None, *, center=None, rotation=None):
+        if isinstance(shapes, Shape) or not isinstance(shapes, list | tuple):
+            raise TypeError(f"shapes must be a list or tuple of shapes, got {type(shapes).__name__}")
+        if not shapes:
+            raise ValueError("shapes must hold at least one part")
+        for k, part in enumerate(shapes):
+            if not isinstance(part, Shape):
+                raise TypeError(f"shapes[{k}] must be an engine shape, got {type(part).__name__}")
+            if not part.kind.convex:
+                raise TypeError(f"shapes[{k}] is a {part.kind.name}: the parts of a compound are convex shapes "
+                                f"(sphere, box, capsule, hull)")
+        n = len(shapes)
+        pos = as_float_array(positions, "positions", shape=(n, 3))
+        if rotations is None:
+            rot = np.stack([part.rotation for part in shapes])
+        else:
+            mode, given = as_rotation_batch(rotations, n)
+            rot = given if mode == 1 else np.stack([as_rotation(q, f"rotations[{k}]") for k, q in enumerate(given)])
+        self.center = np.zeros(3) if center is None else _vec3(center, "center")
+        self.rotation = as_rotation(rotation)
+        self.local = np.zeros((1, 3))
+        self.parts = tuple((part, pos[k].copy(), np.array(rot[k], dtype=float)) for k, part in enumerate(shapes))
+
+    @classmethod
+    def from_mesh(cls, vertices, triangles, *, threshold: float = 0.05, seed: int = 0, **options) -> Compound:
+        """The compound of the convex pieces of a (concave) triangle mesh, by the engine's convex decomposition
+        (``engine.bounding.decompose_mesh``, through the optional ``coacd`` package).
+
+        Parameters
+        ----------
+        vertices : array_like, shape (n, 3)
+            The mesh's vertices, in the compound's frame.
+        triangles : array_like of int, shape (m, 3)
+            Its triangles (vertex indices).
+        threshold, seed, **options
+            Passed on to ``decompose_mesh`` (lower ``threshold``: more, finer pieces).
+
+        Returns
+        -------
+        Compound
+            One ``ConvexPolyhedron`` part per piece, at the origin with the identity rotation.
+
+        Raises
+        ------
+        ImportError
+            When coacd is not installed (``pip install "colldet[decompose]"``).
+        ValueError
+            For a bad mesh (see ``decompose_mesh``), or a piece that spans no volume (named with its index).
+        """
+        pieces = decompose_mesh(vertices, triangles, threshold=threshold, seed=seed, **options)
+        parts = []
+        for k, (points, _) in enumerate(pieces):
+            try:
+                parts.append(ConvexPolyhedron(points))
+            except ValueError as exc:
+                raise ValueError(f"piece {k} of the decomposition is not a solid: {exc}") from None
+        return cls(parts, np.array([part.center for part in parts]))
+
+    @classmethod
+    def random(cls, rng, center, size) -> Compound:
+        kinds = (Sphere, Box, Capsule, ConvexPolyhedron)
+        n = int(rng.integers(1, 4))
+        parts = [kinds[int(rng.integers(len(kinds)))].random(rng, np.zeros(3), 0.6 * size) for _ in range(n)]
+        return cls(parts, rng.uniform(-size, size, (n, 3)), center=center, rotation=_random_rotation(rng))
+
+    def __repr__(self) -> str:
+        return f"Compound({len(self.parts)} parts, center={self.center.tolist()})"
+
 
 class Plane(Shape):
-    """The flat ground, solid below y = altitude (slide "sol plat"); it never moves and takes no part in the broad
-    phase.
+    """The flat ground, solid below y = altitude (slide "sol plat"); static, and found by its own candidate test
+    instead of the broad phase. Its pose is the point (0, altitude, 0) of its surface, its outward normal the
+    rotation's second column (+y).
 
     Parameters
     ----------
@@ -235,6 +450,13 @@ class Plane(Shape):
 
     def __init__(self, altitude=0.0):
         self.altitude = as_float(altitude, "altitude")
+        self.center = np.array([0.0, self.altitude, 0.0])
+        self.rotation = np.eye(3)
+        self.local = np.zeros((1, 3))
+
+    @classmethod
+    def random(cls, rng, center, size) -> Plane:
+        return cls(float(center[1]))
 
     def height(self, x) -> np.ndarray:
         """The ground's height at x: the altitude everywhere.
@@ -256,10 +478,10 @@ class Plane(Shape):
 
 
 class HeightCurve(Shape):
-    """The curved ground, solid below y = f(x) (slide "Sol courbe"), extruded along z; it never moves.
+    """The curved ground, solid below y = f(x) (slide "Sol courbe"), extruded along z; static.
 
     The narrow test samples each body's lower boundary at ``samples`` abscissae and refines the lowest gap by
-    golden-section search (``engine.world.dispatch.ground_gap``).
+    golden-section search (``engine.narrowphase.curve_ground.ground_gap``).
 
     Parameters
     ----------
@@ -294,6 +516,17 @@ class HeightCurve(Shape):
             raise ValueError(f"f must be vectorised (array in, same-shape array out), got shape {probe.shape}")
         self.f = f
         self.samples = int(samples)
+        self.center = np.zeros(3)
+        self.rotation = np.eye(3)
+        self.local = np.zeros((1, 3))
+
+    @classmethod
+    def random(cls, rng, center, size) -> HeightCurve:
+        level, amplitude, wavenumber = float(center[1]), size * rng.uniform(0.1, 1.0), rng.uniform(0.3, 2.0)
+
+        def wave(x):
+            return level + amplitude * np.sin(wavenumber * x)
+        return cls(wave)
 
     def height(self, x) -> np.ndarray:
         """The ground's height f(x), checked.

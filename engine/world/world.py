@@ -1,10 +1,13 @@
-"""``World``: the chapter's collision pipeline over bodies of mixed shapes, one compiled frame.
+"""``World``: the chapter's collision pipeline over bodies of mixed shapes, as a game declares them.
 
 Slide "Pipeline de détection de collisions": pose upload → broad phase (bounding boxes; one of
-engine.BROAD_PHASES, by default the dynamic AABB tree of fat boxes, Box2D's ``b2DynamicTree``) → the exact test
-of every candidate pair through the dispatch tables (engine/world/dispatch.py: shape kind × shape kind → kernel)
-→ "l'instant et le lieu précis (vertex, côtés, faces)": ``contacts()`` (where) and ``time_of_impact(dt)``
-(when: "Méthode cinématique" culling of separating pairs, then the impact kernels).
+engine.BROAD_PHASES for the moving bodies, by default the dynamic AABB tree of fat boxes, Box2D's
+``b2DynamicTree``; a tree of its own for the static level geometry, engine/world/broad.py) → the collision
+filter (engine/world/filters.py) → the exact test of every remaining pair through the dispatch table
+(engine/world/dispatch.py, rows in engine/world/rows.py: shape kind × shape kind → kernel) → "l'instant et le lieu
+précis (vertex, côtés, faces)": ``contacts()`` (where) and ``time_of_impact(dt)`` (when: "Méthode cinématique"
+culling of separating pairs, then the impact kernels). ``events()`` reports the pairs that began and ended
+touching.
 
 A frame::
 
@@ -19,59 +22,44 @@ stage). Contacts carry per-point feature ids and whether each point persists fro
 """
 from __future__ import annotations
 
+import itertools
 import time
-from dataclasses import dataclass, field
-from typing import cast
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
 from engine._validate import as_choice, as_float_array, as_nonnegative
 from engine.broadphase import BROAD_PHASES, cull_separating_box_pairs, find_pairs
-from engine.narrowphase import time_of_impact_pairs
 from engine.narrowphase.contacts import (
-    DEFERRED,
     FEATURE_NAMES,
     TOUCHING,
     ContactSet,
-    contact_rows,
     contact_set_from_rows,
     kernel_scratch,
     mark_persisting,
 )
 
-from .bodies import BodyArrays, BodyStore, as_rotation_batch, refresh_bodies
-from .broad import make_broad_phase
-from .convex import pack_cores
-from .curve import curve_impact_times
-from .dispatch import (
-    ADVANCEMENT,
-    CONTACT_TABLE,
-    CURVE_TOI,
-    DEFERRED_ROWS,
-    GROUND_CANDIDATES,
-    IMPACT_TABLE,
-    OVERLAP_TABLE,
-    answer_pairs,
-    impact_pairs,
-    overlapping_boxes,
-    table_array,
-)
-from .shapes import BOX, KIND_NAMES, PLANE, Box, Shape, as_rotation
+from .bodies import BodyArrays, BodyStore, refresh_bodies
+from .broad import StaticPairs, fatten, make_broad_phase
+from .dispatch import NarrowContext, answer
+from .filters import ALL, Exclusions, as_bits, as_group, pairs_passing
+from .kinds import KINDS
+from .rows import TABLE
+from .shapes import Shape, as_rotation, as_rotation_batch
 
 __all__ = ["World", "ContactSet", "ImpactSet", "WorldStats", "FEATURE_NAMES"]
 
-_TABLES = {"overlap": table_array(OVERLAP_TABLE), "contact": table_array(CONTACT_TABLE),
-           "impact": table_array(IMPACT_TABLE)}
 # empty stand-ins for the optional arrays of the upload kernel (one compiled signature for every call)
 _NO_VECTORS = np.empty((0, 3))
 _NO_MATRICES = np.empty((0, 3, 3))
 _NO_QUATERNIONS = np.empty((0, 4))
+_NO_PAIRS = np.empty((0, 2), np.int64)
+#: bits of a part number in the keys that tell the parts of one compound apart (contact persistence)
+_PART_BITS = 20
 
 
-def _touching_in_order(cand, rows) -> np.ndarray:
-    """The rows of the touching candidates, in lexicographic order of their pairs (canonical output)."""
-    sel = np.flatnonzero(rows.status == TOUCHING)
-    return sel[np.lexsort((cand[sel, 1], cand[sel, 0]))]
+def _canonical_order(pairs: np.ndarray) -> np.ndarray:
+    return np.lexsort((pairs[:, 1], pairs[:, 0]))
 
 
 @dataclass(frozen=True)
@@ -102,17 +90,23 @@ class WorldStats:
     Attributes
     ----------
     query : str
-        "pairs", "contacts" or "time_of_impact".
+        "pairs", "contacts", "time_of_impact" or "events".
     bodies : int
-        Live bodies (grounds excluded).
+        Live moving bodies (static bodies and grounds excluded).
     candidate_pairs : int
-        Pairs the broad phase returned, bodies and grounds.
+        Pairs the broad phase returned: moving bodies among themselves, against the static bodies and against
+        the grounds.
+    static_pairs : int
+        Those of them with a static body or a ground.
+    filtered : int
+        Candidates the filter dropped before the narrow phase (category / mask / group, excluded pairs, two
+        sensors; for ``contacts`` and ``time_of_impact`` every pair with a sensor).
     culled : int
         Candidates dropped by the kinematic culling (pairs apart and moving apart; ``time_of_impact`` only).
     narrow_tests : int
-        Candidates whose boxes overlap, tested exactly.
+        Pairs tested exactly (a compound's: pairs of its parts whose boxes overlap).
     overlapping : int
-        Pairs that touch.
+        Pairs that touch (``contacts``: pairs of parts).
     contacts, persisting : int
         Contact points, and those that persist from the previous ``contacts()``.
     impacts : int
@@ -127,6 +121,8 @@ class WorldStats:
     query: str = ""
     bodies: int = 0
     candidate_pairs: int = 0
+    static_pairs: int = 0
+    filtered: int = 0
     culled: int = 0
     narrow_tests: int = 0
     overlapping: int = 0
@@ -147,19 +143,37 @@ class WorldStats:
         return dict(self.__dict__)
 
 
-class World:
-    """A collision world: bodies of mixed shapes, and the chapter's pipeline over them.
+def _flag(value, name: str) -> bool:
+    if not isinstance(value, bool | np.bool_):
+        raise TypeError(f"{name} must be a bool, got {type(value).__name__}")
+    return bool(value)
 
-    Each query runs broad phase (bounding boxes kept across frames; by default the dynamic AABB tree of fat boxes)
-    → the exact test of every candidate pair through the dispatch tables (shape kind × shape kind → kernel) →
-    ``contacts()`` (where) or ``time_of_impact(dt)`` (when). Bodies are added once (``add``), then moved a batch at a
-    time (``update``) or one by one (``move``). Ids are ints, reused after ``remove``; grounds (``Plane``,
-    ``HeightCurve``) take ids too but cannot move. World is y-up.
+
+def _groups(counts) -> dict:
+    return {f"{KINDS[a].name}-{KINDS[b].name}": int(counts[a, b]) for a, b in zip(*counts.nonzero())}
+
+
+class World:
+    """A collision world: bodies of mixed shapes, as a game declares them, and the chapter's pipeline over them.
+
+    Each query runs broad phase (bounding boxes kept across frames; by default the dynamic AABB tree of fat boxes,
+    and a tree of its own for the static bodies) → the collision filter → the exact test of every remaining pair
+    through the dispatch table (shape kind × shape kind → kernel) → ``pairs()`` (whether), ``contacts()`` (where)
+    or ``time_of_impact(dt)`` (when); ``events()`` says which pairs began and ended touching. Bodies are added
+    once (``add``: moving or static, with a collision filter, as sensors), then moved a batch at a time
+    (``update``) or one by one (``move``). Ids are ints, reused after ``remove``; grounds (``Plane``,
+    ``HeightCurve``) take ids too, are static and cannot move. World is y-up.
+
+    Filtering (Box2D's ``b2Filter``): a pair is tested iff ``category_i & mask_j`` and ``category_j & mask_i`` are
+    both non-zero, except that ``group_i == group_j != 0`` decides alone (> 0 always, < 0 never); a pair excluded
+    by ``exclude(i, j)`` is never tested, whatever the groups; two static bodies are never paired. A sensor is
+    reported by ``pairs()`` and ``events()``, never by ``contacts()`` or ``time_of_impact``, and two sensors never
+    report each other. A filtered pair never reaches the narrow phase (``stats.filtered`` counts them).
 
     Parameters
     ----------
     broad_phase : str, default "tree"
-        A name of ``engine.BROAD_PHASES``.
+        A name of ``engine.BROAD_PHASES``: the broad phase of the moving bodies.
 
     Attributes
     ----------
@@ -180,7 +194,7 @@ class World:
     >>> from engine import Box, Sphere, World
     >>> world = World()
     >>> ball = world.add(Sphere([0.0, 1.0, 0.0], 0.5))
-    >>> table = world.add(Box([0.0, 0.0, 0.0], [1.0, 0.6, 1.0]))
+    >>> table = world.add(Box([0.0, 0.0, 0.0], [1.0, 0.6, 1.0]), static=True)
     >>> world.pairs()
     array([[0, 1]])
     >>> contacts = world.contacts()
@@ -194,10 +208,15 @@ class World:
     def __init__(self, broad_phase: str = "tree"):
         self.broad_phase = as_choice(broad_phase, "broad_phase", BROAD_PHASES)
         self._store = BodyStore()
-        self._shapes: dict = {}
-        self._grounds: dict = {}
+        self._shapes: dict[int, Shape] = {}
+        self._grounds: dict[int, Shape] = {}  # the unbounded static shapes, found by their own candidate test
         self._broad = make_broad_phase(self.broad_phase)
-        self._previous = (np.empty((0, 2), np.int64), np.empty(0, np.int64))
+        self._static = StaticPairs()
+        self._exclusions = Exclusions()
+        self._stamps = itertools.count(1)
+        self._stamp = np.zeros(16, np.int64)  # per id: which add() it came from (events tell bodies apart)
+        self._previous = (_NO_PAIRS, np.empty(0, np.int64))
+        self._touching = (_NO_PAIRS, np.empty(0, np.int64))
         self._upload_seconds = 0.0
         self.stats = WorldStats()
 
@@ -213,59 +232,88 @@ class World:
             self._broad.rebuild_threshold = int(value)
 
     # -- bodies --------------------------------------------------------------------------------------------
-    def add(self, shape, velocity=None) -> int:
-        """Add a shape; returns its id.
+    def add(self, shape, velocity=None, *, static=False, category=1, mask=ALL, group=0, sensor=False) -> int:
+        """Add a shape as a body; returns its id.
 
         Parameters
         ----------
         shape : Shape
-            A ``Sphere``, ``Box``, ``Capsule``, ``ConvexPolyhedron``, ``Plane`` or ``HeightCurve``; its pose as built.
+            A ``Sphere``, ``Box``, ``Capsule``, ``ConvexPolyhedron``, ``Compound``, ``Plane`` or ``HeightCurve``;
+            its pose as built.
         velocity : array_like, shape (3,), optional
-            Its constant velocity for ``time_of_impact``; default zero (ignored for grounds).
+            Its constant velocity for ``time_of_impact``; default zero (a static body's must be zero).
+        static : bool, default False
+            Level geometry: it never moves (``move`` / ``update`` refuse it), is kept in a broad-phase tree of its
+            own, and is never paired with another static body. Grounds are always static.
+        category, mask : int, default 1 and ``engine.ALL``
+            Its collision categories and the categories it collides with: 64-bit sets (ints in [0, 2^64)).
+        group : int, default 0
+            Its collision group (a signed 64-bit int): two bodies of one non-zero group always collide (> 0) or
+            never (< 0), whatever their categories and masks.
+        sensor : bool, default False
+            A trigger: reported by ``pairs()`` and ``events()``, never by ``contacts()`` or ``time_of_impact``.
 
         Returns
         -------
         int
-            The new id (the smallest free one).
+            The new id (the smallest free one; a compound's parts take the next free rows of the store).
 
         Raises
         ------
         TypeError
-            When ``shape`` is not an engine shape.
+            When ``shape`` is not an engine shape; a ``static`` or ``sensor`` that is not a bool; a float or
+            non-integer ``category``, ``mask`` or ``group``.
         ValueError
-            For a velocity not of shape (3,) or not finite.
+            For a velocity not of shape (3,) or not finite, a non-zero velocity of a static body, a negative
+            ``category`` or ``mask`` or one beyond 64 bits; the world is then unchanged.
         """
         if not isinstance(shape, Shape):
             raise TypeError(f"shape must be an engine shape (Sphere, Box, ...), got {type(shape).__name__}")
         vel = np.zeros(3) if velocity is None else as_float_array(velocity, "velocity", shape=(3,))
-        ground = shape.kind >= PLANE
+        static = _flag(static, "static") or shape.kind.static_only
+        sensor = _flag(sensor, "sensor")
+        bits = (as_bits(category, "category"), as_bits(mask, "mask"), as_group(group))
+        if static and vel.any():
+            raise ValueError(f"velocity must be zero for a static body, got {vel.tolist()}")
+        body = self._new_body(shape)
         st = self._store
-        body = st.new_id(1 if ground else shape.local.shape[0])
-        st.kind[body] = shape.kind
-        self._shapes[body] = shape
-        if ground:
-            self._grounds[body] = shape
-            st.center[body] = (0.0, getattr(shape, "altitude", 0.0), 0.0)
-            st.rotation[body] = np.eye(3)
-            st.velocity[body] = st.radius[body] = st.half[body] = 0.0
-            st.count[body] = 1
-            st.local[body] = st.points[body] = 0.0
-            st.lo[body] = -np.inf
-            st.hi[body] = (np.inf, st.center[body, 1] if shape.kind == PLANE else np.inf, np.inf)
-            return body
-        m = shape.local.shape[0]
-        st.radius[body] = shape.radius
-        st.half[body] = cast(Box, shape).half_extents if shape.kind == BOX else 0.0
-        st.count[body] = m
-        st.local[body, :m] = shape.local
-        st.local[body, m:] = shape.local[0]
-        self._broad.add(st, body)
+        st.static[body], st.sensor[body] = static, sensor
+        st.category[body], st.mask[body], st.group[body] = bits
+        st.fat_lo[body], st.fat_hi[body] = np.inf, -np.inf  # no fat box yet: the upload flags it escaped
         refresh_bodies(st.view(), np.array([body]), shape.center[None], 1,
                        np.ascontiguousarray(shape.rotation, dtype=np.float64)[None], _NO_QUATERNIONS, vel[None])
+        if not shape.kind.bounded:
+            self._grounds[body] = shape
+        elif static:
+            self._static.add(body)
+        else:
+            self._broad.add(st, body)
+        return body
+
+    def _new_body(self, shape) -> int:
+        """A store row for the shape (and rows for a compound's parts, linked to it), with a new stamp."""
+        st = self._store
+        body = st.new_id(shape.local.shape[0])
+        st.write_shape(body, shape)
+        last = -1
+        for k, (part, position, rotation) in enumerate(getattr(shape, "parts", ())):
+            row = st.new_id(part.local.shape[0])
+            st.write_shape(row, part)
+            st.owner[row], st.part[row] = body, k
+            st.part_center[row], st.part_rotation[row] = position, rotation
+            if last < 0:
+                st.first_part[body] = row
+            else:
+                st.next_part[last] = row
+            last = row
+        self._shapes[body] = shape
+        if body >= self._stamp.shape[0]:
+            self._stamp = np.concatenate([self._stamp, np.zeros(body + 1, np.int64)])
+        self._stamp[body] = next(self._stamps)
         return body
 
     def remove(self, body_id) -> None:
-        """Delete a body or a ground; its id may be reused by a later ``add``.
+        """Delete a body (a compound with its parts) or a ground; its id may be reused by a later ``add``.
 
         Parameters
         ----------
@@ -277,13 +325,20 @@ class World:
         ValueError
             For an id that is not in this world; ``TypeError`` for a non-integer id.
         """
-        body = self._check_id(body_id, movable=False)
+        body = self._check_id(body_id)
+        st = self._store
         if body in self._grounds:
             del self._grounds[body]
+        elif st.static[body]:
+            self._static.remove(st, body)
         else:
-            self._broad.remove(self._store, body)
+            self._broad.remove(st, body)
+            self._static.remove(st, body)
+        self._exclusions.forget(body)
+        for row in st.parts_of(body):
+            st.release(row)
         del self._shapes[body]
-        self._store.release(body)
+        st.release(body)
 
     def move(self, body_id, center=None, rotation=None, velocity=None) -> None:
         """Set the pose of one body; the arguments left None keep their value.
@@ -291,7 +346,7 @@ class World:
         Parameters
         ----------
         body_id : int
-            A live body (not a ground).
+            A live moving body (not static, not a ground).
         center : array_like, shape (3,), optional
             The new position.
         rotation : array_like or scipy.spatial.transform.Rotation, optional
@@ -302,9 +357,10 @@ class World:
         Raises
         ------
         ValueError
-            For a ground or an unknown id, or a bad vector or rotation (named); the body is then unchanged.
+            For a static body, a ground or an unknown id, or a bad vector or rotation (named); the body is then
+            unchanged.
         """
-        body = self._check_id(body_id)
+        body = self._check_id(body_id, moving=True)
         st = self._store
         c = st.center[body] if center is None else as_float_array(center, "center", shape=(3,))
         rot = None if rotation is None else as_rotation(rotation)
@@ -322,7 +378,7 @@ class World:
         Parameters
         ----------
         ids : array_like, shape (k,), int
-            Distinct live bodies (not grounds).
+            Distinct live moving bodies (not static, not grounds).
         centers : array_like, shape (k, 3), float64
             Their new positions.
         rotations : array_like or scipy.spatial.transform.Rotation, optional
@@ -334,8 +390,8 @@ class World:
         Raises
         ------
         ValueError
-            Naming the argument and the first bad index: an unknown, ground or repeated id, a non-finite value, a
-            wrong shape, a non-unit quaternion or an improper matrix.
+            Naming the argument and the first bad index: an unknown, static, ground or repeated id, a non-finite
+            value, a wrong shape, a non-unit quaternion or an improper matrix.
         TypeError
             For ids that are not a 1-D integer array.
         """
@@ -350,18 +406,110 @@ class World:
                        rot if mode == 2 else _NO_QUATERNIONS, v)
         self._upload_seconds += time.perf_counter() - t0
 
-    def _check_id(self, body_id, name="id", *, movable=True) -> int:
+    # -- filters -------------------------------------------------------------------------------------------
+    def set_filter(self, ids, category=None, mask=None, group=None) -> None:
+        """Change the collision filter of bodies; the arguments left None keep their value.
+
+        Parameters
+        ----------
+        ids : int or array_like of int, shape (k,)
+            Live bodies (static ones and grounds included), distinct.
+        category, mask : int, optional
+            New 64-bit sets, ints in [0, 2^64), for every body of ``ids``.
+        group : int, optional
+            A new group (signed 64-bit) for every body of ``ids``.
+
+        Raises
+        ------
+        TypeError
+            For ids that are not integers, or a float / non-integer category, mask or group.
+        ValueError
+            For an unknown or repeated id, a negative or over-64-bit category or mask; the world is then unchanged.
+        """
+        idx = self._check_ids(np.atleast_1d(np.asarray(ids)) if not isinstance(ids, bool) else ids)
+        values = {"category": None if category is None else as_bits(category, "category"),
+                  "mask": None if mask is None else as_bits(mask, "mask"),
+                  "group": None if group is None else as_group(group)}
+        for name, value in values.items():
+            if value is not None:
+                getattr(self._store, name)[idx] = value
+
+    def exclude(self, i, j) -> None:
+        """Never test the pair (i, j), whatever the filters and groups (MuJoCo's ``<exclude>``, pybullet's
+        ``setCollisionFilterPair(..., enable=0)``); it lasts until ``include(i, j)`` or until either is removed.
+
+        Parameters
+        ----------
+        i, j : int
+            Two distinct live ids.
+
+        Raises
+        ------
+        ValueError
+            For an unknown id, or i == j; ``TypeError`` for a non-integer id.
+        """
+        a, b = self._check_pair(i, j)
+        self._exclusions.exclude(a, b)
+
+    def include(self, i, j) -> None:
+        """Undo ``exclude(i, j)``: the pair is filtered by the categories, masks and groups again (nothing happens
+        when it was not excluded).
+
+        Parameters
+        ----------
+        i, j : int
+            Two distinct live ids.
+
+        Raises
+        ------
+        ValueError
+            For an unknown id, or i == j; ``TypeError`` for a non-integer id.
+        """
+        a, b = self._check_pair(i, j)
+        self._exclusions.include(a, b)
+
+    def excluded(self) -> np.ndarray:
+        """The excluded pairs.
+
+        Returns
+        -------
+        numpy.ndarray, shape (k, 2), int64
+            Canonical pairs (i < j, rows sorted).
+        """
+        return np.array(sorted(self._exclusions.pairs), np.int64).reshape(-1, 2)
+
+    def _check_pair(self, i, j) -> tuple[int, int]:
+        a, b = self._check_id(i, "i"), self._check_id(j, "j")
+        if a == b:
+            raise ValueError(f"i and j must be two different bodies, got {a} twice")
+        return a, b
+
+    def _check_id(self, body_id, name="id", *, moving=False, bounded=False) -> int:
+        """A live id as an int; ``moving``: refuse static bodies and grounds; ``bounded``: refuse grounds."""
         if isinstance(body_id, bool) or not isinstance(body_id, int | np.integer):
             raise TypeError(f"{name} must be an int, got {type(body_id).__name__}")
         body = int(body_id)
-        if not (0 <= body < self._store.n_ids and self._store.kind[body] >= 0):
+        if body not in self._shapes:
             raise ValueError(f"{name} {body} is not a body of this world")
-        if movable and body in self._grounds:
+        if (moving or bounded) and body in self._grounds:
             raise ValueError(f"{name} {body} is a ground, which cannot move")
+        if moving and self._store.static[body]:
+            raise ValueError(f"{name} {body} is static (level geometry), which cannot move")
         return body
 
+    def _check_ids(self, ids) -> np.ndarray:
+        idx = np.asarray(ids)
+        if idx.dtype.kind not in "iu" or idx.ndim != 1:
+            raise TypeError(f"ids must be an int or a 1-D integer array, got dtype {idx.dtype}, shape {idx.shape}")
+        for k, body in enumerate(idx.tolist()):
+            self._check_id(body, f"ids[{k}]")
+        if np.unique(idx).shape[0] != idx.shape[0]:
+            raise ValueError("ids must be distinct")
+        return idx.astype(np.int64)
+
+    # -- what is in the world ------------------------------------------------------------------------------
     def ids(self) -> np.ndarray:
-        """The live ids, bodies and grounds.
+        """The live ids: bodies (moving and static) and grounds.
 
         Returns
         -------
@@ -371,13 +519,14 @@ class World:
         return self._store.live().astype(np.int64)
 
     def bodies(self) -> BodyArrays:
-        """The body store as read-only views of rows 0 to the largest id (no copy).
+        """The body store as read-only views of rows 0 to the largest row in use (no copy).
 
         Returns
         -------
         BodyArrays
             The structure-of-arrays store of ``engine.world.bodies`` (kind, centre, rotation, velocity, radius,
-            points, AABBs ...); rows of removed ids have kind −1.
+            points, AABBs, the static and sensor flags, the filters, the parts of compounds ...); rows of removed
+            ids have kind −1, and the rows of a compound's parts have ``owner`` = the compound's id.
         """
         n = self._store.n_ids
         views = []
@@ -399,7 +548,21 @@ class World:
         -------
         Shape
         """
-        return self._shapes[self._check_id(body_id, movable=False)]
+        return self._shapes[self._check_id(body_id)]
+
+    def is_static(self, body_id) -> bool:
+        """Whether a body is static (level geometry, grounds included).
+
+        Parameters
+        ----------
+        body_id : int
+            A live id.
+
+        Returns
+        -------
+        bool
+        """
+        return bool(self._store.static[self._check_id(body_id)])
 
     def pose(self, body_id):
         """The current pose and velocity of a body.
@@ -418,7 +581,7 @@ class World:
         velocity : numpy.ndarray, shape (3,), float64
             Its constant velocity.
         """
-        b = self._check_id(body_id)
+        b = self._check_id(body_id, bounded=True)
         return self._store.center[b].copy(), self._store.rotation[b].copy(), self._store.velocity[b].copy()
 
     def kind(self, body_id) -> str:
@@ -432,42 +595,60 @@ class World:
         Returns
         -------
         str
-            "sphere", "box", "capsule", "hull", "plane" or "curve".
+            "sphere", "box", "capsule", "hull", "compound", "plane" or "curve" (engine.world.kinds.KINDS).
         """
-        return KIND_NAMES[self._store.kind[self._check_id(body_id, movable=False)]]
+        return KINDS[self._store.kind[self._check_id(body_id)]].name
 
-    def world_points(self, body_id) -> np.ndarray:
-        """The body's core points in world coordinates, swept by ``radius(body_id)``.
+    def _core_row(self, body_id, part) -> int:
+        """The store row of a body's core: the body itself, or part ``part`` of a compound."""
+        b = self._check_id(body_id, bounded=True)
+        parts = self._store.parts_of(b)
+        if not parts and part is None:
+            return b
+        if isinstance(part, bool) or not isinstance(part, int | np.integer):
+            raise TypeError(f"part must be an int (body {b} is a compound of {len(parts)} parts), got "
+                            f"{type(part).__name__}" if parts else f"part must be None: body {b} has no parts")
+        if not 0 <= int(part) < len(parts):
+            raise ValueError(f"part must be in [0, {len(parts)}) for body {b}, got {part}")
+        return parts[int(part)]
+
+    def world_points(self, body_id, part=None) -> np.ndarray:
+        """A body's core points in world coordinates, swept by ``radius(body_id)``.
 
         Parameters
         ----------
         body_id : int
-            The body whose points to return.
+            The body whose points to return (not a ground).
+        part : int, optional
+            For a compound: which part (required).
 
         Returns
         -------
         numpy.ndarray, shape (m, 3), float64
             A copy; m = 1 for a sphere, 2 for a capsule, 8 for a box, the hull's vertex count for a polyhedron.
         """
-        b = self._check_id(body_id)
-        return self._store.points[b, : self._store.count[b]].copy()
+        row = self._core_row(body_id, part)
+        return self._store.points[row, : self._store.count[row]].copy()
 
-    def radius(self, body_id) -> float:
+    def radius(self, body_id, part=None) -> float:
         """The radius that sweeps a body's core (0 for boxes and polyhedra).
 
         Parameters
         ----------
         body_id : int
             Which body.
+        part : int, optional
+            For a compound: which part (required).
 
         Returns
         -------
         float
         """
-        return float(self._store.radius[self._check_id(body_id)])
+        return float(self._store.radius[self._core_row(body_id, part)])
 
     def aabb(self, body_id):
-        """A body's current axis-aligned bounding box (the exact box of its swept core).
+        """A body's current axis-aligned bounding box (the exact box of its swept core; a compound's: of all its
+        parts).
 
         Parameters
         ----------
@@ -479,110 +660,162 @@ class World:
         lo, hi : numpy.ndarray, shape (3,), float64
             Its corners (copies).
         """
-        b = self._check_id(body_id)
+        b = self._check_id(body_id, bounded=True)
         return self._store.lo[b].copy(), self._store.hi[b].copy()
 
     # -- the frame -----------------------------------------------------------------------------------------
-    def _live_bodies(self) -> np.ndarray:
-        live = self._store.live()
-        return live[self._store.kind[live] < PLANE]
+    def _moving(self) -> np.ndarray:
+        """The live moving bodies (not static, not grounds, not parts), ascending."""
+        st = self._store
+        n = st.n_ids
+        return np.flatnonzero((st.kind[:n] >= 0) & (st.owner[:n] < 0) & ~st.static[:n])
 
     def _ground_candidates(self, bodies, lo, hi) -> list:
         out = []
         for g in sorted(self._grounds):
-            hit = bodies[GROUND_CANDIDATES[self._store.kind[g]](self._grounds[g], lo, hi)]
+            ground = self._grounds[g]
+            hit = bodies[ground.kind.candidates(ground, lo, hi)]
             out.append(np.stack([np.minimum(hit, g), np.maximum(hit, g)], axis=1).astype(np.int64))
         return out
 
     def _candidates(self):
-        """Broad phase: candidate pairs of ids, i < j per row, no repeat, in no particular order (bodies among
-        themselves, then against the grounds)."""
-        bodies = self._live_bodies()
-        cand = self._broad.candidates(self._store, bodies)
-        if self._grounds:
-            st = self._store
-            cand = np.concatenate([cand, *self._ground_candidates(bodies, st.lo[bodies], st.hi[bodies])])
-        return np.ascontiguousarray(cand), bodies
+        """Broad phase: candidate pairs of ids, i < j per row, no repeat, in no particular order — the moving
+        bodies among themselves, against the static bodies, against the grounds — and how many involve a static
+        body or a ground."""
+        st = self._store
+        bodies = self._moving()
+        escaped = bodies[st.escaped[bodies]]
+        if escaped.shape[0]:
+            fatten(st, escaped)
+        static = [self._static.candidates(st, bodies, escaped),
+                  *self._ground_candidates(bodies, st.lo[bodies], st.hi[bodies])]
+        cand = np.concatenate([self._broad.candidates(st, bodies, escaped), *static])
+        return np.ascontiguousarray(cand), bodies, sum(s.shape[0] for s in static)
 
-    def _answer(self, table: str):
-        """Broad phase, then the narrow phase of every candidate through ``table``: (pairs, rows, stats)."""
-        t0 = time.perf_counter()
-        cand, bodies = self._candidates()
+    def _filter(self, cand, stats, no_sensors: bool) -> np.ndarray:
+        """The candidates the filter lets through (engine/world/filters.py), counted in ``stats.filtered``."""
+        if cand.shape[0] == 0:
+            return cand
+        kept = cand[pairs_passing(self._store.view(), cand, self._exclusions.keys(), no_sensors)]
+        stats.filtered = int(cand.shape[0] - kept.shape[0])
+        return np.ascontiguousarray(kept)
+
+    def _context(self, dt: float = 0.0) -> NarrowContext:
         view = self._store.view()
-        counts = np.zeros((len(KIND_NAMES), len(KIND_NAMES)), np.int64)
-        tested = cand.shape[0]
-        cand = overlapping_boxes(view, cand, counts)
+        return NarrowContext(view, self._grounds, kernel_scratch(view.points.shape[1]), dt)
+
+    def _answer(self, question: str, query: str):
+        """Broad phase, filter, then ``question`` for every remaining pair: (body pairs (k, 2), Answer, stats)."""
+        t0 = time.perf_counter()
+        cand, bodies, static = self._candidates()
+        stats = WorldStats(query=query, bodies=int(bodies.shape[0]), candidate_pairs=int(cand.shape[0]),
+                           static_pairs=int(static))
+        cand = self._filter(cand, stats, no_sensors=question != "overlap")
         t1 = time.perf_counter()
-        rows = contact_rows(cand.shape[0])
-        answer_pairs(view, cand, _TABLES[table], rows, kernel_scratch(view.points.shape[1]))
-        deferred = np.flatnonzero(rows.status == DEFERRED)
-        if deferred.size:
-            kinds = self._store.kind[cand[deferred]]
-            codes = _TABLES[table][kinds[:, 0], kinds[:, 1]]
-            for code in np.unique(codes).tolist():
-                DEFERRED_ROWS[code](view, cand, deferred[codes == code], rows, self._grounds)
-        t2 = time.perf_counter()
-        groups = {f"{KIND_NAMES[a]}-{KIND_NAMES[b]}": int(counts[a, b]) for a, b in zip(*counts.nonzero())}
-        stats = WorldStats(bodies=int(bodies.shape[0]), candidate_pairs=int(tested), narrow_tests=int(cand.shape[0]),
-                           groups=groups,
-                           seconds={"upload": self._upload_seconds, "broad": t1 - t0, "narrow": t2 - t1})
+        result = answer(TABLE, question, self._context(), cand)
+        stats.narrow_tests, stats.groups = int(result.pairs.shape[0]), _groups(result.counts)
+        stats.seconds = {"upload": self._upload_seconds, "broad": t1 - t0, "narrow": time.perf_counter() - t1}
         self._upload_seconds = 0.0
-        return cand, rows, stats
+        return cand, result, stats
+
+    def _touching_pairs(self, query: str) -> np.ndarray:
+        cand, result, stats = self._answer("overlap", query)
+        origin = np.unique(result.origin[result.out.status == TOUCHING])
+        out = cand[origin]
+        out = np.ascontiguousarray(out[_canonical_order(out)])
+        stats.overlapping = int(out.shape[0])
+        self.stats = stats
+        return out
 
     def pairs(self) -> np.ndarray:
-        """Canonical pairs of ids whose shapes overlap (touching counts).
+        """Canonical pairs of ids whose shapes overlap (touching counts), sensors included.
 
-        The broad phase, then the exact test of each candidate through the overlap table. Refreshes ``stats``.
+        The broad phase, the filter, then the exact test of each remaining pair through the overlap table (a
+        compound overlaps when one of its parts does). Refreshes ``stats``.
 
         Returns
         -------
         numpy.ndarray, shape (k, 2), int64
             i < j in every row, rows in lexicographic order, no repeat.
         """
-        cand, rows, stats = self._answer("overlap")
-        out = np.ascontiguousarray(cand[_touching_in_order(cand, rows)])
-        stats.query, stats.overlapping = "pairs", int(out.shape[0])
-        self.stats = stats
-        return out
+        return self._touching_pairs("pairs")
+
+    def events(self):
+        """The pairs that began and ended touching since the last call (as ``pairs()``: sensors included).
+
+        The first call reports every touching pair as begun. A pair ends when its bodies part, when one of them is
+        removed (even if a new body takes its id and touches the other: that is a new pair, which begins), or
+        when a filter change or an exclusion stops it from being tested. Independent of the other queries made in
+        between. Refreshes ``stats``.
+
+        Returns
+        -------
+        begin, end : numpy.ndarray, shape (k, 2), int64
+            Canonical pairs (i < j, rows sorted).
+        """
+        now = self._touching_pairs("events")
+        keys = self._stamp[now[:, 0]] << 32 | self._stamp[now[:, 1]]
+        before, before_keys = self._touching
+        self._touching = (now, keys)
+        return now[~np.isin(keys, before_keys)], before[~np.isin(before_keys, keys)]
 
     def contacts(self) -> ContactSet:
-        """The contacts of the overlapping pairs, with per-point feature ids that persist across frames.
+        """The contacts of the touching pairs (sensors never), with per-point feature ids that persist across
+        frames.
 
         Through the contact table: closed forms for sphere–sphere, sphere–box, sphere–capsule, capsule–capsule,
         box–box and every body on a Plane; GJK/EPA with the contact features for the others; the curve rows for a
-        HeightCurve. Each point's id names the two features that made it (Box2D's ``b2ContactFeature``) and
-        ``persists`` says whether the same pair had the same id in the previous call. Refreshes ``stats``.
+        HeightCurve; a compound part by part. Each point's id names the two features that made it (Box2D's
+        ``b2ContactFeature``) and ``persists`` says whether the same pair (same parts) had the same id in the
+        previous call. Refreshes ``stats``.
 
         Returns
         -------
         ContactSet
-            One row per touching pair (the canonical order of ``pairs()``), normals from the first id to the second,
-            at most 4 points per pair, with ``point_ids`` and ``persists``.
+            One row per touching pair of parts — one per pair of bodies, several for a compound —, rows in
+            lexicographic order of (i, j, part_a, part_b), normals from the first id to the second, at most 4
+            points per row, with ``point_ids``, ``persists``, ``part_a`` and ``part_b`` (0 for a body that is not
+            a compound).
         """
-        cand, rows, stats = self._answer("contact")
+        cand, result, stats = self._answer("contact", "contacts")
         t0 = time.perf_counter()
-        radius = self._store.radius[cand]
-        out = contact_set_from_rows(rows, cand, radius[:, 0], radius[:, 1], keep=_touching_in_order(cand, rows))
-        prev_pairs, prev_ids = self._previous
-        point_ids, persists = out.point_ids, out.persists
-        assert point_ids is not None and persists is not None  # contact_set_from_rows always sets both
-        mark_persisting(prev_pairs, prev_ids, out.pairs, out.point_offsets, point_ids, persists)
-        owner = np.repeat(out.pairs, np.diff(out.point_offsets), axis=0)
-        order = np.lexsort((point_ids, owner[:, 1], owner[:, 0]))
-        self._previous = (np.ascontiguousarray(owner[order]), point_ids[order])
+        st = self._store
+        pairs, rows = cand[result.origin], result.out
+        part_a, part_b = st.part[result.pairs[:, 0]], st.part[result.pairs[:, 1]]
+        touching = np.flatnonzero(rows.status == TOUCHING)
+        keep = touching[np.lexsort((part_b[touching], part_a[touching], pairs[touching, 1], pairs[touching, 0]))]
+        radius = st.radius[result.pairs]
+        out = contact_set_from_rows(rows, pairs, radius[:, 0], radius[:, 1], keep=keep)
+        out = replace(out, part_a=part_a[keep], part_b=part_b[keep])
+        self._mark_persisting(out)
         stats.seconds["contacts"] = time.perf_counter() - t0
-        stats.query, stats.overlapping = "contacts", len(out)
-        stats.contacts, stats.persisting = int(out.points.shape[0]), int(persists.sum())
+        stats.overlapping = len(out)
+        stats.contacts, stats.persisting = int(out.points.shape[0]), int(out.persists.sum())
         self.stats = stats
         return out
 
-    def time_of_impact(self, dt) -> ImpactSet:
-        """The pairs that touch within ``dt`` while the bodies move with their velocities, and when.
+    def _mark_persisting(self, out: ContactSet) -> None:
+        """Set ``out.persists`` against the previous ``contacts()``, and keep this one's points for the next: a
+        point is keyed by its pair of (body, part) and its id."""
+        keyed = np.stack([out.pairs[:, 0] << _PART_BITS | out.part_a, out.pairs[:, 1] << _PART_BITS | out.part_b],
+                         axis=1)
+        prev_pairs, prev_ids = self._previous
+        point_ids, persists = out.point_ids, out.persists
+        assert point_ids is not None and persists is not None  # contact_set_from_rows always sets both
+        mark_persisting(prev_pairs, prev_ids, keyed, out.point_offsets, point_ids, persists)
+        owner = np.repeat(keyed, np.diff(out.point_offsets), axis=0)
+        order = np.lexsort((point_ids, owner[:, 1], owner[:, 0]))
+        self._previous = (np.ascontiguousarray(owner[order]), point_ids[order])
 
-        Broad phase on the swept boxes, kinematic culling of the pairs apart and moving apart
-        (``engine.broadphase.cull_separating_box_pairs``), then the impact table: closed forms for two spheres and a
-        body over a Plane, conservative advancement for the other bodies (``engine.narrowphase.time_of_impact_pairs``,
-        distance within 1e-9 at the returned time), bisection on the sampled gap for a HeightCurve. Grounds are fixed;
+    def time_of_impact(self, dt) -> ImpactSet:
+        """The pairs that touch within ``dt`` while the bodies move with their velocities, and when (sensors
+        never).
+
+        Broad phase on the swept boxes, kinematic culling of the moving pairs apart and moving apart
+        (``engine.broadphase.cull_separating_box_pairs``), the filter, then the impact table: closed forms for two
+        spheres and a body over a Plane, conservative advancement for the other bodies
+        (``engine.narrowphase.time_of_impact_pairs``, distance within 1e-9 at the returned time), bisection on the
+        sampled gap for a HeightCurve; a compound's time is its first part's. Static bodies and grounds are fixed;
         the poses are not changed. Refreshes ``stats``.
 
         Parameters
@@ -604,42 +837,24 @@ class World:
         """
         dt = as_nonnegative(dt, "dt")
         st = self._store
-        bodies = self._live_bodies()
-        v = st.velocity[bodies]
-        lo, hi = st.lo[bodies], st.hi[bodies]
+        bodies = self._moving()
+        v, lo, hi = st.velocity[bodies], st.lo[bodies], st.hi[bodies]
         sw_lo, sw_hi = np.minimum(lo, lo + v * dt), np.maximum(hi, hi + v * dt)
-        rows = find_pairs(sw_lo, sw_hi, self.broad_phase) if bodies.shape[0] > 1 else np.empty((0, 2), np.int64)
+        rows = find_pairs(sw_lo, sw_hi, self.broad_phase) if bodies.shape[0] > 1 else _NO_PAIRS
         kept = cull_separating_box_pairs(rows, lo, hi, v) if rows.shape[0] else rows
-        ground = self._ground_candidates(bodies, sw_lo, sw_hi)
-        cand = np.ascontiguousarray(np.concatenate([bodies[kept], *ground]) if ground else bodies[kept])
+        static = [self._static.query(st, bodies, sw_lo, sw_hi), *self._ground_candidates(bodies, sw_lo, sw_hi)]
+        stats = WorldStats(query="time_of_impact", bodies=int(bodies.shape[0]),
+                           candidate_pairs=int(rows.shape[0] + sum(s.shape[0] for s in static)),
+                           static_pairs=int(sum(s.shape[0] for s in static)),
+                           culled=int(rows.shape[0] - kept.shape[0]))
+        cand = self._filter(np.ascontiguousarray(np.concatenate([bodies[kept], *static])), stats, no_sensors=True)
+        result = answer(TABLE, "impact", self._context(dt), cand)
         times = np.full(cand.shape[0], np.inf)
-        deferred = np.zeros(cand.shape[0], np.bool_)
-        view = st.view()
-        impact_pairs(view, cand, _TABLES["impact"], dt, times, deferred)
-        self._deferred_impacts(view, cand, np.flatnonzero(deferred), dt, times)
+        np.minimum.at(times, result.origin, result.out)
         hit = np.isfinite(times)
         pairs, times = cand[hit], times[hit]
-        order = np.lexsort((pairs[:, 1], pairs[:, 0]))
-        self.stats = WorldStats(query="time_of_impact", bodies=int(bodies.shape[0]),
-                                candidate_pairs=int(rows.shape[0] + sum(g.shape[0] for g in ground)),
-                                culled=int(rows.shape[0] - kept.shape[0]), narrow_tests=int(cand.shape[0]),
-                                impacts=int(pairs.shape[0]))
+        order = _canonical_order(pairs)
+        stats.narrow_tests, stats.groups = int(result.pairs.shape[0]), _groups(result.counts)
+        stats.impacts = int(pairs.shape[0])
+        self.stats = stats
         return ImpactSet(pairs=np.ascontiguousarray(pairs[order]), times=times[order])
-
-    def _deferred_impacts(self, view, cand, sel, dt, times) -> None:
-        """The impact rows answered by batched calls: conservative advancement, and the curve grounds."""
-        if sel.size == 0:
-            return
-        kinds = self._store.kind[cand[sel]]
-        codes = _TABLES["impact"][kinds[:, 0], kinds[:, 1]]
-        adv = sel[codes == ADVANCEMENT]
-        if adv.size:
-            points, offsets, local, radii = pack_cores(view, cand[adv])
-            ids = np.unique(cand[adv])
-            times[adv] = time_of_impact_pairs(points, offsets, self._store.velocity[ids], local, t_max=dt,
-                                              radii=radii)
-        curve = sel[codes == CURVE_TOI]
-        for g in np.unique(cand[curve][np.isin(cand[curve], list(self._grounds))]).tolist():
-            rows = curve[(cand[curve] == g).any(axis=1)]
-            body = np.where(cand[rows, 0] == g, cand[rows, 1], cand[rows, 0])
-            times[rows] = curve_impact_times(view, self._grounds[g], body, dt)

@@ -32,11 +32,11 @@ from pathlib import Path
 
 import numpy as np
 
-from .._validate import as_float_array, as_nonnegative, as_positive
-from ..bounding.aabb import as_rotation_matrix
-from .contact_manifold import contact_feature
-from .motion import pose_at
-from .time_of_impact import time_of_impact
+from engine._validate import as_float_array, as_nonnegative, as_positive
+from engine.bounding.aabb import as_rotation_matrix
+from engine.narrowphase.contact_manifold import contact_feature
+from engine.narrowphase.motion import pose_at
+from engine.narrowphase.time_of_impact import time_of_impact
 
 __all__ = ["ShapeSpec", "load_shape", "describe_contact", "SHAPE_KINDS"]
 

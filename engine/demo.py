@@ -9,7 +9,7 @@ penetration — the body is put at Y(tc) and answered with restitution along the
 rigid-body rotation solver) and pass through each other (their contacts are drawn, not answered).
 
 The drawing (``draw``, ``demo_figure``, ``run_demo``: matplotlib, the GIF and the PNG) is in
-``engine.world.demo_plot``; those names are importable from here too (loaded on first use, with matplotlib).
+``engine.demo_plot``, which imports this module (never the reverse).
 """
 from __future__ import annotations
 
@@ -17,15 +17,10 @@ import numpy as np
 
 from engine.dynamics.bisection import bisect
 from engine.dynamics.rk4 import rk4_step
+from engine.narrowphase.curve_ground import ground_gap, lower_boundary
+from engine.world import Box, Capsule, ConvexPolyhedron, HeightCurve, Sphere, World
 
-from .curve import ground_gap, lower_boundary
-from .shapes import Box, Capsule, ConvexPolyhedron, HeightCurve, Sphere
-from .world import World
-
-__all__ = ["build_scene", "DemoScene", "ground_height", "GRAVITY", "DRAWING"]
-
-#: the names defined in engine.world.demo_plot and importable from here
-DRAWING = ("draw", "demo_figure", "run_demo")
+__all__ = ["build_scene", "DemoScene", "ground_height", "GRAVITY"]
 
 GRAVITY = np.array([0.0, -9.81, 0.0])
 
@@ -172,11 +167,3 @@ def build_scene(**kwargs) -> DemoScene:
     """``DemoScene(**kwargs)``."""
     return DemoScene(**kwargs)
 
-
-def __getattr__(name):
-    """The drawing's names (``DRAWING``), from ``engine.world.demo_plot``, imported on first use (PEP 562)."""
-    if name in DRAWING:
-        from . import demo_plot
-
-        return getattr(demo_plot, name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

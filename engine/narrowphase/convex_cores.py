@@ -1,64 +1,71 @@
-"""The dispatch rows of the pairs with no closed form (a hull against any body, a box against a capsule): GJK
-distance (Ericson 9.5) for "do they overlap?", GJK/EPA and the contact features (engine.narrowphase
-``contact_feature_pairs``) for "where?" — one batched call per frame for all such pairs — and the point ids
-of those contacts.
+"""Pairs of convex cores swept by balls, with no closed form (a hull against any body, a box against a capsule):
+GJK distance (Ericson 9.5) for "do they overlap?", GJK/EPA and the contact features (``contact_feature_pairs``)
+for "where?" — one batched call for all such pairs — and the point ids of those contacts.
 
-The cores of the pairs' bodies are packed (``points`` (N, 3) + ``offsets``) from the body store's world points;
-a pair overlaps when the GJK distance of its cores is at most the sum of the radii. A contact point's id names,
+The shapes come as ``Cores``: per shape s, its world core points ``points[s, :count[s]]`` (points (n, M, 3);
+rows past the count repeat the first point), the radius sweeping them and its AABB. The cores of the pairs'
+shapes are packed (``points`` (N, 3) + ``offsets``); a pair overlaps when the GJK distance of its cores is at
+most the sum of the radii. A contact point's id names,
 for each shape, the kind of its supporting feature along the normal (its vertices within
 ``engine.narrowphase.contact_manifold.FEATURE_TOL`` × the pair's size of the support plane: vertex, edge, face) and the
 support vertex nearest to the point in the contact plane — the same while the same features touch.
 """
 from __future__ import annotations
 
+from collections import namedtuple
+
 import numpy as np
 
-from engine._config import njit
-from engine.narrowphase import contact_feature_pairs, gjk_distance_pairs
-from engine.narrowphase.contact_manifold import FEATURE_TOL
-from engine.narrowphase.contacts import APART, TOUCHING, feature_key, kernel_scratch, point_id, reduce_manifold
+from .._config import njit
+from .contact_manifold import FEATURE_TOL, contact_feature_pairs
+from .contacts import APART, TOUCHING, feature_key, kernel_scratch, point_id, reduce_manifold
+from .gjk import gjk_distance_pairs
 
-__all__ = ["pack_cores", "gjk_overlap_rows", "gjk_contact_rows", "feature_point_ids"]
+__all__ = ["Cores", "pack_cores", "gjk_overlap_rows", "gjk_contact_rows", "feature_point_ids"]
+
+#: n convex shapes as swept cores: ``points`` (n, M, 3) world core points (rows past ``count[s]`` repeat the
+#: first), ``count`` (n,) int64, ``radius`` (n,), ``lo``, ``hi`` (n, 3) their AABBs
+Cores = namedtuple("Cores", "points count radius lo hi")
 
 
-def pack_cores(bodies, pairs):
-    """``(points (N, 3), offsets (S + 1,), local_pairs (k, 2), radii (S,))``: the cores of the bodies of
-    ``pairs`` (k, 2) packed for engine.narrowphase, and the pairs renumbered into them."""
+def pack_cores(cores, pairs):
+    """``(points (N, 3), offsets (S + 1,), local_pairs (k, 2), radii (S,))``: the cores (``Cores``) of the
+    shapes of ``pairs`` (k, 2) packed for the ``*_pairs`` kernels, and the pairs renumbered into them."""
     ids = np.unique(pairs)
-    count = bodies.count[ids]
-    keep = np.arange(bodies.points.shape[1])[None, :] < count[:, None]
+    count = cores.count[ids]
+    keep = np.arange(cores.points.shape[1])[None, :] < count[:, None]
     offsets = np.zeros(ids.shape[0] + 1, np.int64)
     np.cumsum(count, out=offsets[1:])
-    points = np.ascontiguousarray(bodies.points[ids][keep])
-    return points, offsets, np.searchsorted(ids, pairs).astype(np.int64), bodies.radius[ids]
+    points = np.ascontiguousarray(cores.points[ids][keep])
+    return points, offsets, np.searchsorted(ids, pairs).astype(np.int64), cores.radius[ids]
 
 
-def _overlap(bodies, pairs):
-    points, offsets, local, radii = pack_cores(bodies, pairs)
+def _overlap(cores, pairs):
+    points, offsets, local, radii = pack_cores(cores, pairs)
     dist = gjk_distance_pairs(points, offsets, local)[0]
-    separation = dist - bodies.radius[pairs[:, 0]] - bodies.radius[pairs[:, 1]]
+    separation = dist - cores.radius[pairs[:, 0]] - cores.radius[pairs[:, 1]]
     return separation, (points, offsets, local, radii)
 
 
-def gjk_overlap_rows(bodies, pairs, sel, rows) -> None:
+def gjk_overlap_rows(cores, pairs, sel, rows) -> None:
     """Rows ``sel`` of ``rows`` for the candidate pairs ``pairs[sel]``: touching when the GJK distance of the
     cores is at most the sum of the radii."""
-    separation, _ = _overlap(bodies, pairs[sel])
+    separation, _ = _overlap(cores, pairs[sel])
     rows.status[sel] = np.where(separation <= 0.0, TOUCHING, APART)
     rows.separation[sel] = separation
 
 
-def gjk_contact_rows(bodies, pairs, sel, rows) -> None:
+def gjk_contact_rows(cores, pairs, sel, rows) -> None:
     """Rows ``sel``: the overlap of ``gjk_overlap_rows``, then for the touching pairs the normal (from the
     pair's first body to its second), depth, features and points of contact_feature_pairs, with their ids."""
-    separation, (points, offsets, local, radii) = _overlap(bodies, pairs[sel])
+    separation, (points, offsets, local, radii) = _overlap(cores, pairs[sel])
     touch = separation <= 0.0
     rows.status[sel] = np.where(touch, TOUCHING, APART)
     rows.separation[sel] = separation
     if not touch.any():
         return
     batch = contact_feature_pairs(points, offsets, local[touch], radii=radii)
-    feature_point_ids(bodies, pairs[sel[touch]], sel[touch], np.minimum(batch.separation, 0.0), batch.normal,
+    feature_point_ids(cores, pairs[sel[touch]], sel[touch], np.minimum(batch.separation, 0.0), batch.normal,
                       batch.feature_a, batch.feature_b, batch.points, batch.point_offsets, FEATURE_TOL, rows,
                       kernel_scratch(int(np.diff(batch.point_offsets).max())))
 
@@ -83,7 +90,7 @@ def _support_vertex(points, count, nx, ny, nz, sign, tol, x):
 
 
 @njit
-def feature_point_ids(bodies, pairs, rows_of, separation, normal, feature_a, feature_b, points, offsets, ftol,
+def feature_point_ids(cores, pairs, rows_of, separation, normal, feature_a, feature_b, points, offsets, ftol,
                       rows, scratch):
     """Write contact q (pair pairs[q] = (i, j), normal from i to j, its points points[offsets[q]:offsets[q + 1]])
     into row rows_of[q]: at most MAX_POINTS points, each with the id (feature of i at its nearest support vertex,
@@ -95,13 +102,13 @@ def feature_point_ids(bodies, pairs, rows_of, separation, normal, feature_a, fea
         size = 0.0
         for b in (i, j):
             for c in range(3):
-                size = max(size, bodies.hi[b, c] - bodies.lo[b, c])
+                size = max(size, cores.hi[b, c] - cores.lo[b, c])
         tol = ftol * max(size, 1e-300)
         n = 0
         scratch_d[:] = 0.0  # the points lie on one plane: the reduction keeps the first as the deepest
         for x in range(offsets[q], offsets[q + 1]):
-            va = _support_vertex(bodies.points[i], bodies.count[i], nx, ny, nz, 1.0, tol, points[x])
-            vb = _support_vertex(bodies.points[j], bodies.count[j], nx, ny, nz, -1.0, tol, points[x])
+            va = _support_vertex(cores.points[i], cores.count[i], nx, ny, nz, 1.0, tol, points[x])
+            vb = _support_vertex(cores.points[j], cores.count[j], nx, ny, nz, -1.0, tol, points[x])
             scratch_p[n] = points[x]
             scratch_i[n] = point_id(feature_key(feature_a[q], va), feature_key(feature_b[q], vb))
             n += 1

@@ -1,4 +1,4 @@
-"""``colldet demo``, the drawing: the x–y side view of a ``DemoScene`` (engine.world.demo) with matplotlib.
+"""``colldet demo``, the drawing: the x–y side view of a ``DemoScene`` (engine.demo) with matplotlib.
 
 Bodies, contact points and normals, the per-stage pair counts in a corner; an animated GIF (matplotlib +
 Pillow) of the frames, or one still frame (``--png``). Plotting only: the physics is ``DemoScene.step``.

@@ -1,5 +1,9 @@
-"""The dispatch rows of a body against a curved ground ``HeightCurve`` (slide "Sol courbe": y <= f(x), extruded
-along z), vectorised over the bodies with numpy (f is a Python callable, evaluated on arrays).
+"""A convex body against a curved ground (slide "Sol courbe": y <= f(x), extruded along z), vectorised over the
+bodies with numpy (f is a Python callable, evaluated on arrays).
+
+The ground is any object with ``f`` (vectorised y = f(x)), ``samples`` (an int), ``height(x)`` (f checked
+finite) and ``slope(x)``: engine.world's ``HeightCurve``. The bodies come as arrays: their world core points
+(k, M, 3) (rows past a body's own count repeating its first point), radii (k,), centres (k, 3).
 
 - candidates: the bodies' AABBs against the curve (engine.narrowphase.overlap_aabb_curve);
 - overlap of a sphere: ``overlap_circle_curve`` in the x–y plane (exact for a z-extruded ground: the sphere's
@@ -17,12 +21,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from engine.narrowphase import overlap_aabb_curve, overlap_circle_curve
-from engine.narrowphase.contacts import APART, FACE, TOUCHING, VERTEX, feature_key, point_id
+from .contacts import FACE, TOUCHING, VERTEX, feature_key, point_id
+from .primitives import overlap_aabb_curve, overlap_circle_curve
 
-from .shapes import SPHERE
-
-__all__ = ["lower_boundary", "ground_gap", "GOLDEN_STEPS", "curve_candidates", "curve_overlap", "curve_rows",
+__all__ = ["lower_boundary", "ground_gap", "GOLDEN_STEPS", "curve_candidates", "curve_overlap",
            "curve_contact_rows", "curve_impact_times"]
 
 
@@ -108,50 +110,30 @@ def curve_candidates(curve, lo, hi) -> np.ndarray:
     return overlap_aabb_curve(lo, hi, curve.f, samples=curve.samples)
 
 
-def _split(pairs, sel, ground):
-    """The body of each pair pairs[sel] with the ground id ``ground``, and whether the ground is the first."""
-    pr = pairs[sel]
-    ground_first = pr[:, 0] == ground
-    return np.where(ground_first, pr[:, 1], pr[:, 0]), ground_first
-
-
-def curve_overlap(bodies, curve, body) -> np.ndarray:
-    """bool (k,): whether each body touches the curve — a sphere's disc in the x–y plane against the curve
-    (``overlap_circle_curve``), another body's lowest y − f(x) over its lower boundary <= 0."""
-    hit = np.zeros(body.shape[0], np.bool_)
-    ball = bodies.kind[body] == SPHERE
-    if ball.any():
-        b = body[ball]
-        hit[ball] = overlap_circle_curve(bodies.center[b, :2], bodies.radius[b], curve.f, samples=curve.samples)
-    if (~ball).any():
-        b = body[~ball]
-        gap = ground_gap(curve, lower_boundary(bodies.points[b], bodies.radius[b], curve.samples))[0]
-        hit[~ball] = gap <= 0.0
+def curve_overlap(curve, points, radius, centers, is_sphere) -> np.ndarray:
+    """bool (k,): whether each body touches the curve — a sphere (``is_sphere``, centre ``centers`` (k, 3)) by
+    its disc in the x–y plane (``overlap_circle_curve``), another body by the lowest y − f(x) over its lower
+    boundary (core points ``points`` (k, M, 3) swept by ``radius`` (k,)) being <= 0."""
+    hit = np.zeros(points.shape[0], np.bool_)
+    if is_sphere.any():
+        hit[is_sphere] = overlap_circle_curve(centers[is_sphere, :2], radius[is_sphere], curve.f,
+                                              samples=curve.samples)
+    rest = ~is_sphere
+    if rest.any():
+        gap = ground_gap(curve, lower_boundary(points[rest], radius[rest], curve.samples))[0]
+        hit[rest] = gap <= 0.0
     return hit
 
 
-def curve_rows(bodies, pairs, sel, rows, grounds, contacts: bool) -> None:
-    """Rows ``sel`` (pairs of a body with a HeightCurve; grounds {id: shape}): their overlap, and with
-    ``contacts`` the contacts of those that touch (``curve_contact_rows``). One pass per curve ground."""
-    pr = pairs[sel]
-    for ground in np.unique(pr[np.isin(pr, np.array(sorted(grounds), np.int64))]).tolist():
-        sub = sel[(pr == ground).any(axis=1)]
-        body, _ = _split(pairs, sub, ground)
-        hit = curve_overlap(bodies, grounds[ground], body)
-        rows.status[sub] = np.where(hit, TOUCHING, APART)
-        if contacts:
-            curve_contact_rows(bodies, grounds[ground], ground, pairs, sub, rows, hit)
-
-
-def curve_contact_rows(bodies, curve, ground, pairs, sel, rows, touching) -> None:
-    """Rows ``sel`` whose pairs touch (``touching`` (len(sel),) bool, the overlap rows' answer): normal ±(−f'(x),
-    1, 0) / norm at the deepest point of the lower boundary (from the pair's first id to its second), depth
-    −gap · n_y, one point halfway between the body and the curve; ids (body vertex 0, ground face 0)."""
-    sel = sel[touching]
+def curve_contact_rows(curve, points, radius, centers, ground_first, rows, sel) -> None:
+    """Rows ``sel`` (k,) of ``rows`` for k touching bodies (core points (k, M, 3) swept by ``radius`` (k,),
+    centres (k, 3)) against the curve; ``ground_first`` (k,) bool: the pair's first shape is the curve. Normal
+    ±(−f'(x), 1, 0) / norm at the deepest point of the lower boundary (from the pair's first shape to its
+    second), depth −gap · n_y, one point halfway between the body and the curve; ids (body vertex 0, ground
+    face 0)."""
     if sel.size == 0:
         return
-    body, ground_first = _split(pairs, sel, ground)
-    gap, x, y = ground_gap(curve, lower_boundary(bodies.points[body], bodies.radius[body], curve.samples))
+    gap, x, y = ground_gap(curve, lower_boundary(points, radius, curve.samples))
     slope = curve.slope(x)
     norm = np.sqrt(1 + slope ** 2)
     n2 = np.stack([-slope / norm, 1.0 / norm], axis=1)
@@ -163,18 +145,19 @@ def curve_contact_rows(bodies, curve, ground, pairs, sel, rows, touching) -> Non
     rows.feature_a[sel] = np.where(ground_first, FACE, VERTEX)
     rows.feature_b[sel] = np.where(ground_first, VERTEX, FACE)
     rows.count[sel] = 1
-    rows.points[sel, 0] = np.stack([x + 0.5 * depth * n2[:, 0], y + 0.5 * depth * n2[:, 1],
-                                    bodies.center[body, 2]], axis=1)
+    rows.points[sel, 0] = np.stack([x + 0.5 * depth * n2[:, 0], y + 0.5 * depth * n2[:, 1], centers[:, 2]],
+                                   axis=1)
     body_key, ground_key = feature_key(VERTEX, 0), feature_key(FACE, 0)  # body vertex 0, ground face 0
     rows.ids[sel, 0] = np.where(ground_first, point_id(ground_key, body_key), point_id(body_key, ground_key))
 
 
-def curve_impact_times(bodies, curve, body, dt, steps: int = 32, iterations: int = 60) -> np.ndarray:
-    """First t in [0, dt] at which each body (translating with its velocity) touches the curve; inf if none.
-    The sampled gap at ``steps`` times brackets the first sign change, then Algorithme 3 (bisection)."""
-    v = bodies.velocity[body]
-    bnd = lower_boundary(bodies.points[body], bodies.radius[body], curve.samples)  # (k, S, 2)
-    k = body.shape[0]
+def curve_impact_times(curve, points, radius, velocity, dt, steps: int = 32, iterations: int = 60) -> np.ndarray:
+    """First t in [0, dt] at which each body (core points (k, M, 3) swept by ``radius`` (k,), translating with
+    ``velocity`` (k, 3)) touches the curve; inf if none. The sampled gap at ``steps`` times brackets the first
+    sign change, then Algorithme 3 (bisection)."""
+    v = velocity
+    bnd = lower_boundary(points, radius, curve.samples)  # (k, S, 2)
+    k = points.shape[0]
     t_hit = np.full(k, np.inf)
     t_hit[ground_gap(curve, bnd)[0] <= 0] = 0.0
     lo_t = np.zeros(k)

@@ -1,0 +1,205 @@
+"""The rows of the dispatch table: for every (shape kind, shape kind) pair, the kernel that answers each question
+("overlap", "contact", "impact"; engine/world/dispatch.py), and the batched loops that feed the narrow-phase
+kernels (engine/narrowphase/) from the body store.
+
+Closed forms, exact to round-off:
+- sphere–sphere, sphere–capsule, capsule–capsule: the closest points of their segments (Ericson 5.1.9);
+- sphere–box: the closest point of an OBB (Ericson 5.1.3); box–box: SAT, and the clipped manifold for contacts;
+- every convex body against a ``Plane``: its core points against the half-space; its time of impact is linear;
+- two spheres' time of impact: a quadratic (Ericson 5.5.5).
+Every other pair of convex kinds falls back on GJK distance / GJK + EPA + contact features, and conservative
+advancement for the time of impact (parry's explicit GJK fallback). A convex body against a ``HeightCurve``:
+engine.narrowphase.curve_ground (f is a Python callable). A ``Compound`` is answered part by part. Two grounds
+are never paired (both static): their cells are explicitly unsupported.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from engine._config import njit
+from engine.narrowphase import time_of_impact_pairs
+from engine.narrowphase.box_box import contact_box_box, overlap_box_box
+from engine.narrowphase.contacts import APART, TOUCHING
+from engine.narrowphase.convex_cores import Cores, gjk_contact_rows, gjk_overlap_rows, pack_cores
+from engine.narrowphase.curve_ground import curve_contact_rows, curve_impact_times, curve_overlap
+from engine.narrowphase.plane import contact_points_plane, impact_time_plane
+from engine.narrowphase.segment_segment import contact_round_cores
+from engine.narrowphase.sphere_box import contact_sphere_box
+from engine.narrowphase.sphere_sweep import impact_time_spheres
+
+from .dispatch import PARTS, QUESTIONS, DispatchTable, Kernel, unsupported
+from .kinds import KINDS
+from .shapes import BOX, CAPSULE, CURVE, PLANE, SPHERE
+
+__all__ = ["ROUND_CORES", "SPHERE_BOX", "BOX_BOX", "BOX_BOX_SAT", "BODY_PLANE", "GJK_DISTANCE", "GJK_EPA",
+           "CURVE_OVERLAP", "CURVE_CONTACT", "SPHERE_SWEEP", "PLANE_SWEEP", "ADVANCEMENT", "CURVE_SWEEP", "ROWS",
+           "TABLE"]
+
+
+@njit(inline="always")
+def _oriented(bodies, pairs, p):
+    """(a, b, flip): the kernel's A is the pair's shape of lower kind code."""
+    i, j = pairs[p, 0], pairs[p, 1]
+    if bodies.kind[i] > bodies.kind[j]:
+        return j, i, True
+    return i, j, False
+
+
+@njit(inline="always")
+def _point(points, b, v):
+    return points[b, v, 0], points[b, v, 1], points[b, v, 2]
+
+
+@njit
+def _round_cores_rows(bodies, pairs, sel, rows):
+    for p in sel:
+        a, b, flip = _oriented(bodies, pairs, p)
+        contact_round_cores(_point(bodies.points, a, 0), _point(bodies.points, a, bodies.count[a] - 1),
+                            bodies.radius[a], _point(bodies.points, b, 0),
+                            _point(bodies.points, b, bodies.count[b] - 1), bodies.radius[b], rows, p, flip)
+
+
+@njit
+def _sphere_box_rows(bodies, pairs, sel, rows, scratch):
+    for p in sel:
+        a, b, flip = _oriented(bodies, pairs, p)
+        contact_sphere_box(bodies.center, bodies.radius, bodies.rotation, bodies.half, a, b, rows, p, flip, scratch)
+
+
+@njit
+def _box_box_rows(bodies, pairs, sel, rows, scratch):
+    for p in sel:
+        a, b, flip = _oriented(bodies, pairs, p)
+        contact_box_box(bodies.center, bodies.rotation, bodies.half, a, b, rows, p, flip, scratch)
+
+
+@njit
+def _box_box_sat_rows(bodies, pairs, sel, rows, scratch):
+    for p in sel:
+        a, b, _ = _oriented(bodies, pairs, p)
+        touch = overlap_box_box(bodies.center, bodies.rotation, bodies.half, a, b, scratch)
+        rows.status[p] = TOUCHING if touch else APART
+
+
+@njit
+def _plane_rows(bodies, pairs, sel, rows, scratch):
+    for p in sel:
+        a, g, flip = _oriented(bodies, pairs, p)
+        contact_points_plane(bodies.points, bodies.count, bodies.radius, a,
+                             (bodies.center[g, 0], bodies.center[g, 1], bodies.center[g, 2]),
+                             (bodies.rotation[g, 0, 1], bodies.rotation[g, 1, 1], bodies.rotation[g, 2, 1]),
+                             rows, p, flip, scratch)
+
+
+@njit
+def _sphere_sweep_times(bodies, pairs, sel, dt, times):
+    for p in sel:
+        a, b, _ = _oriented(bodies, pairs, p)
+        times[p] = impact_time_spheres(bodies.center[a], bodies.center[b], bodies.velocity[a], bodies.velocity[b],
+                                       bodies.radius[a] + bodies.radius[b], dt)
+
+
+@njit
+def _plane_sweep_times(bodies, pairs, sel, dt, times):
+    for p in sel:
+        a, g, _ = _oriented(bodies, pairs, p)
+        times[p] = impact_time_plane(bodies.points, bodies.count, bodies.radius, bodies.velocity[a], a,
+                                     bodies.center[g], bodies.rotation[g, :, 1], dt)
+
+
+def _cores(bodies) -> Cores:
+    return Cores(bodies.points, bodies.count, bodies.radius, bodies.lo, bodies.hi)
+
+
+def _advancement_times(ctx, pairs, sel, times) -> None:
+    points, offsets, local, radii = pack_cores(_cores(ctx.bodies), pairs[sel])
+    ids = np.unique(pairs[sel])
+    times[sel] = time_of_impact_pairs(points, offsets, ctx.bodies.velocity[ids], local, t_max=ctx.dt, radii=radii)
+
+
+def _by_curve(ctx, pairs, sel):
+    """Per curve ground g among the pairs ``pairs[sel]``: (g's shape, the rows of its pairs, their bodies, whether
+    the curve is the pair's first shape)."""
+    bodies = ctx.bodies
+    pr = pairs[sel]
+    is_curve = bodies.kind[pr] == CURVE.code
+    for g in np.unique(pr[is_curve]).tolist():
+        mine = (pr == g).any(axis=1)
+        rows, sub = sel[mine], pr[mine]
+        first = sub[:, 0] == g
+        yield ctx.shapes[g], rows, np.where(first, sub[:, 1], sub[:, 0]), first
+
+
+def _curve_rows(ctx, pairs, sel, rows, contacts: bool) -> None:
+    bodies = ctx.bodies
+    for curve, at, body, first in _by_curve(ctx, pairs, sel):
+        hit = curve_overlap(curve, bodies.points[body], bodies.radius[body], bodies.center[body],
+                            bodies.kind[body] == SPHERE.code)
+        rows.status[at] = np.where(hit, TOUCHING, APART)
+        if contacts:
+            curve_contact_rows(curve, bodies.points[body[hit]], bodies.radius[body[hit]], bodies.center[body[hit]],
+                               first[hit], rows, at[hit])
+
+
+def _curve_times(ctx, pairs, sel, times) -> None:
+    bodies = ctx.bodies
+    for curve, at, body, _ in _by_curve(ctx, pairs, sel):
+        times[at] = curve_impact_times(curve, bodies.points[body], bodies.radius[body], bodies.velocity[body],
+                                       ctx.dt)
+
+
+# -- the kernels ------------------------------------------------------------------------------------------
+ROUND_CORES = Kernel("closest points of segments", lambda ctx, pairs, sel, out:
+                     _round_cores_rows(ctx.bodies, pairs, sel, out))
+SPHERE_BOX = Kernel("closest point of an OBB", lambda ctx, pairs, sel, out:
+                    _sphere_box_rows(ctx.bodies, pairs, sel, out, ctx.scratch))
+BOX_BOX = Kernel("box SAT + clipping", lambda ctx, pairs, sel, out:
+                 _box_box_rows(ctx.bodies, pairs, sel, out, ctx.scratch))
+BOX_BOX_SAT = Kernel("box SAT", lambda ctx, pairs, sel, out: _box_box_sat_rows(ctx.bodies, pairs, sel, out,
+                                                                                ctx.scratch))
+BODY_PLANE = Kernel("core points against a plane", lambda ctx, pairs, sel, out:
+                    _plane_rows(ctx.bodies, pairs, sel, out, ctx.scratch))
+GJK_DISTANCE = Kernel("GJK distance", lambda ctx, pairs, sel, out:
+                      gjk_overlap_rows(_cores(ctx.bodies), pairs, sel, out))
+GJK_EPA = Kernel("GJK/EPA + contact features", lambda ctx, pairs, sel, out:
+                 gjk_contact_rows(_cores(ctx.bodies), pairs, sel, out))
+CURVE_OVERLAP = Kernel("lower boundary (a sphere: its disc) against the curve", lambda ctx, pairs, sel, out:
+                       _curve_rows(ctx, pairs, sel, out, False))
+CURVE_CONTACT = Kernel("deepest point under the curve", lambda ctx, pairs, sel, out:
+                       _curve_rows(ctx, pairs, sel, out, True))
+SPHERE_SWEEP = Kernel("sphere sweep (quadratic)", lambda ctx, pairs, sel, out:
+                      _sphere_sweep_times(ctx.bodies, pairs, sel, ctx.dt, out))
+PLANE_SWEEP = Kernel("lowest point sweep (linear)", lambda ctx, pairs, sel, out:
+                     _plane_sweep_times(ctx.bodies, pairs, sel, ctx.dt, out))
+ADVANCEMENT = Kernel("conservative advancement", _advancement_times)
+CURVE_SWEEP = Kernel("bisection on the curve gap", _curve_times)
+
+_GJK = {"overlap": GJK_DISTANCE, "contact": GJK_EPA, "impact": ADVANCEMENT}
+_ROUND = {"overlap": ROUND_CORES, "contact": ROUND_CORES, "impact": ADVANCEMENT}
+
+#: (kind_a, kind_b), lower code first -> {question: Kernel}
+ROWS: dict = {
+    (SPHERE, SPHERE): {**_ROUND, "impact": SPHERE_SWEEP},
+    (SPHERE, CAPSULE): _ROUND,
+    (CAPSULE, CAPSULE): _ROUND,
+    (SPHERE, BOX): {"overlap": SPHERE_BOX, "contact": SPHERE_BOX, "impact": ADVANCEMENT},
+    (BOX, BOX): {"overlap": BOX_BOX_SAT, "contact": BOX_BOX, "impact": ADVANCEMENT},
+}
+for _x, _a in enumerate(KINDS):
+    for _b in KINDS[_x:]:
+        if (_a, _b) in ROWS:
+            continue
+        if _a.composite or _b.composite:
+            ROWS[_a, _b] = dict.fromkeys(QUESTIONS, PARTS)
+        elif _a.convex and _b.convex:
+            ROWS[_a, _b] = _GJK
+        elif _a.convex and _b is PLANE:
+            ROWS[_a, _b] = {"overlap": BODY_PLANE, "contact": BODY_PLANE, "impact": PLANE_SWEEP}
+        elif _a.convex and _b is CURVE:
+            ROWS[_a, _b] = {"overlap": CURVE_OVERLAP, "contact": CURVE_CONTACT, "impact": CURVE_SWEEP}
+        else:
+            ROWS[_a, _b] = dict.fromkeys(QUESTIONS, unsupported(
+                f"a {_a.name} against a {_b.name}: two static shapes are never paired"))
+
+#: the table every World reads
+TABLE = DispatchTable(ROWS)
