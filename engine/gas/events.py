@@ -28,7 +28,16 @@ from engine.gas.event_state import (
     EVENT_NONE,
     EVENT_PAIR,
     EVENT_WALL,
+    RADIUS,
+    STATE_COLUMNS,
+    T_LOCAL,
+    VX,
+    VY,
+    VZ,
     EventGasState,
+    X,
+    Y,
+    Z,
     advance_sphere,
     collide_pair,
     new_event_state,
@@ -74,16 +83,16 @@ def _earliest_in_cell(st, links, j, i, t, xi, yi, zi, vxi, vyi, vzi, ri, sx, sy,
     """
     while j >= 0:
         if j != i:
-            dtj = t - st[j, 6]
-            px = st[j, 0] + st[j, 3] * dtj
-            py = st[j, 1] + st[j, 4] * dtj
-            pz = st[j, 2] + st[j, 5] * dtj
+            dtj = t - st[j, T_LOCAL]
+            px = st[j, X] + st[j, VX] * dtj
+            py = st[j, Y] + st[j, VY] * dtj
+            pz = st[j, Z] + st[j, VZ] * dtj
             if shifted:
                 px += sx
                 py += sy
                 pz += sz
-            tp = pair_time(xi - px, yi - py, zi - pz, vxi - st[j, 3], vyi - st[j, 4], vzi - st[j, 5],
-                           ri + st[j, 7])
+            tp = pair_time(xi - px, yi - py, zi - pz, vxi - st[j, VX], vyi - st[j, VY], vzi - st[j, VZ],
+                           ri + st[j, RADIUS])
             if tp < best:
                 best, bother = tp, j
         j = links[j]["next"]
@@ -122,7 +131,8 @@ def _find_partner(g, cells, i, t, axis, side):
         lo2, hi2 = side, side
     n, box, periodic = cells.ncell, cells.box, cells.periodic
     c0, c1, c2 = np.int64(links[i]["cell"][0]), np.int64(links[i]["cell"][1]), np.int64(links[i]["cell"][2])
-    xi, yi, zi, vxi, vyi, vzi, ri = st[i, 0], st[i, 1], st[i, 2], st[i, 3], st[i, 4], st[i, 5], st[i, 7]
+    xi, yi, zi, ri = st[i, X], st[i, Y], st[i, Z], st[i, RADIUS]
+    vxi, vyi, vzi = st[i, VX], st[i, VY], st[i, VZ]
     edge = periodic and (c0 == 0 or c1 == 0 or c2 == 0 or c0 == n - 1 or c1 == n - 1 or c2 == n - 1)
     for dx in range(lo0, hi0 + 1):
         cx, sx = neighbour_cell(c0, dx, n, box, periodic)
@@ -157,14 +167,14 @@ def _schedule(g, cells, i, t):
     btype = _NONE
     bother = -1
     for k in range(3):
-        v = st[i, 3 + k]
+        v = st[i, VX + k]
         if v == 0.0:
             continue
         up = v > 0.0
-        x = st[i, k]
+        x = st[i, X + k]
         c = cell[k]
         if not periodic:
-            tw = ((half - st[i, 7] if up else -half + st[i, 7]) - x) / v
+            tw = ((half - st[i, RADIUS] if up else -half + st[i, RADIUS]) - x) / v
             if tw < 0.0:
                 tw = 0.0
             if tw < best:
@@ -199,7 +209,7 @@ def _init_kernel(g, cells):
     """Fill the cell lists and predict every sphere's first event."""
     n = g.st.shape[0]
     cell_fill(cells, g.st)
-    t = g.st[0, 6] if n else 0.0
+    t = g.st[0, T_LOCAL] if n else 0.0
     for i in range(n):
         _find_partner(g, cells, i, t, -1, 0)
         _schedule(g, cells, i, t)
@@ -237,7 +247,7 @@ def _run_kernel(g, cells, queue, t_stop, max_events):
             axis, side = _crossing(g, i, t)
             shift = cell_step(cells, i, axis, side > 0)
             if shift != 0.0:
-                g.st[i, axis] += shift
+                g.st[i, X + axis] += shift
         else:
             book[i]["ev_time"] = _INF
             calendar_update(queue, i, _INF)
@@ -333,10 +343,10 @@ class EventDrivenGas(EventTally):
         self.cells = new_cell_list(n, self.box, self.ncell, self.periodic)
         cell = np.clip(np.floor((pos + self.box / 2.0) / self.cells.width).astype(np.int64), 0, self.ncell - 1)
         self.order = np.lexsort((cell[:, 2], cell[:, 1], cell[:, 0]))
-        st = np.zeros((n, 8))
-        st[:, 0:3] = pos[self.order]
-        st[:, 3:6] = np.asarray(velocities, dtype=np.float64)[self.order]
-        st[:, 7] = np.asarray(radii, dtype=np.float64)[self.order]
+        st = np.zeros((n, STATE_COLUMNS))
+        st[:, X:Z + 1] = pos[self.order]
+        st[:, VX:VZ + 1] = np.asarray(velocities, dtype=np.float64)[self.order]
+        st[:, RADIUS] = np.asarray(radii, dtype=np.float64)[self.order]
         self.state = new_event_state(st, np.asarray(masses, dtype=np.float64)[self.order])
         self.st, self.mass = self.state.st, self.state.book["mass"]
         self.counters, self.sums = self.state.counters, self.state.sums
@@ -410,13 +420,13 @@ class EventDrivenGas(EventTally):
         """Centres (n, 3) at the current time, in the caller's order (a new array); wrapped into [−L/2, L/2)
         when periodic."""
         if self.lists is not None and self.periodic:  # the lists keep each centre unwrapped until its rebuild
-            return self._in_caller_order(wrapped_into_box(self.st[:, 0:3], self.box))
-        return self._in_caller_order(self.st[:, 0:3])
+            return self._in_caller_order(wrapped_into_box(self.st[:, X:Z + 1], self.box))
+        return self._in_caller_order(self.st[:, X:Z + 1])
 
     @property
     def velocities(self) -> np.ndarray:
         """Velocities (n, 3), in the caller's order (a new array)."""
-        return self._in_caller_order(self.st[:, 3:6])
+        return self._in_caller_order(self.st[:, VX:VZ + 1])
 
     @property
     def masses(self) -> np.ndarray:
@@ -425,8 +435,8 @@ class EventDrivenGas(EventTally):
 
     def vel_view(self) -> np.ndarray:
         """The velocities (n, 3) in internal order (a view, aligned with ``mass``)."""
-        return self.st[:, 3:6]
+        return self.st[:, VX:VZ + 1]
 
     def kinetic_energy(self) -> float:
         """K = Σ m v²/2 (compensated summation, so the drift measured is the dynamics', not the sum's)."""
-        return float(kinetic_energy_kernel(self.st[:, 3:6], self.mass))
+        return float(kinetic_energy_kernel(self.st[:, VX:VZ + 1], self.mass))
