@@ -24,6 +24,21 @@ name            column  meaning
 
 The centre comes first: ``cell_fill`` (engine/gas/cell_list.py) reads the first three columns as positions, and
 ``pair_impulse`` (engine/gas/elastic.py) is given ``VX`` as the offset of the velocity columns.
+
+Event kinds
+-----------
+A sphere's scheduled event (``book["ev_type"]``, its subject in ``book["ev_other"]``) is of one of these kinds,
+one enumeration for both partner searches:
+
+==================  =====  ========================================================  ===============
+name                value  the event (``ev_other``)                                  search
+==================  =====  ========================================================  ===============
+``EVENT_PAIR``      0      a contact with another sphere (the partner)               both
+``EVENT_WALL``      1      a wall contact (its axis k)                               both, walls
+``EVENT_CROSSING``  2      leaving its cell (2 · axis, + 1 through the upper face)   cells
+``EVENT_NONE``      3      none: at rest, and nothing approaches it (−1)             both
+``EVENT_REBUILD``   4      leaving the skin of its neighbour list (−1)               neighbour lists
+==================  =====  ========================================================  ===============
 """
 from __future__ import annotations
 
@@ -39,20 +54,20 @@ from engine.gas.tally import COLLISIONS, VIRIAL, WALL_HITS, WALL_IMPULSE, new_co
 
 __all__ = ["BOOK", "EventGasState", "new_event_state", "pair_time", "advance_sphere", "collide_pair",
            "reflect_sphere", "sync_spheres", "X", "Y", "Z", "VX", "VY", "VZ", "T_LOCAL", "RADIUS", "STATE_COLUMNS",
-           "EVENT_PAIR", "EVENT_WALL", "EVENT_NONE"]
+           "EVENT_PAIR", "EVENT_WALL", "EVENT_CROSSING", "EVENT_NONE", "EVENT_REBUILD"]
 
 #: the columns of the state matrix ``st`` (the table of the module docstring): centre, velocity, local time, radius
 X, Y, Z, VX, VY, VZ, T_LOCAL, RADIUS = 0, 1, 2, 3, 4, 5, 6, 7
 #: the width of the state matrix
 STATE_COLUMNS = 8
-#: event kinds shared by both searches (each adds its own: cell crossing, neighbour-list rebuild)
-EVENT_PAIR, EVENT_WALL, EVENT_NONE = 0, 1, 3
+#: the event kinds (``book["ev_type"]``; the table of the module docstring)
+EVENT_PAIR, EVENT_WALL, EVENT_CROSSING, EVENT_NONE, EVENT_REBUILD = 0, 1, 2, 3, 4
 _INF = math.inf
 
 #: a sphere's bookkeeping in the event loop (one 48-byte record): its mass; its collision counter (velocity
 #: changes, the invalidation counter); its pair candidate (the earliest contact found by its last scan: absolute
-#: time, partner −1 if none, the partner's counter then); its scheduled event (time, kind: pair, wall, cell
-#: crossing or none, other: partner, wall axis or crossing 2·axis + up, and the partner's counter)
+#: time, partner −1 if none, the partner's counter then); its scheduled event (time, kind: one of the ``EVENT_*``,
+#: other: partner, wall axis or crossing 2·axis + up, −1 for the others; and the partner's counter)
 BOOK = np.dtype([("cand_time", np.float64), ("ev_time", np.float64), ("mass", np.float64), ("count", np.int32),
                  ("cand_other", np.int32), ("cand_count", np.int32), ("ev_type", np.int32), ("ev_other", np.int32),
                  ("ev_count", np.int32)], align=True)

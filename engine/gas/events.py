@@ -25,6 +25,7 @@ from engine._validate import as_choice, as_count, as_float, as_positive
 from engine.gas.cell_list import cell_fill, cell_step, neighbour_cell, new_cell_list
 from engine.gas.event_queue import calendar_build, calendar_top, calendar_update, sized_event_calendar
 from engine.gas.event_state import (
+    EVENT_CROSSING,
     EVENT_NONE,
     EVENT_PAIR,
     EVENT_WALL,
@@ -64,8 +65,6 @@ __all__ = ["EventDrivenGas", "EventGasState", "EVENT_SEARCHES"]
 #: the partner searches of ``EventDrivenGas``: cell lists with cell crossings, or neighbour lists with a skin
 EVENT_SEARCHES = ("cells", "neighbour_lists")
 
-# event kinds
-_PAIR, _WALL, _CROSS, _NONE = EVENT_PAIR, EVENT_WALL, 2, EVENT_NONE
 _INF = math.inf
 
 
@@ -164,7 +163,7 @@ def _schedule(g, cells, i, t):
     st, b, cell = g.st, g.book[i], cells.links[i]["cell"]
     half, width, ncell, periodic = cells.half, cells.width, cells.ncell, cells.periodic
     best = _INF
-    btype = _NONE
+    btype = EVENT_NONE
     bother = -1
     for k in range(3):
         v = st[i, VX + k]
@@ -178,18 +177,18 @@ def _schedule(g, cells, i, t):
             if tw < 0.0:
                 tw = 0.0
             if tw < best:
-                best, btype, bother = tw, _WALL, k
+                best, btype, bother = tw, EVENT_WALL, k
         if periodic or (c < ncell - 1 if up else c > 0):
             tc = (-half + (c + 1 if up else c) * width - x) / v
             if tc < 0.0:
                 tc = 0.0
             if tc < best:
-                best, btype, bother = tc, _CROSS, 2 * k + (1 if up else 0)
+                best, btype, bother = tc, EVENT_CROSSING, 2 * k + (1 if up else 0)
     if b["cand_other"] >= 0 and b["cand_time"] <= t + best:
-        btype, bother, bcount = _PAIR, b["cand_other"], b["cand_count"]
+        btype, bother, bcount = EVENT_PAIR, b["cand_other"], b["cand_count"]
     else:
         bcount = 0
-    b["ev_time"] = b["cand_time"] if btype == _PAIR else t + best
+    b["ev_time"] = b["cand_time"] if btype == EVENT_PAIR else t + best
     b["ev_type"] = btype
     b["ev_other"] = bother
     b["ev_count"] = bcount
@@ -233,7 +232,7 @@ def _run_kernel(g, cells, queue, t_stop, max_events):
         book = g.book
         kind = book[i]["ev_type"]
         j, axis, side = -1, -1, 0
-        if kind == _PAIR:
+        if kind == EVENT_PAIR:
             j = book[i]["ev_other"]
             if book[j]["count"] == book[i]["ev_count"]:
                 collide_pair(g, i, j, t, cells.box, cells.periodic)
@@ -241,9 +240,9 @@ def _run_kernel(g, cells, queue, t_stop, max_events):
                 advance_sphere(g.st, i, t)
                 g.counters[STALE] += 1
                 j = -1
-        elif kind == _WALL:
+        elif kind == EVENT_WALL:
             reflect_sphere(g, i, t, cells.half)
-        elif kind == _CROSS:  # into the neighbouring cell, wrapped to the opposite face when periodic
+        elif kind == EVENT_CROSSING:  # into the neighbouring cell, wrapped to the opposite face when periodic
             axis, side = _crossing(g, i, t)
             shift = cell_step(cells, i, axis, side > 0)
             if shift != 0.0:

@@ -28,6 +28,7 @@ from engine.gas.event_queue import calendar_top, calendar_update
 from engine.gas.event_state import (
     EVENT_NONE,
     EVENT_PAIR,
+    EVENT_REBUILD,
     EVENT_WALL,
     RADIUS,
     T_LOCAL,
@@ -52,8 +53,6 @@ __all__ = ["NeighbourLists", "new_neighbour_lists", "SKIN", "REBUILDS", "neighbo
 #: α, the skin of the lists: neighbours within (1 + α)(r_i + r_j), rebuilt after a displacement of α r_i
 #: (Smallenburg's default shell 1 + α = 1.5)
 SKIN = 0.5
-#: the event kind of a rebuild (pairs and walls: engine/gas/event_state.py)
-EVENT_REBUILD = 2
 #: index of the rebuild count in the lists' ``tally``
 REBUILDS = 0
 # the skin a sphere may move through is α r (1 − 2^−30): the lists' guarantee then holds with a margin above
