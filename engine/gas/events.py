@@ -8,9 +8,15 @@ simulation jumps from one event to the next and answers it with the chapter's el
 Data structures (Rapaport, *The Art of Molecular Dynamics Simulation*, ch. 14; Ericson, *Real-Time Collision
 Detection* 7.1 for the grid):
 - a uniform cell list (engine/gas/cell_list.py) of cells at least one largest diameter wide: a sphere only
-  meets spheres in its own or the 26 neighbouring cells, and leaving its cell is itself an event;
-- one pending event per sphere (its earliest: pair, wall or cell crossing) in an indexed binary min-heap of the
-  n spheres (engine/gas/event_queue.py), so each event costs O(log n) plus a scan of the 27 cells;
+  meets spheres in its own or the 26 neighbouring cells, and leaving its cell is itself an event (or, with
+  ``search="neighbour_lists"``, a neighbour list per sphere, remade when it leaves its skin:
+  engine/gas/neighbour_list.py);
+- one pending event per sphere (its earliest: pair, wall or cell crossing) filed in an event calendar
+  (engine/gas/event_queue.py; G. Paul, "A complexity O(1) priority queue for event driven molecular dynamics
+  simulations", J. Comput. Phys. 221, 615 (2007)): the events are filed by time into buckets and only the
+  current bucket's few events are kept sorted, so filing or moving an event costs O(1), O(log k) within the
+  current bucket of k events, instead of O(log n) in a heap of all n spheres; each prediction adds a scan of the
+  27 cells;
 - per-sphere collision counters for invalidation: a pair event remembers the partner's counter when it was
   predicted; if the partner collided since, the event is stale and the sphere is simply predicted again;
 - lazy positions: each sphere stores its position at its own local time and is advanced only when touched.
@@ -220,7 +226,8 @@ def _run_kernel(g, cells, queue, t_stop, max_events):
 
     The event loop: pop the sphere with the earliest event, answer it (pair contact, wall contact or cell
     crossing), then predict again the spheres it changed (both of a collision; after a crossing only the 9 new
-    neighbour cells) and update their heap keys. A sphere at rest in an empty neighbourhood has no event, ever.
+    neighbour cells) and file their new events in the calendar. A sphere at rest in an empty neighbourhood has no
+    event, ever.
     """
     done = 0
     while done < max_events:
@@ -278,10 +285,11 @@ class EventDrivenGas(EventTally):
     """An exact event-driven gas of n hard spheres: the state, and ``run(t_stop)`` that advances it.
 
     Every sphere flies in a straight line until its next event — a collision (the earliest root of
-    ``|Δp + Δv t| = r_i + r_j``), a wall hit or a cell crossing — kept in a calendar queue; only the spheres of an event
-    are moved and re-predicted (each keeps its own local time). Positions are wrapped into [−L/2, L/2) when
-    periodic. Internally the spheres are renumbered in cell order (``order``) and packed into ``EventGasState``;
-    ``positions``, ``velocities`` and ``masses`` answer in the caller's order.
+    ``|Δp + Δv t| = r_i + r_j``), a wall hit, a cell crossing or a list rebuild — kept in an event calendar
+    (Paul's, engine/gas/event_queue.py); only the spheres of an event are moved and re-predicted (each keeps its
+    own local time). Positions are wrapped into [−L/2, L/2) when periodic. Internally the spheres are renumbered
+    in cell order (``order``) and packed into ``EventGasState``; ``positions``, ``velocities`` and ``masses``
+    answer in the caller's order.
 
     Parameters
     ----------
