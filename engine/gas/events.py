@@ -28,7 +28,7 @@ import math
 import numpy as np
 
 from engine._validate import as_choice, as_count, as_float, as_positive
-from engine.gas.cell_list import cell_fill, cell_step, neighbour_cell, new_cell_list
+from engine.gas.cell_list import CELL_MARGIN, cell_fill, cell_step, neighbour_cell, new_cell_list
 from engine.gas.event_queue import calendar_build, calendar_top, calendar_update, sized_event_calendar
 from engine.gas.event_state import (
     EVENT_CROSSING,
@@ -63,7 +63,7 @@ from engine.gas.neighbour_list import (
     new_neighbour_lists,
 )
 from engine.gas.observables import kinetic_energy_kernel
-from engine.gas.periodic import wrapped_into_box
+from engine.gas.periodic import check_periodic_box, wrapped_into_box
 from engine.gas.tally import CROSSINGS, EVENTS, STALE, EventTally
 
 __all__ = ["EventDrivenGas", "EventGasState", "EVENT_SEARCHES"]
@@ -271,12 +271,10 @@ def _cells_per_axis(n, box, rmax, periodic):
     smaller than the mean spacing (V/n)^(1/3): in a dilute gas that trades cell crossings for fewer spheres per
     scan (0.6 spacing measured best with the event calendar at η = 0.1, N = 32,000: 0.9 spacing processes fewer
     events, 2.98 per collision against 3.79, but scans 3.4 times as many spheres per cell)."""
-    width = max(2.0 * rmax * (1.0 + 1e-12), 0.6 * box / n ** (1.0 / 3.0))
+    width = max(2.0 * rmax * (1.0 + CELL_MARGIN), 0.6 * box / n ** (1.0 / 3.0))
     ncell = max(1, min(int(math.floor(box / width)), 128))
     if periodic:
-        if box < 3.0 * 2.0 * rmax * (1.0 + 1e-12):
-            raise ValueError(f"a periodic box must be at least 3 diameters wide: box = {float(box)!r}, "
-                             f"largest diameter = {float(2.0 * rmax)!r}")
+        check_periodic_box(box, rmax, "radii")
         ncell = max(3, ncell)
     return ncell
 
@@ -300,7 +298,7 @@ class EventDrivenGas(EventTally):
     radii, masses : float or array_like, shape (n,)
         Positive, one for all or one per sphere.
     box : float
-        The side L, > 0 (2r < L with walls, 6r <= L periodic).
+        The side L, > 0 (2r < L with walls, 6r (1 + 1e-12) <= L periodic: engine/gas/periodic.py).
     periodic : bool
         Periodic images instead of walls.
     search : {"cells", "neighbour_lists"}, default "cells"

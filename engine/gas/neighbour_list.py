@@ -23,7 +23,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from engine.gas.cell_list import cell_insert, cell_remove, neighbour_cell
+from engine.gas.cell_list import CELL_MARGIN, cell_insert, cell_remove, neighbour_cell
 from engine.gas.event_queue import calendar_top, calendar_update
 from engine.gas.event_state import (
     EVENT_NONE,
@@ -303,7 +303,7 @@ def grown(nl: NeighbourLists, capacity: int) -> NeighbourLists:
 def list_cells_per_axis(n: int, box: float, rmax: float, periodic: bool, skin: float = SKIN) -> int:
     """Cells of the rebuilds' cell list: at least (1 + α) 2 r_max wide (every neighbour is in the 27 cells around),
     at most 128 and about 8 n cells in all (Smallenburg's cap); at least 3 when periodic."""
-    width = (1.0 + skin) * 2.0 * rmax * (1.0 + 1e-12)
+    width = (1.0 + skin) * 2.0 * rmax * (1.0 + CELL_MARGIN)
     ncell = max(1, min(int(math.floor(box / width)), 128, int(math.ceil((8.0 * n) ** (1.0 / 3.0)))))
     if periodic and ncell < 3:
         raise ValueError(f"search='neighbour_lists' needs a periodic box at least 3 list diameters wide: box = "
