@@ -96,10 +96,9 @@ def new_event_state(st, mass):
 
 
 # ------------------------------------------------------------------------------------------------------------
-# Kernels. The event loop calls small kernels that take the state bundles; they are compiled with
-# error_model="numpy" (none of their divisions can be by zero, each is noted) and read a bundle's fields into
-# locals before branching on them. Both keep numba's reference-count pruning able to drop the increment and
-# decrement it would otherwise make on every bundled array at every call (measured ≈ 6 ns per array per call).
+# Kernels. The event loop calls small kernels that take the state bundles; they are compiled by ``state_kernel``
+# (engine/gas/kernels.py: no reference counting of the bundled arrays, and error_model="numpy": none of their
+# divisions can be by zero, each is noted) and read a bundle's fields into locals once, before branching on them.
 # ------------------------------------------------------------------------------------------------------------
 @state_kernel
 def pair_time(rx, ry, rz, vx, vy, vz, sigma):

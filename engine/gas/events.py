@@ -267,10 +267,12 @@ def _run_kernel(g, cells, queue, t_stop, max_events):
 
 
 def _cells_per_axis(n, box, rmax, periodic):
-    """Cells at least one largest diameter wide (a contact is always between neighbouring cells), and not much
-    smaller than the mean spacing (V/n)^(1/3): in a dilute gas that trades cell crossings for fewer spheres per
-    scan (0.6 spacing measured best with the event calendar at η = 0.1, N = 32,000: 0.9 spacing processes fewer
-    events, 2.98 per collision against 3.79, but scans 3.4 times as many spheres per cell)."""
+    """Cells at least one largest diameter wide (a contact is always between neighbouring cells), and at least
+    c = 0.6 mean spacings s = (V/n)^(1/3) wide. In a dilute gas the width is a trade: a cell of width c s holds
+    about c³ spheres, so a scan of the 27 cells tests about 27 c³ spheres, while a sphere crosses cell faces at a
+    rate proportional to |v|/(c s); wider cells mean fewer crossing events but longer scans. The factor 0.6 is a
+    compromise between the two, to be judged on bench/test_bench_gas.py (collisions per second, and events per
+    collision in the periodic runs)."""
     width = max(2.0 * rmax * (1.0 + CELL_MARGIN), 0.6 * box / n ** (1.0 / 3.0))
     ncell = max(1, min(int(math.floor(box / width)), 128))
     if periodic:
@@ -305,8 +307,8 @@ class EventDrivenGas(EventTally):
         How a sphere's next contact is searched (``EVENT_SEARCHES``): "cells", the spheres of the 27 cells around
         it, leaving a cell being an event (cells about 0.6 mean spacings wide); "neighbour_lists", the spheres of
         its neighbour list, rebuilt when it has moved ``skin`` · r from where the list was made
-        (engine/gas/neighbour_list.py). Both answer the same collisions; at N = 32,000, periodic, η = 0.05 to
-        0.45, "cells" measured faster (bench/test_bench_gas.py).
+        (engine/gas/neighbour_list.py). Both answer the same collisions; "cells" is the default as the faster of
+        the two in bench/test_bench_gas.py (``test_events_periodic_against_c_code`` times both).
     skin : float, default 0.5
         α of the neighbour lists (> 0): neighbours within (1 + α)(r_i + r_j); unused by "cells".
 
