@@ -15,6 +15,7 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 from engine.gas import EventDrivenGas, radius_for_packing
+from engine.gas.event_state import RADIUS, X, Z
 from engine.gas.initial import draw_velocities, place_spheres
 from engine.gas.neighbour_list import REBUILDS, SKIN
 from properties.strategies.gas import INTERPRETED
@@ -87,8 +88,8 @@ def test_the_neighbour_lists_stay_complete_and_symmetric(n, eta, boundary, seed,
     gas = EventDrivenGas(p, v, r, m, L, periodic, search="neighbour_lists")
     gas.run(duration)
     nl, st_ = gas.lists, gas.st
-    rad = st_[:, 7]
-    drift = np.sqrt(((st_[:, 0:3] - nl.centre[:, 0:3]) ** 2).sum(axis=1))
+    rad = st_[:, RADIUS]
+    drift = np.sqrt(((st_[:, X:Z + 1] - nl.centre[:, 0:3]) ** 2).sum(axis=1))
     assert (drift <= nl.skin * rad * (1.0 + 1e-12)).all()
     d = nl.centre[:, None, 0:3] - nl.centre[None, :, 0:3]
     if periodic:

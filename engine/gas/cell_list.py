@@ -8,6 +8,9 @@ Removing a sphere from its cell is O(1) (the ``prev`` links), which the cell cro
 
 Each sphere's links and cell coordinates are one 16-byte record (``LINK``), so that following a list touches
 one small array, which stays in the processor's cache.
+
+The gas's searches size their cells at least 2 r_max (1 + ``CELL_MARGIN``) wide: the relative margin keeps a cell
+wider than a diameter once the cell width L/ncell and the centres carry their round-off.
 """
 from __future__ import annotations
 
@@ -19,7 +22,10 @@ import numpy as np
 from engine.gas.kernels import state_kernel
 
 __all__ = ["LINK", "CellList", "new_cell_list", "cell_fill", "cell_of", "cell_insert", "cell_remove", "cell_step",
-           "neighbour_cell"]
+           "neighbour_cell", "CELL_MARGIN"]
+
+#: the relative margin over one largest diameter of the narrowest cell the searches make (see the docstring)
+CELL_MARGIN = 1e-12
 
 #: a sphere's place in the cell lists: the next and previous sphere of its cell (−1: none), its cell coordinates
 LINK = np.dtype([("next", np.int32), ("prev", np.int32), ("cell", np.int16, (3,))], align=True)

@@ -8,9 +8,15 @@ simulation jumps from one event to the next and answers it with the chapter's el
 Data structures (Rapaport, *The Art of Molecular Dynamics Simulation*, ch. 14; Ericson, *Real-Time Collision
 Detection* 7.1 for the grid):
 - a uniform cell list (engine/gas/cell_list.py) of cells at least one largest diameter wide: a sphere only
-  meets spheres in its own or the 26 neighbouring cells, and leaving its cell is itself an event;
-- one pending event per sphere (its earliest: pair, wall or cell crossing) in an indexed binary min-heap of the
-  n spheres (engine/gas/event_queue.py), so each event costs O(log n) plus a scan of the 27 cells;
+  meets spheres in its own or the 26 neighbouring cells, and leaving its cell is itself an event (or, with
+  ``search="neighbour_lists"``, a neighbour list per sphere, remade when it leaves its skin:
+  engine/gas/neighbour_list.py);
+- one pending event per sphere (its earliest: pair, wall or cell crossing) filed in an event calendar
+  (engine/gas/event_queue.py; G. Paul, "A complexity O(1) priority queue for event driven molecular dynamics
+  simulations", J. Comput. Phys. 221, 615 (2007)): the events are filed by time into buckets and only the
+  current bucket's few events are kept sorted, so filing or moving an event costs O(1), O(log k) within the
+  current bucket of k events, instead of O(log n) in a heap of all n spheres; each prediction adds a scan of the
+  27 cells;
 - per-sphere collision counters for invalidation: a pair event remembers the partner's counter when it was
   predicted; if the partner collided since, the event is stale and the sphere is simply predicted again;
 - lazy positions: each sphere stores its position at its own local time and is advanced only when touched.
@@ -22,13 +28,23 @@ import math
 import numpy as np
 
 from engine._validate import as_choice, as_count, as_float, as_positive
-from engine.gas.cell_list import cell_fill, cell_step, neighbour_cell, new_cell_list
+from engine.gas.cell_list import CELL_MARGIN, cell_fill, cell_step, neighbour_cell, new_cell_list
 from engine.gas.event_queue import calendar_build, calendar_top, calendar_update, sized_event_calendar
 from engine.gas.event_state import (
+    EVENT_CROSSING,
     EVENT_NONE,
     EVENT_PAIR,
     EVENT_WALL,
+    RADIUS,
+    STATE_COLUMNS,
+    T_LOCAL,
+    VX,
+    VY,
+    VZ,
     EventGasState,
+    X,
+    Y,
+    Z,
     advance_sphere,
     collide_pair,
     new_event_state,
@@ -47,7 +63,7 @@ from engine.gas.neighbour_list import (
     new_neighbour_lists,
 )
 from engine.gas.observables import kinetic_energy_kernel
-from engine.gas.periodic import wrapped_into_box
+from engine.gas.periodic import check_periodic_box, wrapped_into_box
 from engine.gas.tally import CROSSINGS, EVENTS, STALE, EventTally
 
 __all__ = ["EventDrivenGas", "EventGasState", "EVENT_SEARCHES"]
@@ -55,8 +71,6 @@ __all__ = ["EventDrivenGas", "EventGasState", "EVENT_SEARCHES"]
 #: the partner searches of ``EventDrivenGas``: cell lists with cell crossings, or neighbour lists with a skin
 EVENT_SEARCHES = ("cells", "neighbour_lists")
 
-# event kinds
-_PAIR, _WALL, _CROSS, _NONE = EVENT_PAIR, EVENT_WALL, 2, EVENT_NONE
 _INF = math.inf
 
 
@@ -74,16 +88,16 @@ def _earliest_in_cell(st, links, j, i, t, xi, yi, zi, vxi, vyi, vzi, ri, sx, sy,
     """
     while j >= 0:
         if j != i:
-            dtj = t - st[j, 6]
-            px = st[j, 0] + st[j, 3] * dtj
-            py = st[j, 1] + st[j, 4] * dtj
-            pz = st[j, 2] + st[j, 5] * dtj
+            dtj = t - st[j, T_LOCAL]
+            px = st[j, X] + st[j, VX] * dtj
+            py = st[j, Y] + st[j, VY] * dtj
+            pz = st[j, Z] + st[j, VZ] * dtj
             if shifted:
                 px += sx
                 py += sy
                 pz += sz
-            tp = pair_time(xi - px, yi - py, zi - pz, vxi - st[j, 3], vyi - st[j, 4], vzi - st[j, 5],
-                           ri + st[j, 7])
+            tp = pair_time(xi - px, yi - py, zi - pz, vxi - st[j, VX], vyi - st[j, VY], vzi - st[j, VZ],
+                           ri + st[j, RADIUS])
             if tp < best:
                 best, bother = tp, j
         j = links[j]["next"]
@@ -122,7 +136,8 @@ def _find_partner(g, cells, i, t, axis, side):
         lo2, hi2 = side, side
     n, box, periodic = cells.ncell, cells.box, cells.periodic
     c0, c1, c2 = np.int64(links[i]["cell"][0]), np.int64(links[i]["cell"][1]), np.int64(links[i]["cell"][2])
-    xi, yi, zi, vxi, vyi, vzi, ri = st[i, 0], st[i, 1], st[i, 2], st[i, 3], st[i, 4], st[i, 5], st[i, 7]
+    xi, yi, zi, ri = st[i, X], st[i, Y], st[i, Z], st[i, RADIUS]
+    vxi, vyi, vzi = st[i, VX], st[i, VY], st[i, VZ]
     edge = periodic and (c0 == 0 or c1 == 0 or c2 == 0 or c0 == n - 1 or c1 == n - 1 or c2 == n - 1)
     for dx in range(lo0, hi0 + 1):
         cx, sx = neighbour_cell(c0, dx, n, box, periodic)
@@ -154,32 +169,32 @@ def _schedule(g, cells, i, t):
     st, b, cell = g.st, g.book[i], cells.links[i]["cell"]
     half, width, ncell, periodic = cells.half, cells.width, cells.ncell, cells.periodic
     best = _INF
-    btype = _NONE
+    btype = EVENT_NONE
     bother = -1
     for k in range(3):
-        v = st[i, 3 + k]
+        v = st[i, VX + k]
         if v == 0.0:
             continue
         up = v > 0.0
-        x = st[i, k]
+        x = st[i, X + k]
         c = cell[k]
         if not periodic:
-            tw = ((half - st[i, 7] if up else -half + st[i, 7]) - x) / v
+            tw = ((half - st[i, RADIUS] if up else -half + st[i, RADIUS]) - x) / v
             if tw < 0.0:
                 tw = 0.0
             if tw < best:
-                best, btype, bother = tw, _WALL, k
+                best, btype, bother = tw, EVENT_WALL, k
         if periodic or (c < ncell - 1 if up else c > 0):
             tc = (-half + (c + 1 if up else c) * width - x) / v
             if tc < 0.0:
                 tc = 0.0
             if tc < best:
-                best, btype, bother = tc, _CROSS, 2 * k + (1 if up else 0)
+                best, btype, bother = tc, EVENT_CROSSING, 2 * k + (1 if up else 0)
     if b["cand_other"] >= 0 and b["cand_time"] <= t + best:
-        btype, bother, bcount = _PAIR, b["cand_other"], b["cand_count"]
+        btype, bother, bcount = EVENT_PAIR, b["cand_other"], b["cand_count"]
     else:
         bcount = 0
-    b["ev_time"] = b["cand_time"] if btype == _PAIR else t + best
+    b["ev_time"] = b["cand_time"] if btype == EVENT_PAIR else t + best
     b["ev_type"] = btype
     b["ev_other"] = bother
     b["ev_count"] = bcount
@@ -199,7 +214,7 @@ def _init_kernel(g, cells):
     """Fill the cell lists and predict every sphere's first event."""
     n = g.st.shape[0]
     cell_fill(cells, g.st)
-    t = g.st[0, 6] if n else 0.0
+    t = g.st[0, T_LOCAL] if n else 0.0
     for i in range(n):
         _find_partner(g, cells, i, t, -1, 0)
         _schedule(g, cells, i, t)
@@ -211,7 +226,8 @@ def _run_kernel(g, cells, queue, t_stop, max_events):
 
     The event loop: pop the sphere with the earliest event, answer it (pair contact, wall contact or cell
     crossing), then predict again the spheres it changed (both of a collision; after a crossing only the 9 new
-    neighbour cells) and update their heap keys. A sphere at rest in an empty neighbourhood has no event, ever.
+    neighbour cells) and file their new events in the calendar. A sphere at rest in an empty neighbourhood has no
+    event, ever.
     """
     done = 0
     while done < max_events:
@@ -223,7 +239,7 @@ def _run_kernel(g, cells, queue, t_stop, max_events):
         book = g.book
         kind = book[i]["ev_type"]
         j, axis, side = -1, -1, 0
-        if kind == _PAIR:
+        if kind == EVENT_PAIR:
             j = book[i]["ev_other"]
             if book[j]["count"] == book[i]["ev_count"]:
                 collide_pair(g, i, j, t, cells.box, cells.periodic)
@@ -231,13 +247,13 @@ def _run_kernel(g, cells, queue, t_stop, max_events):
                 advance_sphere(g.st, i, t)
                 g.counters[STALE] += 1
                 j = -1
-        elif kind == _WALL:
+        elif kind == EVENT_WALL:
             reflect_sphere(g, i, t, cells.half)
-        elif kind == _CROSS:  # into the neighbouring cell, wrapped to the opposite face when periodic
+        elif kind == EVENT_CROSSING:  # into the neighbouring cell, wrapped to the opposite face when periodic
             axis, side = _crossing(g, i, t)
             shift = cell_step(cells, i, axis, side > 0)
             if shift != 0.0:
-                g.st[i, axis] += shift
+                g.st[i, X + axis] += shift
         else:
             book[i]["ev_time"] = _INF
             calendar_update(queue, i, _INF)
@@ -251,16 +267,16 @@ def _run_kernel(g, cells, queue, t_stop, max_events):
 
 
 def _cells_per_axis(n, box, rmax, periodic):
-    """Cells at least one largest diameter wide (a contact is always between neighbouring cells), and not much
-    smaller than the mean spacing (V/n)^(1/3): in a dilute gas that trades cell crossings for fewer spheres per
-    scan (0.6 spacing measured best with the event calendar at η = 0.1, N = 32,000: 0.9 spacing processes fewer
-    events, 2.98 per collision against 3.79, but scans 3.4 times as many spheres per cell)."""
-    width = max(2.0 * rmax * (1.0 + 1e-12), 0.6 * box / n ** (1.0 / 3.0))
+    """Cells at least one largest diameter wide (a contact is always between neighbouring cells), and at least
+    c = 0.6 mean spacings s = (V/n)^(1/3) wide. In a dilute gas the width is a trade: a cell of width c s holds
+    about c³ spheres, so a scan of the 27 cells tests about 27 c³ spheres, while a sphere crosses cell faces at a
+    rate proportional to |v|/(c s); wider cells mean fewer crossing events but longer scans. The factor 0.6 is a
+    compromise between the two, to be judged on bench/test_bench_gas.py (collisions per second, and events per
+    collision in the periodic runs)."""
+    width = max(2.0 * rmax * (1.0 + CELL_MARGIN), 0.6 * box / n ** (1.0 / 3.0))
     ncell = max(1, min(int(math.floor(box / width)), 128))
     if periodic:
-        if box < 3.0 * 2.0 * rmax * (1.0 + 1e-12):
-            raise ValueError(f"a periodic box must be at least 3 diameters wide: box = {float(box)!r}, "
-                             f"largest diameter = {float(2.0 * rmax)!r}")
+        check_periodic_box(box, rmax, "radii")
         ncell = max(3, ncell)
     return ncell
 
@@ -269,10 +285,11 @@ class EventDrivenGas(EventTally):
     """An exact event-driven gas of n hard spheres: the state, and ``run(t_stop)`` that advances it.
 
     Every sphere flies in a straight line until its next event — a collision (the earliest root of
-    ``|Δp + Δv t| = r_i + r_j``), a wall hit or a cell crossing — kept in a calendar queue; only the spheres of an event
-    are moved and re-predicted (each keeps its own local time). Positions are wrapped into [−L/2, L/2) when
-    periodic. Internally the spheres are renumbered in cell order (``order``) and packed into ``EventGasState``;
-    ``positions``, ``velocities`` and ``masses`` answer in the caller's order.
+    ``|Δp + Δv t| = r_i + r_j``), a wall hit, a cell crossing or a list rebuild — kept in an event calendar
+    (Paul's, engine/gas/event_queue.py); only the spheres of an event are moved and re-predicted (each keeps its
+    own local time). Positions are wrapped into [−L/2, L/2) when periodic. Internally the spheres are renumbered
+    in cell order (``order``) and packed into ``EventGasState``; ``positions``, ``velocities`` and ``masses``
+    answer in the caller's order.
 
     Parameters
     ----------
@@ -283,15 +300,15 @@ class EventDrivenGas(EventTally):
     radii, masses : float or array_like, shape (n,)
         Positive, one for all or one per sphere.
     box : float
-        The side L, > 0 (2r < L with walls, 6r <= L periodic).
+        The side L, > 0 (2r < L with walls, 6r (1 + 1e-12) <= L periodic: engine/gas/periodic.py).
     periodic : bool
         Periodic images instead of walls.
     search : {"cells", "neighbour_lists"}, default "cells"
         How a sphere's next contact is searched (``EVENT_SEARCHES``): "cells", the spheres of the 27 cells around
         it, leaving a cell being an event (cells about 0.6 mean spacings wide); "neighbour_lists", the spheres of
         its neighbour list, rebuilt when it has moved ``skin`` · r from where the list was made
-        (engine/gas/neighbour_list.py). Both answer the same collisions; at N = 32,000, periodic, η = 0.05 to
-        0.45, "cells" measured faster (bench/test_bench_gas.py).
+        (engine/gas/neighbour_list.py). Both answer the same collisions; "cells" is the default as the faster of
+        the two in bench/test_bench_gas.py (``test_events_periodic_against_c_code`` times both).
     skin : float, default 0.5
         α of the neighbour lists (> 0): neighbours within (1 + α)(r_i + r_j); unused by "cells".
 
@@ -333,10 +350,10 @@ class EventDrivenGas(EventTally):
         self.cells = new_cell_list(n, self.box, self.ncell, self.periodic)
         cell = np.clip(np.floor((pos + self.box / 2.0) / self.cells.width).astype(np.int64), 0, self.ncell - 1)
         self.order = np.lexsort((cell[:, 2], cell[:, 1], cell[:, 0]))
-        st = np.zeros((n, 8))
-        st[:, 0:3] = pos[self.order]
-        st[:, 3:6] = np.asarray(velocities, dtype=np.float64)[self.order]
-        st[:, 7] = np.asarray(radii, dtype=np.float64)[self.order]
+        st = np.zeros((n, STATE_COLUMNS))
+        st[:, X:Z + 1] = pos[self.order]
+        st[:, VX:VZ + 1] = np.asarray(velocities, dtype=np.float64)[self.order]
+        st[:, RADIUS] = np.asarray(radii, dtype=np.float64)[self.order]
         self.state = new_event_state(st, np.asarray(masses, dtype=np.float64)[self.order])
         self.st, self.mass = self.state.st, self.state.book["mass"]
         self.counters, self.sums = self.state.counters, self.state.sums
@@ -410,13 +427,13 @@ class EventDrivenGas(EventTally):
         """Centres (n, 3) at the current time, in the caller's order (a new array); wrapped into [−L/2, L/2)
         when periodic."""
         if self.lists is not None and self.periodic:  # the lists keep each centre unwrapped until its rebuild
-            return self._in_caller_order(wrapped_into_box(self.st[:, 0:3], self.box))
-        return self._in_caller_order(self.st[:, 0:3])
+            return self._in_caller_order(wrapped_into_box(self.st[:, X:Z + 1], self.box))
+        return self._in_caller_order(self.st[:, X:Z + 1])
 
     @property
     def velocities(self) -> np.ndarray:
         """Velocities (n, 3), in the caller's order (a new array)."""
-        return self._in_caller_order(self.st[:, 3:6])
+        return self._in_caller_order(self.st[:, VX:VZ + 1])
 
     @property
     def masses(self) -> np.ndarray:
@@ -425,8 +442,8 @@ class EventDrivenGas(EventTally):
 
     def vel_view(self) -> np.ndarray:
         """The velocities (n, 3) in internal order (a view, aligned with ``mass``)."""
-        return self.st[:, 3:6]
+        return self.st[:, VX:VZ + 1]
 
     def kinetic_energy(self) -> float:
         """K = Σ m v²/2 (compensated summation, so the drift measured is the dynamics', not the sum's)."""
-        return float(kinetic_energy_kernel(self.st[:, 3:6], self.mass))
+        return float(kinetic_energy_kernel(self.st[:, VX:VZ + 1], self.mass))

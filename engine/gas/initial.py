@@ -17,6 +17,7 @@ import numpy as np
 
 from engine._config import njit
 from engine._validate import as_choice, as_count, as_float_array, as_positive
+from engine.gas.periodic import check_periodic_box
 
 __all__ = ["reachable_side", "packing_fraction", "radius_for_packing", "place_spheres", "draw_velocities",
            "MAX_PACKING"]
@@ -318,7 +319,7 @@ def check_gas_state(positions, velocities, radii, masses, box, periodic, *, allo
     (positions (n, 3), velocities (n, 3), radii (n,), masses (n,)), box and periodic.
 
     radii and masses: positive scalars or (n,) arrays; box > 0; periodic a bool; the spheres must fit (2 r < box
-    with walls, 6 r <= box periodic), lie inside the reachable box and not overlap —
+    with walls, ``check_periodic_box`` periodic), lie inside the reachable box and not overlap —
     unless ``allow_overlap``: the stepped method (the chapter's frame loop) starts from and resolves overlaps."""
     box = as_positive(box, "box")
     if not isinstance(periodic, bool | np.bool_):
@@ -331,8 +332,8 @@ def check_gas_state(positions, velocities, radii, masses, box, periodic, *, allo
     rmax = float(r.max())
     if not periodic and 2.0 * rmax >= box:
         raise ValueError(f"radii must be < box/2: radius {rmax!r}, box {box!r}")
-    if periodic and 6.0 * rmax > box:
-        raise ValueError(f"a periodic box must be at least 3 diameters wide: radius {rmax!r}, box {box!r}")
+    if periodic:
+        check_periodic_box(box, rmax, "radii")
     periodic = bool(periodic)
     if allow_overlap:
         p = check_start_positions(p, np.zeros(n), box, periodic)  # inside the box (walls) or wrapped, any overlap

@@ -23,12 +23,21 @@ from typing import NamedTuple
 
 import numpy as np
 
-from engine.gas.cell_list import cell_insert, cell_remove, neighbour_cell
+from engine.gas.cell_list import CELL_MARGIN, cell_insert, cell_remove, neighbour_cell
 from engine.gas.event_queue import calendar_top, calendar_update
 from engine.gas.event_state import (
     EVENT_NONE,
     EVENT_PAIR,
+    EVENT_REBUILD,
     EVENT_WALL,
+    RADIUS,
+    T_LOCAL,
+    VX,
+    VY,
+    VZ,
+    X,
+    Y,
+    Z,
     advance_sphere,
     collide_pair,
     pair_time,
@@ -44,8 +53,6 @@ __all__ = ["NeighbourLists", "new_neighbour_lists", "SKIN", "REBUILDS", "neighbo
 #: α, the skin of the lists: neighbours within (1 + α)(r_i + r_j), rebuilt after a displacement of α r_i
 #: (Smallenburg's default shell 1 + α = 1.5)
 SKIN = 0.5
-#: the event kind of a rebuild (pairs and walls: engine/gas/event_state.py)
-EVENT_REBUILD = 2
 #: index of the rebuild count in the lists' ``tally``
 REBUILDS = 0
 # the skin a sphere may move through is α r (1 − 2^−30): the lists' guarantee then holds with a margin above
@@ -99,12 +106,12 @@ def _separation(xi, yi, zi, xj, yj, zj, box, periodic):
 def _skin_exit_time(st, nl, i):
     """Time from now until sphere i (up to date) is α r_i from its list centre: the larger root of
     |d + v s|² = δ², d = x_i − x̂_i (|d| <= δ, so the roots have opposite signs); inf at rest."""
-    dx, dy, dz = st[i, 0] - nl.centre[i, 0], st[i, 1] - nl.centre[i, 1], st[i, 2] - nl.centre[i, 2]
-    vx, vy, vz = st[i, 3], st[i, 4], st[i, 5]
+    dx, dy, dz = st[i, X] - nl.centre[i, 0], st[i, Y] - nl.centre[i, 1], st[i, Z] - nl.centre[i, 2]
+    vx, vy, vz = st[i, VX], st[i, VY], st[i, VZ]
     vv = vx * vx + vy * vy + vz * vz
     if vv == 0.0:
         return _INF
-    delta = nl.skin * st[i, 7] * _SKIN_MARGIN
+    delta = nl.skin * st[i, RADIUS] * _SKIN_MARGIN
     b = dx * vx + dy * vy + dz * vz
     room = delta * delta - (dx * dx + dy * dy + dz * dz)
     if room < 0.0:  # round-off just beyond the skin
@@ -122,20 +129,20 @@ def _predict(g, nl, i, t, box, periodic):
     if not periodic:
         half = 0.5 * box
         for k in range(3):
-            v = st[i, 3 + k]
+            v = st[i, VX + k]
             if v != 0.0:
-                tw = ((half - st[i, 7] if v > 0.0 else -half + st[i, 7]) - st[i, k]) / v
+                tw = ((half - st[i, RADIUS] if v > 0.0 else -half + st[i, RADIUS]) - st[i, X + k]) / v
                 tw = max(tw, 0.0)
                 if tw < best:
                     best, kind, other = tw, EVENT_WALL, k
-    xi, yi, zi = st[i, 0], st[i, 1], st[i, 2]
+    xi, yi, zi = st[i, X], st[i, Y], st[i, Z]
     for m in range(nl.sizes[i]):
         j = nl.ids[i, m]
-        dtj = t - st[j, 6]
-        rx, ry, rz = _separation(xi, yi, zi, st[j, 0] + st[j, 3] * dtj, st[j, 1] + st[j, 4] * dtj,
-                                 st[j, 2] + st[j, 5] * dtj, box, periodic)
-        tp = pair_time(rx, ry, rz, st[i, 3] - st[j, 3], st[i, 4] - st[j, 4], st[i, 5] - st[j, 5],
-                       st[i, 7] + st[j, 7])
+        dtj = t - st[j, T_LOCAL]
+        rx, ry, rz = _separation(xi, yi, zi, st[j, X] + st[j, VX] * dtj, st[j, Y] + st[j, VY] * dtj,
+                                 st[j, Z] + st[j, VZ] * dtj, box, periodic)
+        tp = pair_time(rx, ry, rz, st[i, VX] - st[j, VX], st[i, VY] - st[j, VY], st[i, VZ] - st[j, VZ],
+                       st[i, RADIUS] + st[j, RADIUS])
         if tp < best:
             best, kind, other, other_count = tp, EVENT_PAIR, j, book[j]["count"]
     if best == _INF:
@@ -182,9 +189,10 @@ def _rebuild(g, nl, cells, i, t):
     cell_remove(cells, i)
     for k in range(3):
         if cells.periodic:
-            st[i, k] = wrap_coordinate(st[i, k], cells_half)
-        nl.centre[i, k] = st[i, k]
-        cells.links[i]["cell"][k] = min(cells.ncell - 1, max(0, int(math.floor((st[i, k] + cells_half) / width))))
+            st[i, X + k] = wrap_coordinate(st[i, X + k], cells_half)
+        nl.centre[i, k] = st[i, X + k]
+        cells.links[i]["cell"][k] = min(cells.ncell - 1, max(0, int(math.floor((st[i, X + k] + cells_half)
+                                                                             / width))))
     cell_insert(cells, i)
     found = _gather(g, nl, cells, i)
     cap = nl.ids.shape[1]
@@ -221,10 +229,10 @@ def neighbour_lists_init(g, nl, cells):
     cells.head[:] = -1
     longest = 0
     for i in range(n):
-        nl.centre[i, 3] = st[i, 7]
+        nl.centre[i, 3] = st[i, RADIUS]
         for k in range(3):
-            nl.centre[i, k] = st[i, k]
-            cells.links[i]["cell"][k] = min(cells.ncell - 1, max(0, int(math.floor((st[i, k] + cells.half)
+            nl.centre[i, k] = st[i, X + k]
+            cells.links[i]["cell"][k] = min(cells.ncell - 1, max(0, int(math.floor((st[i, X + k] + cells.half)
                                                                                  / cells.width))))
         cell_insert(cells, i)
     cap = nl.ids.shape[1]
@@ -236,7 +244,7 @@ def neighbour_lists_init(g, nl, cells):
             nl.ids[i, m] = nl.found[m]
     if longest > cap:
         return longest
-    t = st[0, 6] if n else 0.0
+    t = st[0, T_LOCAL] if n else 0.0
     for i in range(n):
         _predict(g, nl, i, t, cells.box, cells.periodic)
     return longest
@@ -295,7 +303,7 @@ def grown(nl: NeighbourLists, capacity: int) -> NeighbourLists:
 def list_cells_per_axis(n: int, box: float, rmax: float, periodic: bool, skin: float = SKIN) -> int:
     """Cells of the rebuilds' cell list: at least (1 + α) 2 r_max wide (every neighbour is in the 27 cells around),
     at most 128 and about 8 n cells in all (Smallenburg's cap); at least 3 when periodic."""
-    width = (1.0 + skin) * 2.0 * rmax * (1.0 + 1e-12)
+    width = (1.0 + skin) * 2.0 * rmax * (1.0 + CELL_MARGIN)
     ncell = max(1, min(int(math.floor(box / width)), 128, int(math.ceil((8.0 * n) ** (1.0 / 3.0)))))
     if periodic and ncell < 3:
         raise ValueError(f"search='neighbour_lists' needs a periodic box at least 3 list diameters wide: box = "

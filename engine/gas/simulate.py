@@ -28,6 +28,7 @@ from engine.gas.initial import (
     place_spheres,
     reachable_side,
 )
+from engine.gas.periodic import check_periodic_box
 from engine.gas.stepped import SteppedGas
 
 __all__ = ["simulate_gas", "GasResult", "GAS_METHODS", "GAS_BOUNDARIES", "GasEventCapReached", "MAX_STEPS"]
@@ -171,8 +172,8 @@ def _validate(n, radius, mass, box, temperature, t_equilibrate, t_measure, dt, m
     rmax = float(req.radii.max())
     if not req.periodic and 2.0 * rmax >= req.box:
         raise ValueError(f"radius must be < box/2: radius {rmax!r}, box {req.box!r}")
-    if req.periodic and 6.0 * rmax > req.box:
-        raise ValueError(f"a periodic box must be at least 3 diameters wide: radius {rmax!r}, box {req.box!r}")
+    if req.periodic:
+        check_periodic_box(req.box, rmax, "radius")
     return req
 
 
@@ -328,7 +329,7 @@ def simulate_gas(n, *, radius, mass=1.0, box=10.0, temperature=1.0, t_equilibrat
     mass : float or array_like, shape (n,), default 1.0
         Masses, > 0.
     box : float, default 10.0
-        The side L of the cube, > 0; 2r < L with walls, 6r <= L periodic.
+        The side L of the cube, > 0; 2r < L with walls, 6r (1 + 1e-12) <= L periodic (engine/gas/periodic.py).
     temperature : float, default 1.0
         kT, > 0.
     t_equilibrate : float, default 5.0
