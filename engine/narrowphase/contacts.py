@@ -40,7 +40,7 @@ from .._config import njit
 
 __all__ = ["ContactSet", "PairFeatureNames", "feature_name", "FEATURE_NAMES", "ROUND_FEATURE_NAMES", "VERTEX", "EDGE",
            "FACE", "MAX_POINTS",
-           "feature_key", "point_id", "describe_point_id", "reduce_manifold", "mark_persisting", "empty_contacts",
+           "feature_key", "point_id", "describe_point_id", "reduce_manifold", "mark_persisting",
            "ContactRows", "contact_rows", "APART", "TOUCHING", "DEFERRED", "write_pair", "write_point",
            "key_kind", "contact_set_from_rows", "swap_point_id", "unit_vector",
            "Scratch", "kernel_scratch", "contact_of_one_pair"]
@@ -407,12 +407,3 @@ def contact_of_one_pair(kernel, args, radius_a: float = 0.0, radius_b: float = 0
         kernel(*args, rows, 0, False, kernel_scratch(scratch_points))
     return contact_set_from_rows(rows, np.array([[0, 1]], np.int64), np.array([float(radius_a)]),
                                  np.array([float(radius_b)]), keep_apart=True)
-
-
-def empty_contacts() -> ContactSet:
-    """A ContactSet of no pair."""
-    z = np.zeros(0)
-    return ContactSet(pairs=np.empty((0, 2), np.int64), separation=z, depth=z.copy(), normal=np.empty((0, 3)),
-                      feature_a=np.zeros(0, np.int8), feature_b=np.zeros(0, np.int8), points=np.empty((0, 3)),
-                      point_offsets=np.zeros(1, np.int64), radius_a=z.copy(), radius_b=z.copy(),
-                      point_ids=np.zeros(0, np.int64), persists=np.zeros(0, np.bool_))
