@@ -30,7 +30,6 @@ The kernels here are shared by every contact kernel: ``feature_key``, ``point_id
 """
 from __future__ import annotations
 
-import math
 from collections import namedtuple
 from dataclasses import dataclass
 
@@ -42,7 +41,7 @@ __all__ = ["ContactSet", "PairFeatureNames", "feature_name", "FEATURE_NAMES", "R
            "FACE", "MAX_POINTS",
            "feature_key", "point_id", "describe_point_id", "reduce_manifold", "mark_persisting",
            "ContactRows", "contact_rows", "APART", "TOUCHING", "DEFERRED", "write_pair", "write_point",
-           "key_kind", "contact_set_from_rows", "swap_point_id", "unit_vector",
+           "key_kind", "contact_set_from_rows", "swap_point_id",
            "Scratch", "kernel_scratch", "contact_of_one_pair"]
 
 VERTEX, EDGE, FACE = 1, 2, 3
@@ -125,18 +124,6 @@ def describe_point_id(pid: int) -> str:
     keys = (pid >> _ID_BITS, pid & ((1 << _ID_BITS) - 1))
     text = " - ".join(f"{FEATURE_NAMES.get(k >> _KEY_BITS, '?')} {k & ((1 << _KEY_BITS) - 1)}" for k in keys)
     return text + (f" (#{bump + 1})" if bump else "")
-
-
-@njit
-def unit_vector(x, y, z):
-    """(x, y, z) / |(x, y, z)|, scaled by its largest component first (no underflow of the squares for tiny
-    vectors, no overflow for huge ones); (1, 0, 0) for the zero vector."""
-    big = max(abs(x), abs(y), abs(z))
-    if big == 0.0:
-        return 1.0, 0.0, 0.0
-    x, y, z = x / big, y / big, z / big
-    length = math.sqrt(x * x + y * y + z * z)
-    return x / length, y / length, z / length
 
 
 @njit(inline="always")
