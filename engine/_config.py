@@ -18,6 +18,9 @@ from numba import njit as _numba_njit
 #: keyword arguments of every compiled kernel of the engine
 NJIT_OPTIONS = {"cache": True, "fastmath": False, "nogil": True}
 
+#: the most threads a call may ask for with ``threads=`` (every broad phase, the narrow-phase batches)
+MAX_THREADS = 256
+
 #: absolute tolerance, in seconds, of the bisection that locates an impact time tc (Algorithme 3's epsilon)
 DEFAULT_TIME_TOL = 1e-10
 

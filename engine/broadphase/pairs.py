@@ -31,12 +31,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, DTypeLike
 
-from engine._config import njit
+from engine._config import MAX_THREADS, njit
 from engine._validate import as_count, as_float_array
 from engine.broadphase.counting_sort import radix_sort_pairs
-
-#: the most threads a broad-phase call may ask for
-MAX_THREADS = 256
 
 __all__ = ["canonical_pairs", "empty_pairs", "as_boxes", "as_boxes_3d", "as_one_box", "as_live_id", "boxes_overlap",
            "with_tests",

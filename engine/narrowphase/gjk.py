@@ -38,7 +38,7 @@ from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
-from .._config import njit
+from .._config import MAX_THREADS, njit
 from .._validate import MAX_MAGNITUDE, as_count, as_float_array, as_max_iterations, check_offsets, check_pairs
 from .float_bits import abs_bits, bits_float
 from .rescale import rescale_unit
@@ -518,8 +518,6 @@ def pack_point_sets(point_sets):
 
 #: a thread gets at least this many pairs (below that, starting threads costs more than it saves)
 MIN_PAIRS_PER_THREAD = 512
-#: the most threads a batch call may ask for
-MAX_THREADS = 256
 
 
 def run_in_chunks(run, k: int, threads: int) -> None:
