@@ -1,4 +1,4 @@
-"""Numerical settings shared by every module: dtype, tolerances and numba flags, in one place.
+"""Numerical settings shared by every module: tolerances and numba flags, in one place.
 
 ``fastmath`` stays off everywhere: the invariants the properties check (closed-interval overlap, exact
 agreement between broad phases, conservation to round-off) need exact IEEE-754 arithmetic.
@@ -13,14 +13,13 @@ from pathlib import Path
 
 import numba
 import numba.core.event
-import numpy as np
 from numba import njit as _numba_njit
-
-FLOAT = np.float64
-INDEX = np.int64
 
 #: keyword arguments of every compiled kernel of the engine
 NJIT_OPTIONS = {"cache": True, "fastmath": False, "nogil": True}
+
+#: the most threads a call may ask for with ``threads=`` (every broad phase, the narrow-phase batches)
+MAX_THREADS = 256
 
 #: absolute tolerance, in seconds, of the bisection that locates an impact time tc (Algorithme 3's epsilon)
 DEFAULT_TIME_TOL = 1e-10

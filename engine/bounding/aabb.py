@@ -86,7 +86,7 @@ def check_ordered(lo: np.ndarray, hi: np.ndarray, names: tuple[str, str] = ("lo"
                          f"{hi_name}[{where}] = {float(hi[index])!r}")
 
 
-def as_rotation(rotation: ArrayLike, translation: ArrayLike, d: int) -> tuple[np.ndarray, np.ndarray]:
+def as_rigid_transform(rotation: ArrayLike, translation: ArrayLike, d: int) -> tuple[np.ndarray, np.ndarray]:
     """A checked orthonormal (d, d) ``rotation`` and a (d,) ``translation`` (x -> rotation @ x + translation)."""
     rotation = as_float_array(rotation, "rotation", shape=(d, d))
     translation = as_float_array(translation, "translation", shape=(d,))
@@ -402,7 +402,7 @@ def transform_aabbs(lo: ArrayLike, hi: ArrayLike, rotation: ArrayLike,
     """
     lo, hi = as_box(lo, hi)
     d = lo.shape[-1]
-    rotation, translation = as_rotation(rotation, translation, d)
+    rotation, translation = as_rigid_transform(rotation, translation, d)
     lo2, hi2 = lo.reshape(-1, d), hi.reshape(-1, d)
     new_lo = np.empty_like(lo2)
     new_hi = np.empty_like(hi2)

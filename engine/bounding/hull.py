@@ -343,8 +343,9 @@ def _alive_faces(fv, alive, n_faces):
 
 
 # The mesh arrays are locals of the loop below, never read through the QuickhullMesh tuple inside it, and no
-# tuple of them is built or passed after it: either makes numba keep reference counts in the loop (measured
-# 1.3x slower on 10,000 points of a sphere).
+# tuple of them is built or passed after it: either makes numba keep reference counts in the loop (atomic
+# increments and decrements of the arrays' counts on every iteration; bench/test_bench_bounding.py, the convex
+# hull group's 10,000 points on a sphere, times the loop).
 @njit
 def _quickhull_kernel(points, eps, capacity):
     """Quickhull in 3-D (Ericson 12.4.2). Returns (faces (m, 3), status): status 0 ok, 1/2/3 degenerate input of

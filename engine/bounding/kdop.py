@@ -21,7 +21,7 @@ from numpy.typing import ArrayLike
 
 from .._config import njit
 from .._validate import as_float_array
-from .aabb import as_points, as_rotation, check_ordered, inside_slabs, overlap_slabs_kernel
+from .aabb import as_points, as_rigid_transform, check_ordered, inside_slabs, overlap_slabs_kernel
 
 __all__ = [
     "KDOP_SIZES",
@@ -356,7 +356,7 @@ def update_kdop(points: ArrayLike, k: int, rotation: ArrayLike,
     k = _check_k(k)
     d = KDOP_SIZES[k]
     pts = as_points(points, dims=(d,))
-    rotation, translation = as_rotation(rotation, translation, d)
+    rotation, translation = as_rigid_transform(rotation, translation, d)
     lo = np.empty(k // 2)
     hi = np.empty(k // 2)
     _update_kdop_kernel(pts, rotation, translation, _DIRECTIONS[k], lo, hi)
@@ -388,7 +388,7 @@ def transform_kdop(lo: ArrayLike, hi: ArrayLike, k: int, rotation: ArrayLike,
     lo, hi = _as_kdop(lo, hi, k)
     if lo.ndim != 1:
         raise ValueError(f"lo must have shape ({k // 2},), got {lo.shape}")
-    rotation, translation = as_rotation(rotation, translation, d)
+    rotation, translation = as_rigid_transform(rotation, translation, d)
     new_lo = np.empty(k // 2)
     new_hi = np.empty(k // 2)
     _transform_kdop_kernel(lo, hi, rotation, translation, _DIRECTIONS[k], new_lo, new_hi)

@@ -23,7 +23,7 @@ from numpy.typing import ArrayLike
 
 from .._config import njit
 from .._validate import as_float_array, as_nonnegative, unit_scale_exponent
-from .aabb import as_clouds, as_points, as_rotation
+from .aabb import as_clouds, as_points, as_rigid_transform
 
 __all__ = [
     "ritter_sphere",
@@ -670,5 +670,5 @@ def transform_sphere(center: ArrayLike, radius: float, rotation: ArrayLike,
     """
     c = as_float_array(center, "center", ndim=1)
     r = as_nonnegative(radius, "radius")
-    rotation, translation = as_rotation(rotation, translation, c.shape[0])
+    rotation, translation = as_rigid_transform(rotation, translation, c.shape[0])
     return rotation @ c + translation, r

@@ -6,13 +6,15 @@ array and a row count — in whatever order its traversal meets them: :func:`new
 :func:`push_pair` appends a row (doubling the buffer when it is full). The two hottest sweeps (sap's columns and
 the sphere columns) record branch-free instead — the *two-try record*: write the row while there is room, add the
 test's outcome to the count, and sweep again with a buffer of that count (:func:`work_pair_buffer`) if it was
-short; it is written out in them, since any helper call that takes the buffer costs a reference-count update per
-pair (measured 2.5x slower). The kernel hands the buffer to :func:`canonicalise_pairs`, which puts the rows in
-that one form in O(k): one integer key per pair, a radix sort, repeats dropped. :func:`canonical_pairs` is the
-same operation at the public boundary (validated); :func:`canonicalise_buffer` runs it with the keys in this
-thread's reusable work arrays (:func:`work_array`, which the sweeps also use for their sorted data). A kernel
-may record each pair as one integer key min · 2^s + max instead (:func:`pair_key_shift`; half the bytes of a row):
-:func:`canonicalise_key_buffer` sorts and decodes such keys.
+short; it is written out in them, since any helper call that takes the buffer costs an atomic reference-count
+increment and decrement per candidate, on a loop that otherwise does a few compares and one store per candidate
+(bench/test_bench_broadphase.py, the W1 boxes and W2 spheres groups, time those sweeps). The kernel hands the
+buffer to :func:`canonicalise_pairs`, which puts the rows in that one form in O(k): one integer key per pair, a
+radix sort, repeats dropped. :func:`canonical_pairs` is the same operation at the public boundary (validated);
+:func:`canonicalise_buffer` runs it with the keys in this thread's reusable work arrays (:func:`work_array`,
+which the sweeps also use for their sorted data). A kernel may record each pair as one integer key
+min · 2^s + max instead (:func:`pair_key_shift`; half the bytes of a row): :func:`canonicalise_key_buffer` sorts
+and decodes such keys.
 :func:`split_work` and :func:`run_split` share a kernel's work among threads and merge their buffers.
 
 This module also holds the checks shared by the broad phases: :func:`as_boxes` validates ``lo``/``hi`` box
@@ -29,12 +31,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, DTypeLike
 
-from engine._config import njit
+from engine._config import MAX_THREADS, njit
 from engine._validate import as_count, as_float_array
 from engine.broadphase.counting_sort import radix_sort_pairs
-
-#: the most threads a broad-phase call may ask for
-MAX_THREADS = 256
 
 __all__ = ["canonical_pairs", "empty_pairs", "as_boxes", "as_boxes_3d", "as_one_box", "as_live_id", "boxes_overlap",
            "with_tests",

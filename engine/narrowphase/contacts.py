@@ -30,7 +30,6 @@ The kernels here are shared by every contact kernel: ``feature_key``, ``point_id
 """
 from __future__ import annotations
 
-import math
 from collections import namedtuple
 from dataclasses import dataclass
 
@@ -40,9 +39,9 @@ from .._config import njit
 
 __all__ = ["ContactSet", "PairFeatureNames", "feature_name", "FEATURE_NAMES", "ROUND_FEATURE_NAMES", "VERTEX", "EDGE",
            "FACE", "MAX_POINTS",
-           "feature_key", "point_id", "describe_point_id", "reduce_manifold", "mark_persisting", "empty_contacts",
+           "feature_key", "point_id", "describe_point_id", "reduce_manifold", "mark_persisting",
            "ContactRows", "contact_rows", "APART", "TOUCHING", "DEFERRED", "write_pair", "write_point",
-           "key_kind", "contact_set_from_rows", "swap_point_id", "unit_vector",
+           "key_kind", "contact_set_from_rows", "swap_point_id",
            "Scratch", "kernel_scratch", "contact_of_one_pair"]
 
 VERTEX, EDGE, FACE = 1, 2, 3
@@ -125,18 +124,6 @@ def describe_point_id(pid: int) -> str:
     keys = (pid >> _ID_BITS, pid & ((1 << _ID_BITS) - 1))
     text = " - ".join(f"{FEATURE_NAMES.get(k >> _KEY_BITS, '?')} {k & ((1 << _KEY_BITS) - 1)}" for k in keys)
     return text + (f" (#{bump + 1})" if bump else "")
-
-
-@njit
-def unit_vector(x, y, z):
-    """(x, y, z) / |(x, y, z)|, scaled by its largest component first (no underflow of the squares for tiny
-    vectors, no overflow for huge ones); (1, 0, 0) for the zero vector."""
-    big = max(abs(x), abs(y), abs(z))
-    if big == 0.0:
-        return 1.0, 0.0, 0.0
-    x, y, z = x / big, y / big, z / big
-    length = math.sqrt(x * x + y * y + z * z)
-    return x / length, y / length, z / length
 
 
 @njit(inline="always")
@@ -412,12 +399,3 @@ def contact_of_one_pair(kernel, args, radius_a: float = 0.0, radius_b: float = 0
         kernel(*args, rows, 0, False, kernel_scratch(scratch_points))
     return contact_set_from_rows(rows, np.array([[0, 1]], np.int64), np.array([float(radius_a)]),
                                  np.array([float(radius_b)]), keep_apart=True)
-
-
-def empty_contacts() -> ContactSet:
-    """A ContactSet of no pair."""
-    z = np.zeros(0)
-    return ContactSet(pairs=np.empty((0, 2), np.int64), separation=z, depth=z.copy(), normal=np.empty((0, 3)),
-                      feature_a=np.zeros(0, np.int8), feature_b=np.zeros(0, np.int8), points=np.empty((0, 3)),
-                      point_offsets=np.zeros(1, np.int64), radius_a=z.copy(), radius_b=z.copy(),
-                      point_ids=np.zeros(0, np.int64), persists=np.zeros(0, np.bool_))

@@ -131,8 +131,9 @@ def _blow_up_segment(pa, pb, V, VA, VB, size2):
         dx, dy, dz = sz, 0.0, -sx
     else:
         dx, dy, dz = -sy, sx, 0.0
-    # a unit d (rescaled before squaring): best below is then a length, comparable with EPA_TOL · size at any
-    # scale (with |d| ~ |segment| it was an area, and tiny shapes passed for flat)
+    # a unit d (rescaled before squaring): best = max ±w·d below is then a length, comparable with EPA_TOL · size
+    # at any scale; with |d| ~ |segment| it would scale as a length squared (an area), which for tiny shapes falls
+    # below EPA_TOL · size and would call a solid M flat
     dx, dy, dz, _ = unit_vector(dx, dy, dz)
     best = -1.0
     for sgn in (1.0, -1.0):

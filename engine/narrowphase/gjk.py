@@ -38,7 +38,7 @@ from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
-from .._config import njit
+from .._config import MAX_THREADS, njit
 from .._validate import MAX_MAGNITUDE, as_count, as_float_array, as_max_iterations, check_offsets, check_pairs
 from .float_bits import abs_bits, bits_float
 from .rescale import rescale_unit
@@ -87,7 +87,9 @@ MAX_MAGNITUDE_BITS = int(np.float64(MAX_MAGNITUDE).view(np.int64))
 #
 # Compiled with numba's ``error_model="numpy"``: the divisions (by a shape's point count, by the power-of-two unit,
 # and those of engine.narrowphase.simplex) never have a zero denominator, so the Python error model's zero test
-# before each of them is dead weight on the walk (hull20 batch ~2 % faster; the same answers bit for bit).
+# before each of them (a compare and a branch to an exception path) is dead weight on the walk. The two models
+# differ only on a zero denominator, so the answers are the same bit for bit (bench/test_bench_narrowphase.py, the
+# hull20 GJK batch, times the walk).
 #
 # The per-pair loop holds no reference counting (numba's NRT incref/decref are atomic operations, one pair per
 # array argument of every call, and numba's own inlining of an array-taking helper adds them too): shapes are
@@ -163,10 +165,10 @@ def start_direction(dx, dy, dz):
 
 
 # During the walk the simplex lives in scalars (tuples, which LLVM keeps in registers), not in the scratch arrays,
-# which the walk writes once at its end: written and read back at every step, the arrays put stores, reloads and
-# spills on the iteration's dependency chain (hull20 batch, with the two-pass support scans: 556 -> 451 ns/pair,
-# process-time minima of alternated runs; the same answers bit for bit). P holds the vertices (x, y, z of vertex k
-# at 3k..3k+2), R their rows in A (0..3) and B (4..7), L their weights.
+# which the walk writes once at its end: written and read back at every step, the arrays would put stores,
+# reloads and spills on the iteration's dependency chain. The scalars hold the same values the arrays would, so the
+# answers are the same bit for bit (bench/test_bench_narrowphase.py, the hull20 GJK batch, times the walk). P holds
+# the vertices (x, y, z of vertex k at 3k..3k+2), R their rows in A (0..3) and B (4..7), L their weights.
 @njit(inline="always", error_model="numpy")
 def _with_vertex(P, R, k, wx, wy, wz, ia, ib):
     """P, R with vertex k (0..3) replaced by w = (wx, wy, wz) and its rows ia, ib."""
@@ -216,7 +218,8 @@ def _store_simplex(P, R, L, W, IA, IB, lam):
 
 
 # Compiled without numba's runtime (NRT): it allocates nothing, and its five array arguments then cost no reference
-# counting per call (the atomic increments of a plain call made the batches ~10 % slower).
+# counting per call (a plain call makes an atomic increment and decrement of each array argument's count, once per
+# pair; bench/test_bench_narrowphase.py, the GJK batches, times the per-pair loop).
 @njit(_nrt=False, error_model="numpy")
 def gjk_walk(S, na, nb, a0, b0, vx, vy, vz, max_iter, W, IA, IB, lam):
     """GJK's loop (Ericson 9.5) on the scratch copies ``S`` (8, n) of A (rows 0–2, ``na`` points) and B (rows 3–5,
@@ -515,8 +518,6 @@ def pack_point_sets(point_sets):
 
 #: a thread gets at least this many pairs (below that, starting threads costs more than it saves)
 MIN_PAIRS_PER_THREAD = 512
-#: the most threads a batch call may ask for
-MAX_THREADS = 256
 
 
 def run_in_chunks(run, k: int, threads: int) -> None:

@@ -32,10 +32,10 @@ from .contacts import (
     contact_of_one_pair,
     feature_key,
     key_kind,
-    unit_vector,
     write_pair,
     write_point,
 )
+from .touching_normal import unit_vector
 
 __all__ = ["PARALLEL_SIN2", "SHORT2", "MEET", "closest_segment_parameters", "contact_round_cores",
            "contact_segments_pair"]
@@ -110,14 +110,15 @@ def _fallback_normal(d1x, d1y, d1z, d2x, d2y, d2z, ox, oy, oz):
     if nx == 0.0 and ny == 0.0 and nz == 0.0:
         dx, dy, dz = (d1x, d1y, d1z) if d1x != 0.0 or d1y != 0.0 or d1z != 0.0 else (d2x, d2y, d2z)
         if dx == 0.0 and dy == 0.0 and dz == 0.0:  # centres a round-off apart: their offset is B's side
-            return unit_vector(ox, oy, oz)
+            nx, ny, nz, _ = unit_vector(ox, oy, oz)
+            return nx, ny, nz
         if abs(dx) <= abs(dy) and abs(dx) <= abs(dz):  # d × e_x: perpendicular to d
             nx, ny, nz = 0.0, dz, -dy
         elif abs(dy) <= abs(dz):
             nx, ny, nz = -dz, 0.0, dx
         else:
             nx, ny, nz = dy, -dx, 0.0
-    nx, ny, nz = unit_vector(nx, ny, nz)
+    nx, ny, nz, _ = unit_vector(nx, ny, nz)
     sign = -1.0 if nx * ox + ny * oy + nz * oz < 0.0 else 1.0
     return sign * nx, sign * ny, sign * nz
 
@@ -190,7 +191,7 @@ def contact_round_cores(a0, a1, ra, b0, b1, rb, rows, p, flip):
     vx, vy, vz = _offset(a0, b0, c1x, c1y, c1z, c2x, c2y, c2z, d1x, d1y, d1z, d2x, d2y, d2z, s, t)
     d = math.sqrt(vx * vx + vy * vy + vz * vz)
     if d > MEET * _magnitude(a0, a1, b0, b1):
-        nx, ny, nz = unit_vector(vx, vy, vz)
+        nx, ny, nz, _ = unit_vector(vx, vy, vz)
     else:  # the cores meet, or are apart by round-off only: c2 − c1 has no reliable direction
         # o = B's midpoint − A's as a sum of end differences (exact for ends a round-off apart, Sterbenz)
         nx, ny, nz = _fallback_normal(d1x, d1y, d1z, d2x, d2y, d2z, 0.5 * ((b0[0] - a0[0]) + (b1[0] - a1[0])),
@@ -226,7 +227,7 @@ def _parallel_overlap(a0, a1, ra, b0, b1, rb, rows, p, flip):
     wx, wy, wz = _cross(ux, uy, uz, cx, cy, cz)
     d = math.sqrt(wx * wx + wy * wy + wz * wz)
     if d > MEET * _magnitude(a0, a1, b0, b1):
-        nx, ny, nz = unit_vector(wx, wy, wz)
+        nx, ny, nz, _ = unit_vector(wx, wy, wz)
     else:
         nx, ny, nz = _fallback_normal(ux, uy, uz, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
     lift = ra + 0.5 * (d - ra - rb)  # from A's line to the middle of the two surfaces

@@ -7,8 +7,9 @@ point — its m supporting vertices s0 < s1 < s2 (indices into the simplex, asce
 weights λ — so that v = Σ λ_k W_{s_k} and the caller can keep W[s0], W[s1], W[s2] in place. They take and return
 scalars only, so a call costs no reference counting. The small ones are ``inline="always"``; the two large ones,
 ``closest_on_triangle_any`` and ``closest_on_tetrahedron`` (which holds four triangle cases), are plain calls:
-inlined, they made numba type and LLVM optimise GJK's loop with five copies of the triangle code (35 s of CPU to
-compile GJK's kernel, 10 s as calls, with no measurable change in GJK's speed).
+inlined, they would make numba type and LLVM optimise GJK's loop with five copies of the triangle code; as
+calls, that code is compiled once, and a call costs little beside the triangle cases' own arithmetic
+(bench/compile_times.py measures each kernel's compile time, bench/test_bench_narrowphase.py the GJK batches).
 
 The kernels are compiled with numba's ``error_model="numpy"``: every division here has a denominator tested
 non-zero first (a length or area tested > 0, a signed volume tested non-zero by the flatness test), so the

@@ -31,10 +31,10 @@ from .contacts import (
     VERTEX,
     contact_of_one_pair,
     feature_key,
-    unit_vector,
     write_pair,
     write_point,
 )
+from .touching_normal import unit_vector
 
 __all__ = ["contact_sphere_box", "contact_sphere_box_pair", "box_feature_key"]
 
@@ -100,7 +100,7 @@ def contact_sphere_box(centers, radii, rotations, halves, i, j, rows, p_row, fli
         vy += delta * rotations[j, 1, k]
         vz += delta * rotations[j, 2, k]
     dist = math.sqrt(vx * vx + vy * vy + vz * vz)
-    nx, ny, nz = unit_vector(vx, vy, vz)
+    nx, ny, nz, _ = unit_vector(vx, vy, vz)
     separation = dist - r
     lift = 0.5 * (dist + r)
     key = box_feature_key(clamped, sign[0], sign[1], sign[2])

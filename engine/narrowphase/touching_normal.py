@@ -86,7 +86,8 @@ def normal_cone_direction(pa, pb, px, py, pz, tol):
 
 @njit
 def unit_vector(x, y, z):
-    """(x, y, z) / |(x, y, z)|, rescaled before squaring; (1, 0, 0, False) for the zero vector."""
+    """``(ux, uy, uz, nonzero)``: (x, y, z) / |(x, y, z)| and True, scaled by its largest component first (no
+    underflow of the squares for tiny vectors, no overflow for huge ones); (1, 0, 0, False) for the zero vector."""
     big = max(abs(x), abs(y), abs(z))
     if big == 0.0:
         return 1.0, 0.0, 0.0, False
