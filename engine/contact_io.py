@@ -172,7 +172,7 @@ def describe_contact(path_a, path_b, t_max: float = 10.0) -> str:
 
     Examples
     --------
-    >>> from engine.narrowphase import describe_contact
+    >>> from engine.contact_io import describe_contact
     >>> ball = {"shape": "sphere", "center": [0, 3, 0], "radius": 0.5, "velocity": [0, -1, 0]}
     >>> box = {"shape": "box", "center": [0, 0, 0], "half_extents": [1, 1, 1]}
     >>> print(describe_contact(ball, box))

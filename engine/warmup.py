@@ -79,23 +79,25 @@ def _narrow_phase() -> None:
 
 
 def _world() -> None:
-    from engine import Box, Capsule, ConvexPolyhedron, HeightCurve, Plane, Sphere, World
+    """Two examples of every registered shape kind (engine.world.KINDS), all near the origin, so that every cell
+    of the dispatch table that a scene can reach meets its pairs and is compiled, under each broad phase and for
+    every query; then the same bodies as static level geometry, sensors and filtered bodies."""
+    from engine.world import KINDS, World
 
+    examples = [(kind, kind.shape.example()) for kind in KINDS for _ in range(2)]
     for broad_phase in ("tree", "sap", "grid"):
         world = World(broad_phase=broad_phase)
-        world.add(Sphere([0.0, 1.2, 0.0], 0.5), velocity=[0.0, -3.0, 0.0])
-        world.add(Box([0.9, 1.0, 0.0], [0.5, 0.5, 0.5], rotation=[np.cos(0.3), 0, 0, np.sin(0.3)]))
-        world.add(Capsule([-2.0, 0.2, 0.0], [-1.0, 0.2, 0.0], 0.3))
-        world.add(ConvexPolyhedron(np.random.default_rng(2).normal(size=(12, 3)) * 0.4 + [3.0, 0.3, 0.0]))
-        world.add(Plane(0.0))
+        moving = [body for kind, shape in examples if not kind.static_only
+                  for body in [world.add(shape, velocity=[0.0, -1.0, 0.0])]]
+        statics = [world.add(shape, static=True, sensor=k == 0, category=2) for k, (kind, shape) in enumerate(examples)
+                   if not kind.static_only]
+        statics += [world.add(shape) for kind, shape in examples[::2] if kind.static_only]
+        world.exclude(moving[0], statics[-1])
+        world.update(moving, [world.pose(b)[0] + 0.01 for b in moving])
         world.pairs()
         world.contacts()
         world.time_of_impact(1.0)
-    world = World()
-    world.add(Box([0.0, 0.4, 0.0], [0.5, 0.5, 0.5]))
-    world.add(HeightCurve(np.sin))
-    world.pairs()
-    world.contacts()
+        world.events()
 
 
 def _gas() -> None:

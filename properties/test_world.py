@@ -98,7 +98,7 @@ def reference_pairs(world):
                     dtype=np.int64).reshape(-1, 2)
     store = world._store.view()
     grounds = {g: world.shape(g) for g in ids.tolist() if not world.bodies().bounded[g]}
-    result = answer(TABLE, "overlap", NarrowContext(store, grounds, kernel_scratch(store.points.shape[1]), 0.0),
+    result = answer(TABLE, "overlap", NarrowContext(store, grounds, kernel_scratch(store.points.shape[1]), 0.0, True),
                     allp)
     return np.unique(allp[result.origin[result.out.status == TOUCHING]], axis=0).reshape(-1, 2)
 

@@ -40,7 +40,7 @@ import numpy as np
 
 from engine._config import njit
 
-__all__ = ["BodyArrays", "BodyStore", "refresh_bodies", "place_body"]
+__all__ = ["BodyArrays", "BodyStore", "refresh_bodies", "place_bodies"]
 
 #: the compiled kernels' view of the store (one namedtuple of arrays)
 BodyArrays = namedtuple("BodyArrays", "kind center rotation velocity radius half count local points lo hi "
@@ -197,7 +197,7 @@ class BodyStore:
 def refresh_bodies(bodies, ids, centers, mode, rotations, quaternions, velocities):
     """The pose upload: for each body ids[r], centre centers[r]; rotation rotations[r] (mode 1), from the unit
     quaternion quaternions[r] = (w, x, y, z) (mode 2) or unchanged (mode 0); velocity velocities[r] when
-    velocities has k rows; then its world points and AABB (``place_body``)."""
+    velocities has k rows; then its world points and AABB (``place_bodies``)."""
     has_velocity = velocities.shape[0] == ids.shape[0]
     for r in range(ids.shape[0]):
         b = ids[r]
@@ -214,61 +214,67 @@ def refresh_bodies(bodies, ids, centers, mode, rotations, quaternions, velocitie
         if has_velocity:
             for c in range(3):
                 bodies.velocity[b, c] = velocities[r, c]
-        place_body(bodies, b)
+    place_bodies(bodies.center, bodies.rotation, bodies.velocity, bodies.radius, bodies.count, bodies.local,
+                 bodies.points, bodies.lo, bodies.hi, bodies.bounded, bodies.first_part, bodies.next_part,
+                 bodies.part_center, bodies.part_rotation, bodies.fat_lo, bodies.fat_hi, bodies.escaped, ids)
 
 
 @njit
-def place_body(bodies, b):
-    """Body b's world points and AABB from its pose — a compound's parts placed by its pose and its AABB the
-    union of theirs — and its ``escaped`` flag (the AABB left its fat box)."""
-    if bodies.first_part[b] < 0:
-        _core_points(bodies, b)
-    else:
-        for c in range(3):
-            bodies.lo[b, c], bodies.hi[b, c] = np.inf, -np.inf
-        s = bodies.first_part[b]
-        while s >= 0:
-            _place_part(bodies, b, s)
-            _core_points(bodies, s)
+def place_bodies(center, rotation, velocity, radius, count, local, points, lo, hi, bounded, first_part, next_part,
+                 part_center, part_rotation, fat_lo, fat_hi, escaped, ids):
+    """The world points and AABB of each body ``ids[r]`` from its pose (the body store's arrays) — a compound's
+    parts placed by its pose, its AABB the union of theirs — and its ``escaped`` flag (the AABB left its fat
+    box)."""
+    for r in range(ids.shape[0]):
+        b = ids[r]
+        if first_part[b] < 0:
+            _core_points(center, rotation, radius, count, local, points, lo, hi, bounded, b)
+        else:
             for c in range(3):
-                bodies.lo[b, c] = min(bodies.lo[b, c], bodies.lo[s, c])
-                bodies.hi[b, c] = max(bodies.hi[b, c], bodies.hi[s, c])
-            s = bodies.next_part[s]
-    for c in range(3):
-        if bodies.lo[b, c] < bodies.fat_lo[b, c] or bodies.hi[b, c] > bodies.fat_hi[b, c]:
-            bodies.escaped[b] = True
+                lo[b, c], hi[b, c] = np.inf, -np.inf
+            s = first_part[b]
+            while s >= 0:
+                _place_part(center, rotation, velocity, part_center, part_rotation, b, s)
+                _core_points(center, rotation, radius, count, local, points, lo, hi, bounded, s)
+                for c in range(3):
+                    lo[b, c] = min(lo[b, c], lo[s, c])
+                    hi[b, c] = max(hi[b, c], hi[s, c])
+                s = next_part[s]
+        for c in range(3):
+            if lo[b, c] < fat_lo[b, c] or hi[b, c] > fat_hi[b, c]:
+                escaped[b] = True
 
 
-@njit
-def _place_part(bodies, b, s):
+@njit(inline="always")
+def _place_part(center, rotation, velocity, part_center, part_rotation, b, s):
     """Part s of compound b: centre c_b + R_b p_s, rotation R_b R_s, the compound's velocity."""
-    R, p, P = bodies.rotation[b], bodies.part_center[s], bodies.part_rotation[s]
+    R, p, P = rotation[b], part_center[s], part_rotation[s]
     for i in range(3):
-        bodies.center[s, i] = bodies.center[b, i] + R[i, 0] * p[0] + R[i, 1] * p[1] + R[i, 2] * p[2]
-        bodies.velocity[s, i] = bodies.velocity[b, i]
+        center[s, i] = center[b, i] + R[i, 0] * p[0] + R[i, 1] * p[1] + R[i, 2] * p[2]
+        velocity[s, i] = velocity[b, i]
         for j in range(3):
-            bodies.rotation[s, i, j] = R[i, 0] * P[0, j] + R[i, 1] * P[1, j] + R[i, 2] * P[2, j]
+            rotation[s, i, j] = R[i, 0] * P[0, j] + R[i, 1] * P[1, j] + R[i, 2] * P[2, j]
 
 
-@njit
-def _core_points(bodies, b):
+@njit(inline="always")
+def _core_points(center, rotation, radius, count, local, points, lo, hi, bounded, b):
     """Body b's world points and AABB from its pose (Ericson 4.2.6: the AABB of the rotated core)."""
-    m = bodies.count[b]
-    R = bodies.rotation[b]
-    rad = bodies.radius[b]
+    m = count[b]
+    R = rotation[b]
+    rad = radius[b]
     lo0 = lo1 = lo2 = np.inf
     hi0 = hi1 = hi2 = -np.inf
     for v in range(m):
-        lx, ly, lz = bodies.local[b, v, 0], bodies.local[b, v, 1], bodies.local[b, v, 2]
-        x = bodies.center[b, 0] + R[0, 0] * lx + R[0, 1] * ly + R[0, 2] * lz
-        y = bodies.center[b, 1] + R[1, 0] * lx + R[1, 1] * ly + R[1, 2] * lz
-        z = bodies.center[b, 2] + R[2, 0] * lx + R[2, 1] * ly + R[2, 2] * lz
-        bodies.points[b, v, 0], bodies.points[b, v, 1], bodies.points[b, v, 2] = x, y, z
+        lx, ly, lz = local[b, v, 0], local[b, v, 1], local[b, v, 2]
+        x = center[b, 0] + R[0, 0] * lx + R[0, 1] * ly + R[0, 2] * lz
+        y = center[b, 1] + R[1, 0] * lx + R[1, 1] * ly + R[1, 2] * lz
+        z = center[b, 2] + R[2, 0] * lx + R[2, 1] * ly + R[2, 2] * lz
+        points[b, v, 0], points[b, v, 1], points[b, v, 2] = x, y, z
         lo0, lo1, lo2 = min(lo0, x), min(lo1, y), min(lo2, z)
         hi0, hi1, hi2 = max(hi0, x), max(hi1, y), max(hi2, z)
-    for v in range(m, bodies.points.shape[1]):  # the padding repeats the first point
+    for v in range(m, points.shape[1]):  # the padding repeats the first point
         for c in range(3):
-            bodies.points[b, v, c] = bodies.points[b, 0, c]
-    if bodies.bounded[b]:
-        bodies.lo[b, 0], bodies.lo[b, 1], bodies.lo[b, 2] = lo0 - rad, lo1 - rad, lo2 - rad
-        bodies.hi[b, 0], bodies.hi[b, 1], bodies.hi[b, 2] = hi0 + rad, hi1 + rad, hi2 + rad
+            points[b, v, c] = points[b, 0, c]
+    if bounded[b]:
+        lo[b, 0], lo[b, 1], lo[b, 2] = lo0 - rad, lo1 - rad, lo2 - rad
+        hi[b, 0], hi[b, 1], hi[b, 2] = hi0 + rad, hi1 + rad, hi2 + rad

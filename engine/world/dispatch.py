@@ -16,8 +16,8 @@ rows (engine/world/rows.py), never a branch here.
 
 ``DispatchTable(rows)`` turns the rows into one (kinds × kinds) index array per question (what the compiled
 classification reads) and one list of kernels; ``answer(table, question, ctx, pairs)`` runs a question over
-candidate pairs: parts first, then the AABB test and the grouping by kernel (``classify_pairs``), then one
-batched call per kernel.
+candidate pairs: parts first, then the AABB test, the filter and the grouping by kernel (``classify_pairs``,
+``group_by_code``), then one batched call per kernel.
 """
 from __future__ import annotations
 
@@ -28,12 +28,14 @@ from dataclasses import dataclass
 import numpy as np
 
 from engine._config import njit
+from engine.broadphase.pairs import boxes_overlap
 from engine.narrowphase.contacts import contact_rows
 
+from .filters import pair_passes
 from .kinds import KINDS, ShapeKind
 
 __all__ = ["QUESTIONS", "Kernel", "UnsupportedQuery", "unsupported", "PARTS", "DispatchTable", "NarrowContext",
-           "classify_pairs", "expand_parts", "answer", "Answer"]
+           "classify_pairs", "group_by_code", "expand_parts", "answer", "Answer"]
 
 #: the questions the table answers: do they overlap (touching counts), where do they touch, when do they touch
 QUESTIONS = ("overlap", "contact", "impact")
@@ -71,8 +73,9 @@ PARTS = Kernel("answered part by part", _split_first)
 
 #: what every kernel reads: ``bodies`` (engine.world.bodies.BodyArrays), ``shapes`` ({row: Shape}, for kernels
 #: that need the shape object: a HeightCurve's f), ``scratch`` (engine.narrowphase.contacts.kernel_scratch for
-#: the store's points per body), ``dt`` (the time window of "impact")
-NarrowContext = namedtuple("NarrowContext", "bodies shapes scratch dt")
+#: the store's points per body), ``dt`` (the time window of "impact"), ``has_parts`` (whether the store holds a
+#: compound: only then are the pairs split into parts)
+NarrowContext = namedtuple("NarrowContext", "bodies shapes scratch dt has_parts")
 
 
 class DispatchTable:
@@ -105,42 +108,61 @@ class DispatchTable:
         return self.kernels[question][self.index[question][a.code, b.code]]
 
 
-@njit(inline="always")
-def _boxes_overlap(bodies, i, j):
-    for c in range(3):
-        if bodies.lo[i, c] > bodies.hi[j, c] or bodies.lo[j, c] > bodies.hi[i, c]:
-            return False
-    return True
+@njit
+def classify_pairs(bodies, pairs, index, counts, test_boxes, keys, no_sensors):
+    """Which candidate pairs of rows (k, 2) go to the narrow phase — their AABBs overlap (closed; a pair with an
+    unbounded shape is kept: its own candidate test allowed for round-off; every pair when not ``test_boxes``)
+    and the filter lets their bodies through (engine.world.filters.pair_passes, with ``keys`` and
+    ``no_sensors``) —: their rows (k',) in order, each one's kernel index ``index[kind_i, kind_j]`` (k',), and
+    how many the filter dropped; ``counts`` ((kinds, kinds) int64) += the pairs per (kind, kind), lower kind
+    first."""
+    kept = np.empty(pairs.shape[0], np.int64)
+    codes = np.empty(pairs.shape[0], np.int64)
+    lo, hi, bounded, owner, kind = bodies.lo, bodies.hi, bodies.bounded, bodies.owner, bodies.kind
+    sensor, category, mask, group = bodies.sensor, bodies.category, bodies.mask, bodies.group
+    m = filtered = 0
+    for p in range(pairs.shape[0]):
+        i, j = pairs[p, 0], pairs[p, 1]
+        if test_boxes and bounded[i] and bounded[j] and not boxes_overlap(lo, hi, i, j):
+            continue
+        bi = owner[i] if owner[i] >= 0 else i  # the bodies the rows answer for (a part: its compound)
+        bj = owner[j] if owner[j] >= 0 else j
+        if not pair_passes(sensor, category, mask, group, bi, bj, keys, no_sensors):
+            filtered += 1
+            continue
+        ki, kj = kind[i], kind[j]
+        kept[m], codes[m] = p, index[ki, kj]
+        counts[min(ki, kj), max(ki, kj)] += 1
+        m += 1
+    return kept[:m], codes[:m], filtered
 
 
 @njit
-def classify_pairs(bodies, pairs, index, counts, test_boxes):
-    """Which candidate pairs (k, 2) have overlapping AABBs (closed; a pair with an unbounded shape is kept: its own
-    candidate test allowed for round-off; every pair when not ``test_boxes``): their rows (k',) in order, and each
-    one's kernel index ``index[kind_i, kind_j]`` (k',); ``counts`` ((kinds, kinds) int64) += the pairs per (kind,
-    kind), lower kind first."""
-    kept = np.empty(pairs.shape[0], np.int64)
-    codes = np.empty(pairs.shape[0], np.int64)
-    m = 0
-    for p in range(pairs.shape[0]):
-        i, j = pairs[p, 0], pairs[p, 1]
-        if not (test_boxes and bodies.bounded[i] and bodies.bounded[j]) or _boxes_overlap(bodies, i, j):
-            ki, kj = bodies.kind[i], bodies.kind[j]
-            kept[m], codes[m] = p, index[ki, kj]
-            counts[min(ki, kj), max(ki, kj)] += 1
-            m += 1
-    return kept[:m], codes[:m]
+def group_by_code(codes, n_codes):
+    """A counting sort of the kernel indices (k,): ``order`` (k,) lists the rows by code, stable, and code c's
+    rows are ``order[bounds[c]:bounds[c + 1]]`` (bounds (n_codes + 1,))."""
+    bounds = np.zeros(n_codes + 1, np.int64)
+    for c in codes:
+        bounds[c + 1] += 1
+    for c in range(n_codes):
+        bounds[c + 1] += bounds[c]
+    fill = bounds[:-1].copy()
+    order = np.empty(codes.shape[0], np.int64)
+    for p in range(codes.shape[0]):
+        order[fill[codes[p]]] = p
+        fill[codes[p]] += 1
+    return order, bounds
 
 
 @njit(inline="always")
-def _sides(bodies, b):
-    """The rows a body answers with: its parts (a compound), or itself."""
-    return bodies.first_part[b] if bodies.first_part[b] >= 0 else b
+def _first_side(first_part, b):
+    """The first row a body answers with: its first part (a compound), or itself."""
+    return first_part[b] if first_part[b] >= 0 else b
 
 
 @njit(inline="always")
-def _next_side(bodies, b, s):
-    return bodies.next_part[s] if bodies.first_part[b] >= 0 else -1
+def _next_side(first_part, next_part, b, s):
+    return next_part[s] if first_part[b] >= 0 else -1
 
 
 @njit
@@ -149,51 +171,56 @@ def expand_parts(bodies, pairs, test_boxes):
     without a compound stands for itself; a compound is replaced by each of its parts whose AABB overlaps the
     other side's (every part against an unbounded shape, every part when not ``test_boxes``), in the pair's
     order (Ericson 6.5: descend the hierarchy where the volumes overlap)."""
+    first, after, bounded, lo, hi = bodies.first_part, bodies.next_part, bodies.bounded, bodies.lo, bodies.hi
     out = np.empty((2 * pairs.shape[0] + 16, 2), np.int64)
     origin = np.empty(out.shape[0], np.int64)
     m = 0
     for p in range(pairs.shape[0]):
         i, j = pairs[p, 0], pairs[p, 1]
-        a = _sides(bodies, i)
+        a = _first_side(first, i)
         while a >= 0:
-            b = _sides(bodies, j)
+            b = _first_side(first, j)
             while b >= 0:
-                if not (test_boxes and bodies.bounded[a] and bodies.bounded[b]) or _boxes_overlap(bodies, a, b) \
-                        or (a == i and b == j):
+                whole = a == i and b == j
+                if whole or not (test_boxes and bounded[a] and bounded[b]) or boxes_overlap(lo, hi, a, b):
                     if m == out.shape[0]:
                         out = np.concatenate((out, np.empty_like(out)))
                         origin = np.concatenate((origin, np.empty_like(origin)))
                     out[m, 0], out[m, 1], origin[m] = a, b, p
                     m += 1
-                b = _next_side(bodies, j, b)
-            a = _next_side(bodies, i, a)
+                b = _next_side(first, after, j, b)
+            a = _next_side(first, after, i, a)
     return out[:m], origin[:m]
 
 
 #: what ``answer`` returns: ``pairs`` (m, 2) the rows tested (parts for a compound), ``origin`` (m,) the
 #: candidate pair each came from, ``out`` their answers (ContactRows, or times (m,)), ``counts`` the tests per
-#: (kind, kind)
-Answer = namedtuple("Answer", "pairs origin out counts")
+#: (kind, kind), ``filtered`` the pairs the filter dropped
+Answer = namedtuple("Answer", "pairs origin out counts filtered")
+
+#: the filter of a query: ``keys`` the sorted excluded keys (engine.world.filters.Exclusions.keys), ``no_sensors``
+#: drop every pair with a sensor (the queries "where" and "when")
+_NO_EXCLUSIONS = np.empty(0, np.int64)
 
 
-def answer(table: DispatchTable, question: str, ctx: NarrowContext, pairs: np.ndarray) -> Answer:
+def answer(table: DispatchTable, question: str, ctx: NarrowContext, pairs: np.ndarray, keys=_NO_EXCLUSIONS,
+           no_sensors: bool = False) -> Answer:
     """Run ``question`` over candidate pairs of bodies (k, 2): split compounds into parts, keep the pairs whose
-    AABBs overlap (all of them for "impact": the bodies move), then one batched call per kernel of the table."""
+    AABBs overlap (all of them for "impact": the bodies move) and that the filter lets through (excluded
+    ``keys``, ``no_sensors``; engine/world/filters.py), then one batched call per kernel of the table."""
     view = ctx.bodies
     test_boxes = question != "impact"
-    if pairs.shape[0] and (view.first_part[pairs] >= 0).any():
+    if ctx.has_parts and pairs.shape[0]:
         rows_pairs, origin = expand_parts(view, pairs, test_boxes)
     else:
-        rows_pairs, origin = pairs, np.arange(pairs.shape[0])
+        rows_pairs, origin = pairs, None
     counts = np.zeros((len(KINDS), len(KINDS)), np.int64)
-    kept, codes = classify_pairs(view, rows_pairs, table.index[question], counts, test_boxes)
-    tested, origin = np.ascontiguousarray(rows_pairs[kept]), origin[kept]
+    kept, codes, filtered = classify_pairs(view, rows_pairs, table.index[question], counts, test_boxes, keys,
+                                           no_sensors)
+    tested = np.ascontiguousarray(rows_pairs[kept])
     out = contact_rows(tested.shape[0]) if question != "impact" else np.full(tested.shape[0], np.inf)
-    order = np.argsort(codes, kind="stable")
-    bounds = np.searchsorted(codes[order], np.arange(len(table.kernels[question]) + 1))
+    order, bounds = group_by_code(codes, len(table.kernels[question]))
     for code, kernel in enumerate(table.kernels[question]):
-        sel = order[bounds[code]:bounds[code + 1]]
-        if sel.size:
-            kernel.run(ctx, tested, sel, out)
-    return Answer(tested, origin, out, counts)
-
+        if bounds[code + 1] > bounds[code]:
+            kernel.run(ctx, tested, order[bounds[code]:bounds[code + 1]], out)
+    return Answer(tested, kept if origin is None else origin[kept], out, counts, filtered)

@@ -15,7 +15,7 @@ import numpy as np
 
 from engine._config import njit
 
-__all__ = ["ALL", "as_bits", "as_group", "Exclusions", "pairs_passing"]
+__all__ = ["ALL", "as_bits", "as_group", "Exclusions", "pair_passes", "pairs_passing"]
 
 #: every category bit: the default mask (collide with everything)
 ALL = (1 << 64) - 1
@@ -80,18 +80,24 @@ def _excluded(keys, i, j):
     return at < keys.shape[0] and keys[at] == key
 
 
+@njit(inline="always")
+def pair_passes(sensor, category, mask, group, i, j, keys, no_sensors):
+    """Whether the pair of bodies (i, j) is tested, by the rule of the module docstring (the body store's
+    ``sensor``, ``category``, ``mask``, ``group`` arrays); ``keys``: the sorted excluded keys
+    (``Exclusions.keys``); ``no_sensors``: drop every pair with a sensor as well."""
+    si, sj = sensor[i], sensor[j]
+    if (si and sj) or (no_sensors and (si or sj)) or (keys.shape[0] > 0 and _excluded(keys, i, j)):
+        return False
+    if group[i] == group[j] and group[i] != 0:
+        return group[i] > 0
+    return (category[i] & mask[j]) != 0 and (category[j] & mask[i]) != 0
+
+
 @njit
 def pairs_passing(bodies, pairs, keys, no_sensors):
-    """bool (k,): which candidate pairs (k, 2) the filter rule of the module docstring lets through; ``keys``:
-    the sorted excluded keys (``Exclusions.keys``); ``no_sensors``: drop every pair with a sensor as well."""
+    """bool (k,): ``pair_passes`` for each candidate pair of bodies (k, 2)."""
     keep = np.empty(pairs.shape[0], np.bool_)
     for p in range(pairs.shape[0]):
-        i, j = pairs[p, 0], pairs[p, 1]
-        si, sj = bodies.sensor[i], bodies.sensor[j]
-        if (si and sj) or (no_sensors and (si or sj)) or (keys.shape[0] and _excluded(keys, i, j)):
-            keep[p] = False
-        elif bodies.group[i] == bodies.group[j] and bodies.group[i] != 0:
-            keep[p] = bodies.group[i] > 0
-        else:
-            keep[p] = (bodies.category[i] & bodies.mask[j]) != 0 and (bodies.category[j] & bodies.mask[i]) != 0
+        keep[p] = pair_passes(bodies.sensor, bodies.category, bodies.mask, bodies.group, pairs[p, 0], pairs[p, 1],
+                              keys, no_sensors)
     return keep

@@ -1,4 +1,4 @@
-"""The registry of shape kinds: one ``ShapeKind`` entry per kind, declared once beside its shape class
+"""The registry of shape kinds: one ``ShapeKind`` entry per kind, declared once on its shape class
 (engine/world/shapes.py), read by the body store, the broad phase, the dispatch tables, the warm-up and the tests.
 
 A kind's entry says what the world needs to know of it:
@@ -11,17 +11,18 @@ A kind's entry says what the world needs to know of it:
   rows of engine/world/rows.py) and it may be a part of a ``Compound``;
 - ``composite``: made of parts that are bodies of other kinds, answered part by part (``Compound``).
 
-The shape class itself carries the rest: the core (``local`` points, ``radius``, ``half``), ``example()`` (a
-small instance: the warm-up compiles every row with it) and ``random(rng, center, size)`` (the tests'
-strategies). A new kind is its class and its entry here, its rows in engine/world/rows.py, and new kernels in
-engine/narrowphase/ when it brings new closed forms (engine/ARCHITECTURE.md, "Adding things").
+A shape class registers its kind by its decorator (``@shape_kind("sphere")``) and carries the rest: the core
+(``local`` points, ``radius``, ``half``), ``example()`` (a small instance: the warm-up compiles every row with it)
+and ``random(rng, center, size)`` (the tests' strategies). A new kind is its decorated class in
+engine/world/shapes.py, its rows in engine/world/rows.py, and new kernels in engine/narrowphase/ when it brings
+new closed forms (engine/ARCHITECTURE.md, "Adding things").
 """
 from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
-__all__ = ["ShapeKind", "register_kind", "KINDS", "kind_named"]
+__all__ = ["ShapeKind", "shape_kind", "KINDS", "kind_named"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -32,6 +33,8 @@ class ShapeKind:
     ----------
     name : str
         "sphere", "box", ... (the dispatch tables and ``World.kind`` name it so).
+    shape : type
+        Its shape class (a subclass of engine.world.shapes.Shape).
     code : int
         Its row and column in the dispatch tables, in order of registration.
     bounded, static_only, convex, composite : bool
@@ -42,6 +45,7 @@ class ShapeKind:
     """
 
     name: str
+    shape: type
     code: int
     bounded: bool = True
     static_only: bool = False
@@ -57,16 +61,20 @@ class ShapeKind:
 KINDS: list[ShapeKind] = []
 
 
-def register_kind(name: str, **flags) -> ShapeKind:
-    """Register a new kind under the next code; ``flags`` are ``ShapeKind``'s (ValueError for a name taken, or
-    an unbounded kind without ``candidates``)."""
-    if any(k.name == name for k in KINDS):
-        raise ValueError(f"a shape kind named {name!r} is already registered")
-    kind = ShapeKind(name=name, code=len(KINDS), **flags)
-    if not kind.bounded and kind.candidates is None:
-        raise ValueError(f"the unbounded kind {name!r} needs its candidates test")
-    KINDS.append(kind)
-    return kind
+def shape_kind(name: str, **flags):
+    """Class decorator: register the decorated shape class as a new kind under the next code, and set its
+    ``kind`` attribute to the entry; ``flags`` are ``ShapeKind``'s (ValueError for a name taken, or an unbounded
+    kind without ``candidates``)."""
+    def register(cls):
+        if any(k.name == name for k in KINDS):
+            raise ValueError(f"a shape kind named {name!r} is already registered")
+        kind = ShapeKind(name=name, shape=cls, code=len(KINDS), **flags)
+        if not kind.bounded and kind.candidates is None:
+            raise ValueError(f"the unbounded kind {name!r} needs its candidates test")
+        KINDS.append(kind)
+        cls.kind = kind
+        return cls
+    return register
 
 
 def kind_named(name: str) -> ShapeKind:

@@ -37,10 +37,10 @@ __all__ = ["ROUND_CORES", "SPHERE_BOX", "BOX_BOX", "BOX_BOX_SAT", "BODY_PLANE", 
 
 
 @njit(inline="always")
-def _oriented(bodies, pairs, p):
-    """(a, b, flip): the kernel's A is the pair's shape of lower kind code."""
+def _oriented(kind, pairs, p):
+    """(a, b, flip): the kernel's A is the pair's shape of lower kind code (``kind``: the store's kind codes)."""
     i, j = pairs[p, 0], pairs[p, 1]
-    if bodies.kind[i] > bodies.kind[j]:
+    if kind[i] > kind[j]:
         return j, i, True
     return i, j, False
 
@@ -53,7 +53,7 @@ def _point(points, b, v):
 @njit
 def _round_cores_rows(bodies, pairs, sel, rows):
     for p in sel:
-        a, b, flip = _oriented(bodies, pairs, p)
+        a, b, flip = _oriented(bodies.kind, pairs, p)
         contact_round_cores(_point(bodies.points, a, 0), _point(bodies.points, a, bodies.count[a] - 1),
                             bodies.radius[a], _point(bodies.points, b, 0),
                             _point(bodies.points, b, bodies.count[b] - 1), bodies.radius[b], rows, p, flip)
@@ -62,21 +62,21 @@ def _round_cores_rows(bodies, pairs, sel, rows):
 @njit
 def _sphere_box_rows(bodies, pairs, sel, rows, scratch):
     for p in sel:
-        a, b, flip = _oriented(bodies, pairs, p)
+        a, b, flip = _oriented(bodies.kind, pairs, p)
         contact_sphere_box(bodies.center, bodies.radius, bodies.rotation, bodies.half, a, b, rows, p, flip, scratch)
 
 
 @njit
 def _box_box_rows(bodies, pairs, sel, rows, scratch):
     for p in sel:
-        a, b, flip = _oriented(bodies, pairs, p)
+        a, b, flip = _oriented(bodies.kind, pairs, p)
         contact_box_box(bodies.center, bodies.rotation, bodies.half, a, b, rows, p, flip, scratch)
 
 
 @njit
 def _box_box_sat_rows(bodies, pairs, sel, rows, scratch):
     for p in sel:
-        a, b, _ = _oriented(bodies, pairs, p)
+        a, b, _ = _oriented(bodies.kind, pairs, p)
         touch = overlap_box_box(bodies.center, bodies.rotation, bodies.half, a, b, scratch)
         rows.status[p] = TOUCHING if touch else APART
 
@@ -84,7 +84,7 @@ def _box_box_sat_rows(bodies, pairs, sel, rows, scratch):
 @njit
 def _plane_rows(bodies, pairs, sel, rows, scratch):
     for p in sel:
-        a, g, flip = _oriented(bodies, pairs, p)
+        a, g, flip = _oriented(bodies.kind, pairs, p)
         contact_points_plane(bodies.points, bodies.count, bodies.radius, a,
                              (bodies.center[g, 0], bodies.center[g, 1], bodies.center[g, 2]),
                              (bodies.rotation[g, 0, 1], bodies.rotation[g, 1, 1], bodies.rotation[g, 2, 1]),
@@ -94,7 +94,7 @@ def _plane_rows(bodies, pairs, sel, rows, scratch):
 @njit
 def _sphere_sweep_times(bodies, pairs, sel, dt, times):
     for p in sel:
-        a, b, _ = _oriented(bodies, pairs, p)
+        a, b, _ = _oriented(bodies.kind, pairs, p)
         times[p] = impact_time_spheres(bodies.center[a], bodies.center[b], bodies.velocity[a], bodies.velocity[b],
                                        bodies.radius[a] + bodies.radius[b], dt)
 
@@ -102,7 +102,7 @@ def _sphere_sweep_times(bodies, pairs, sel, dt, times):
 @njit
 def _plane_sweep_times(bodies, pairs, sel, dt, times):
     for p in sel:
-        a, g, _ = _oriented(bodies, pairs, p)
+        a, g, _ = _oriented(bodies.kind, pairs, p)
         times[p] = impact_time_plane(bodies.points, bodies.count, bodies.radius, bodies.velocity[a], a,
                                      bodies.center[g], bodies.rotation[g, :, 1], dt)
 

@@ -35,7 +35,7 @@ from engine.bounding.decompose import decompose_mesh
 from engine.bounding.hull import convex_hull
 from engine.narrowphase.curve_ground import curve_candidates
 
-from .kinds import ShapeKind, register_kind
+from .kinds import ShapeKind, shape_kind
 
 __all__ = ["Shape", "Sphere", "Box", "Capsule", "ConvexPolyhedron", "Compound", "Plane", "HeightCurve",
            "as_rotation", "as_rotation_batch", "QUATERNION_ORDER", "SPHERE", "BOX", "CAPSULE", "HULL", "COMPOUND",
@@ -54,14 +54,6 @@ def _plane_candidates(plane, lo, hi) -> np.ndarray:
     return lo[:, 1] <= plane.altitude + slack
 
 
-# the registry entries, in code order (the dispatch tables' rows and columns)
-SPHERE = register_kind("sphere")
-BOX = register_kind("box")
-CAPSULE = register_kind("capsule")
-HULL = register_kind("hull")
-COMPOUND = register_kind("compound", convex=False, composite=True)
-PLANE = register_kind("plane", bounded=False, static_only=True, convex=False, candidates=_plane_candidates)
-CURVE = register_kind("curve", bounded=False, static_only=True, convex=False, candidates=curve_candidates)
 
 def as_rotation(rotation, name: str = "rotation") -> np.ndarray:
     """A proper rotation matrix (3, 3) (columns = the body's axes) from None (identity), a 3x3 matrix, a unit
@@ -179,6 +171,7 @@ class Shape:
         return f"{type(self).__name__}(center={self.center.tolist()}, radius={self.radius})"
 
 
+@shape_kind("sphere")
 class Sphere(Shape):
     """A sphere: one point swept by a ball (the attributes of ``Shape``).
 
@@ -195,8 +188,6 @@ class Sphere(Shape):
         For a centre not of shape (3,), NaN or ±inf, or a radius <= 0.
     """
 
-    kind = SPHERE
-
     def __init__(self, center, radius):
         self.center = _vec3(center, "center")
         self.radius = as_positive(radius, "radius")
@@ -208,6 +199,7 @@ class Sphere(Shape):
         return cls(center, size * rng.uniform(0.3, 1.0))
 
 
+@shape_kind("box")
 class Box(Shape):
     """An oriented box (OBB): its 8 corners, unswept (``radius`` 0).
 
@@ -233,8 +225,6 @@ class Box(Shape):
         is not of unit norm (it is refused, not normalised).
     """
 
-    kind = BOX
-
     def __init__(self, center, half_extents, rotation=None):
         self.center = _vec3(center, "center")
         half = as_half_extents(half_extents, "half_extents")
@@ -247,6 +237,7 @@ class Box(Shape):
         return cls(center, size * rng.uniform(0.3, 1.0, 3), _random_rotation(rng))
 
 
+@shape_kind("capsule")
 class Capsule(Shape):
     """A capsule: the segment p0–p1 swept by a ball of ``radius``.
 
@@ -266,8 +257,6 @@ class Capsule(Shape):
         For a non-finite end, or ``radius <= 0``.
     """
 
-    kind = CAPSULE
-
     def __init__(self, p0, p1, radius):
         a = _vec3(p0, "p0")
         b = _vec3(p1, "p1")
@@ -282,6 +271,7 @@ class Capsule(Shape):
         return cls(center - half, center + half, size * rng.uniform(0.2, 0.5))
 
 
+@shape_kind("hull")
 class ConvexPolyhedron(Shape):
     """The convex hull of a point set (the engine's quickhull, ``engine.convex_hull``).
 
@@ -298,8 +288,6 @@ class ConvexPolyhedron(Shape):
     ValueError
         For fewer than 4 points, NaN or ±inf, or points that span no volume.
     """
-
-    kind = HULL
 
     def __init__(self, points):
         pts = as_float_array(points, "points", shape=(None, 3), min_rows=4)
@@ -319,6 +307,7 @@ class ConvexPolyhedron(Shape):
         return cls(center + rng.normal(size=(int(rng.integers(4, 21)), 3)) * size * 0.7)
 
 
+@shape_kind("compound", convex=False, composite=True)
 class Compound(Shape):
     """One rigid body made of convex parts: each part a ``Sphere``, ``Box``, ``Capsule`` or ``ConvexPolyhedron``
     placed at ``positions[k]`` with ``rotations[k]`` in the compound's frame (Box2D's shapes of one body, Bullet's
@@ -358,8 +347,6 @@ class Compound(Shape):
         For no part, positions or rotations of the wrong shape or not finite, a non-unit quaternion or an improper
         matrix (named ``positions`` / ``rotations`` with the index).
     """
-
-    kind = COMPOUND
 
     def __init__(self, shapes, positions, rotations=None, *, center=None, rotation=None):
         if isinstance(shapes, Shape) or not isinstance(shapes, list | tuple):
@@ -430,6 +417,7 @@ class Compound(Shape):
         return f"Compound({len(self.parts)} parts, center={self.center.tolist()})"
 
 
+@shape_kind("plane", bounded=False, static_only=True, convex=False, candidates=_plane_candidates)
 class Plane(Shape):
     """The flat ground, solid below y = altitude (slide "sol plat"); static, and found by its own candidate test
     instead of the broad phase. Its pose is the point (0, altitude, 0) of its surface, its outward normal the
@@ -445,8 +433,6 @@ class Plane(Shape):
     altitude : float
         As given.
     """
-
-    kind = PLANE
 
     def __init__(self, altitude=0.0):
         self.altitude = as_float(altitude, "altitude")
@@ -477,6 +463,7 @@ class Plane(Shape):
         return f"Plane(altitude={self.altitude})"
 
 
+@shape_kind("curve", bounded=False, static_only=True, convex=False, candidates=curve_candidates)
 class HeightCurve(Shape):
     """The curved ground, solid below y = f(x) (slide "Sol courbe"), extruded along z; static.
 
@@ -504,8 +491,6 @@ class HeightCurve(Shape):
     ValueError
         For ``samples`` below 8, or an ``f`` that is not vectorised (probed on three points).
     """
-
-    kind = CURVE
 
     def __init__(self, f, *, samples: int = 64):
         check_callable(f, "f", "a callable y = f(x)")
@@ -569,3 +554,8 @@ class HeightCurve(Shape):
 
     def __repr__(self) -> str:
         return f"HeightCurve({getattr(self.f, '__name__', 'f')})"
+
+
+# the registry entries, in code order (the dispatch tables' rows and columns)
+SPHERE, BOX, CAPSULE, HULL = Sphere.kind, Box.kind, Capsule.kind, ConvexPolyhedron.kind
+COMPOUND, PLANE, CURVE = Compound.kind, Plane.kind, HeightCurve.kind

@@ -42,7 +42,7 @@ from engine.narrowphase.contacts import (
 from .bodies import BodyArrays, BodyStore, refresh_bodies
 from .broad import StaticPairs, fatten, make_broad_phase
 from .dispatch import NarrowContext, answer
-from .filters import ALL, Exclusions, as_bits, as_group, pairs_passing
+from .filters import ALL, Exclusions, as_bits, as_group
 from .kinds import KINDS
 from .rows import TABLE
 from .shapes import Shape, as_rotation, as_rotation_batch
@@ -99,8 +99,9 @@ class WorldStats:
     static_pairs : int
         Those of them with a static body or a ground.
     filtered : int
-        Candidates the filter dropped before the narrow phase (category / mask / group, excluded pairs, two
-        sensors; for ``contacts`` and ``time_of_impact`` every pair with a sensor).
+        Candidates whose boxes overlap (any candidate for ``time_of_impact``) that the filter dropped before the
+        narrow phase (category / mask / group, excluded pairs, two sensors; for ``contacts`` and
+        ``time_of_impact`` every pair with a sensor).
     culled : int
         Candidates dropped by the kinematic culling (pairs apart and moving apart; ``time_of_impact`` only).
     narrow_tests : int
@@ -692,28 +693,22 @@ class World:
         cand = np.concatenate([self._broad.candidates(st, bodies, escaped), *static])
         return np.ascontiguousarray(cand), bodies, sum(s.shape[0] for s in static)
 
-    def _filter(self, cand, stats, no_sensors: bool) -> np.ndarray:
-        """The candidates the filter lets through (engine/world/filters.py), counted in ``stats.filtered``."""
-        if cand.shape[0] == 0:
-            return cand
-        kept = cand[pairs_passing(self._store.view(), cand, self._exclusions.keys(), no_sensors)]
-        stats.filtered = int(cand.shape[0] - kept.shape[0])
-        return np.ascontiguousarray(kept)
-
     def _context(self, dt: float = 0.0) -> NarrowContext:
         view = self._store.view()
-        return NarrowContext(view, self._grounds, kernel_scratch(view.points.shape[1]), dt)
+        has_parts = bool((view.first_part[: self._store.n_ids] >= 0).any())
+        return NarrowContext(view, self._grounds, kernel_scratch(view.points.shape[1]), dt, has_parts)
 
     def _answer(self, question: str, query: str):
-        """Broad phase, filter, then ``question`` for every remaining pair: (body pairs (k, 2), Answer, stats)."""
+        """Broad phase, then ``question`` for every candidate the AABB test and the filter keep: (candidate pairs of
+        bodies (k, 2), Answer, stats)."""
         t0 = time.perf_counter()
         cand, bodies, static = self._candidates()
         stats = WorldStats(query=query, bodies=int(bodies.shape[0]), candidate_pairs=int(cand.shape[0]),
                            static_pairs=int(static))
-        cand = self._filter(cand, stats, no_sensors=question != "overlap")
         t1 = time.perf_counter()
-        result = answer(TABLE, question, self._context(), cand)
+        result = answer(TABLE, question, self._context(), cand, self._exclusions.keys(), question != "overlap")
         stats.narrow_tests, stats.groups = int(result.pairs.shape[0]), _groups(result.counts)
+        stats.filtered = int(result.filtered)
         stats.seconds = {"upload": self._upload_seconds, "broad": t1 - t0, "narrow": time.perf_counter() - t1}
         self._upload_seconds = 0.0
         return cand, result, stats
@@ -783,7 +778,10 @@ class World:
         pairs, rows = cand[result.origin], result.out
         part_a, part_b = st.part[result.pairs[:, 0]], st.part[result.pairs[:, 1]]
         touching = np.flatnonzero(rows.status == TOUCHING)
-        keep = touching[np.lexsort((part_b[touching], part_a[touching], pairs[touching, 1], pairs[touching, 0]))]
+        order = (pairs[touching, 1], pairs[touching, 0])
+        if part_a.any() or part_b.any():  # a compound: its rows in part order
+            order = (part_b[touching], part_a[touching], *order)
+        keep = touching[np.lexsort(order)]
         radius = st.radius[result.pairs]
         out = contact_set_from_rows(rows, pairs, radius[:, 0], radius[:, 1], keep=keep)
         out = replace(out, part_a=part_a[keep], part_b=part_b[keep])
@@ -847,8 +845,9 @@ class World:
                            candidate_pairs=int(rows.shape[0] + sum(s.shape[0] for s in static)),
                            static_pairs=int(sum(s.shape[0] for s in static)),
                            culled=int(rows.shape[0] - kept.shape[0]))
-        cand = self._filter(np.ascontiguousarray(np.concatenate([bodies[kept], *static])), stats, no_sensors=True)
-        result = answer(TABLE, "impact", self._context(dt), cand)
+        cand = np.ascontiguousarray(np.concatenate([bodies[kept], *static]))
+        result = answer(TABLE, "impact", self._context(dt), cand, self._exclusions.keys(), True)
+        stats.filtered = int(result.filtered)
         times = np.full(cand.shape[0], np.inf)
         np.minimum.at(times, result.origin, result.out)
         hit = np.isfinite(times)
