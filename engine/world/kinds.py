@@ -21,6 +21,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import Any
 
 __all__ = ["ShapeKind", "shape_kind", "KINDS", "kind_named"]
 
@@ -45,7 +46,7 @@ class ShapeKind:
     """
 
     name: str
-    shape: type
+    shape: Any  # the Shape subclass (engine.world.shapes imports this module, not the reverse)
     code: int
     bounded: bool = True
     static_only: bool = False

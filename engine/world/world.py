@@ -675,7 +675,9 @@ class World:
         out = []
         for g in sorted(self._grounds):
             ground = self._grounds[g]
-            hit = bodies[ground.kind.candidates(ground, lo, hi)]
+            test = ground.kind.candidates
+            assert test is not None  # an unbounded kind has one (engine/world/kinds.py)
+            hit = bodies[test(ground, lo, hi)]
             out.append(np.stack([np.minimum(hit, g), np.maximum(hit, g)], axis=1).astype(np.int64))
         return out
 
@@ -778,25 +780,24 @@ class World:
         pairs, rows = cand[result.origin], result.out
         part_a, part_b = st.part[result.pairs[:, 0]], st.part[result.pairs[:, 1]]
         touching = np.flatnonzero(rows.status == TOUCHING)
-        order = (pairs[touching, 1], pairs[touching, 0])
+        order = [pairs[touching, 1], pairs[touching, 0]]
         if part_a.any() or part_b.any():  # a compound: its rows in part order
-            order = (part_b[touching], part_a[touching], *order)
+            order = [part_b[touching], part_a[touching], *order]
         keep = touching[np.lexsort(order)]
         radius = st.radius[result.pairs]
         out = contact_set_from_rows(rows, pairs, radius[:, 0], radius[:, 1], keep=keep)
         out = replace(out, part_a=part_a[keep], part_b=part_b[keep])
-        self._mark_persisting(out)
+        persists = self._mark_persisting(out, part_a[keep], part_b[keep])
         stats.seconds["contacts"] = time.perf_counter() - t0
         stats.overlapping = len(out)
-        stats.contacts, stats.persisting = int(out.points.shape[0]), int(out.persists.sum())
+        stats.contacts, stats.persisting = int(out.points.shape[0]), int(persists.sum())
         self.stats = stats
         return out
 
-    def _mark_persisting(self, out: ContactSet) -> None:
-        """Set ``out.persists`` against the previous ``contacts()``, and keep this one's points for the next: a
-        point is keyed by its pair of (body, part) and its id."""
-        keyed = np.stack([out.pairs[:, 0] << _PART_BITS | out.part_a, out.pairs[:, 1] << _PART_BITS | out.part_b],
-                         axis=1)
+    def _mark_persisting(self, out: ContactSet, part_a, part_b) -> np.ndarray:
+        """Set ``out.persists`` against the previous ``contacts()`` (and return it), and keep this one's points for
+        the next: a point is keyed by its pair of (body, part) and its id."""
+        keyed = np.stack([out.pairs[:, 0] << _PART_BITS | part_a, out.pairs[:, 1] << _PART_BITS | part_b], axis=1)
         prev_pairs, prev_ids = self._previous
         point_ids, persists = out.point_ids, out.persists
         assert point_ids is not None and persists is not None  # contact_set_from_rows always sets both
@@ -804,6 +805,7 @@ class World:
         owner = np.repeat(keyed, np.diff(out.point_offsets), axis=0)
         order = np.lexsort((point_ids, owner[:, 1], owner[:, 0]))
         self._previous = (np.ascontiguousarray(owner[order]), point_ids[order])
+        return persists
 
     def time_of_impact(self, dt) -> ImpactSet:
         """The pairs that touch within ``dt`` while the bodies move with their velocities, and when (sensors
