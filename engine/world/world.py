@@ -453,19 +453,8 @@ class World:
         self._exclusions.exclude(a, b)
 
     def include(self, i, j) -> None:
-        """Undo ``exclude(i, j)``: the pair is filtered by the categories, masks and groups again (nothing happens
-        when it was not excluded).
-
-        Parameters
-        ----------
-        i, j : int
-            Two distinct live ids.
-
-        Raises
-        ------
-        ValueError
-            For an unknown id, or i == j; ``TypeError`` for a non-integer id.
-        """
+        """Undo ``exclude(i, j)`` (same arguments and errors): the pair is filtered by the categories, masks and
+        groups again; nothing happens when it was not excluded."""
         a, b = self._check_pair(i, j)
         self._exclusions.include(a, b)
 
