@@ -9,7 +9,9 @@ each frame; "pile" — boxes and spheres resting on a Plane, most contacts persi
 "grid"); MuJoCo ``qpos`` + ``mj_kinematics`` + ``mj_collision`` + ``d.contact``; pybullet
 ``resetBasePositionAndOrientation`` per body + ``performCollisionDetection`` + ``getContactPoints``.
 
-Each benchmark first runs ``WARMUP`` frames untimed (the tree's fat boxes reach their steady state: bodies
+Each frame benchmark is in the pytest-benchmark group "World frame: <scene>, N = <n>" (reports/benchmarks.md
+ratios the entries of a group to its fastest: World, MuJoCo and pybullet on one scene at one size). Each
+benchmark first runs ``WARMUP`` frames untimed (the tree's fat boxes reach their steady state: bodies
 keep leaving them), then times ``ROUNDS`` frames (pytest-benchmark's statistics are over those). ``extra_info``:
 ``scene``, ``n``, ``peer``, the stages of the fastest frame in seconds (``stage_upload``, ``stage_detect``,
 ``stage_read``, ``stage_frame``, and for World ``stage_broad``, ``stage_narrow``, ``stage_contacts``:
@@ -112,7 +114,6 @@ def _engine_reference(name, n):
     return _reference[(name, n)]
 
 
-@pytest.mark.benchmark(group="World frame (upload + detect + read)")
 def _stage_split(wall: dict, detect: float) -> dict:
     """World's ``contacts()`` (``detect``, in the benchmark's clock) split into broad / narrow / contacts in the
     proportions of the World's own stage timers (wall clock): under load wall time exceeds process time, so the
@@ -122,17 +123,9 @@ def _stage_split(wall: dict, detect: float) -> dict:
     return {k: detect * v / total if total > 0.0 else 0.0 for k, v in stages.items()}
 
 
-@pytest.mark.parametrize("n", _sizes())
-@pytest.mark.parametrize("scene_name", SCENES)
-@pytest.mark.parametrize("peer", PEERS)
-def test_bench_frame(benchmark, request, quick, peer, scene_name, n):
-    if quick and n > 1_000:
-        pytest.skip("--quick: N = 1e3 only")
-    if peer == "MuJoCo" and n > MUJOCO_MAX_BODIES:
-        pytest.skip(f"MuJoCo's broad phase needs 4 n^2 bytes of arena ({4 * n * n / 1e9:.0f} GB at n = {n})")
-    scene, poses = _scene(scene_name, n)
-    clock = _clock(request)
-    frame = _make(peer, scene)
+def _time_frames(benchmark, clock, frame, poses) -> dict:
+    """``WARMUP`` untimed frames, then ``ROUNDS`` frames timed by pytest-benchmark; returns the stages of the
+    fastest frame (``upload``, ``detect``, ``read``, ``frame``; and World's ``broad``, ``narrow``, ``contacts``)."""
     for centers, quats in poses[:WARMUP]:
         frame.upload(centers, quats)
         frame.detect()
@@ -149,24 +142,45 @@ def test_bench_frame(benchmark, request, quick, peer, scene_name, n):
         frame.read()
         t3 = clock()
         times = {"upload": t1 - t0, "detect": t2 - t1, "read": t3 - t2}
-        if peer.startswith("World"):
+        if isinstance(frame, EngineFrame):
             times.update(_stage_split(frame.world.stats.seconds, t2 - t1))
         if t3 - t0 < stages.get("frame", np.inf):  # the stages of the fastest frame, which add up to it
             stages.clear()
             stages.update(times, frame=t3 - t0)
 
     benchmark.pedantic(one_frame, rounds=ROUNDS, iterations=1, warmup_rounds=0)
+    return {f"stage_{k}": v for k, v in stages.items()}
+
+
+def _world_counts(frame) -> dict:
+    """The World's work at the last frame (``world.stats``)."""
+    s = frame.world.stats
+    return {"contact_points": int(s.contacts), "persisting_points": int(s.persisting),
+            "candidate_pairs": int(s.candidate_pairs), "static_pairs": int(s.static_pairs),
+            "filtered": int(s.filtered), "narrow_tests": int(s.narrow_tests)}
+
+
+@pytest.mark.parametrize("n", _sizes())
+@pytest.mark.parametrize("scene_name", SCENES)
+@pytest.mark.parametrize("peer", PEERS)
+def test_bench_frame(benchmark, request, quick, peer, scene_name, n):
+    if quick and n > 1_000:
+        pytest.skip("--quick: N = 1e3 only")
+    if peer == "MuJoCo" and n > MUJOCO_MAX_BODIES:
+        pytest.skip(f"MuJoCo's broad phase needs 4 n^2 bytes of arena ({4 * n * n / 1e9:.0f} GB at n = {n})")
+    scene, poses = _scene(scene_name, n)
+    frame = _make(peer, scene)
+    benchmark.group = f"World frame: {scene_name}, N = {n:,}"
+    stages = _time_frames(benchmark, _clock(request), frame, poses)
     pairs, depth = frame.penetrating()
     info = {"scene": scene_name, "n": n, "peer": peer, "warmup_frames": WARMUP, "penetrating_pairs": len(pairs),
-            **{f"stage_{k}": v for k, v in stages.items()}}
+            **stages}
     (ref, exact) = _engine_reference(scene_name, n)
     info.update(_against_exact(exact, pairs, depth))
     if peer != "World tree":
         info.update({f"vs_world_{k}": v for k, v in agreement(ref, (pairs, depth)).items()})
     if peer.startswith("World"):
-        info["contact_points"] = int(frame.world.stats.contacts)
-        info["persisting_points"] = int(frame.world.stats.persisting)
-        info["candidate_pairs"] = int(frame.world.stats.candidate_pairs)
+        info.update(_world_counts(frame))
     benchmark.extra_info.update(info)
     if isinstance(frame, BulletFrame):
         frame.close()
