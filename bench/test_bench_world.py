@@ -21,6 +21,23 @@ the penetrating pairs (depth > 1e-6) and contact points at the last frame, and t
 for each peer against World (pairs both find, only one finds, median / max depth difference on the common
 pairs), and for World and each peer against the exact depth (distance from the origin to the boundary of the
 Minkowski difference, Qhull) on a sample of ``EXACT_SAMPLE`` penetrating pairs.
+
+Two more benchmarks, each in its own group:
+- ``test_bench_static_level`` ("World static level: ..."): ``engine.workloads.static_level`` — 5,000 static
+  boxes (floors, walls, pillars, crates) and 500 moving spheres and boxes of the mixed scene among them
+  (``--quick``: 1,000 and 100). Peers: "World" (the level added ``static=True``), "World alone" (the moving
+  bodies without the level), MuJoCo (the level as geoms of the world body), pybullet (the level as multibodies of
+  mass 0). ``extra_info`` adds ``n_static``, ``n_moving``, the penetrating pairs with a level box
+  (``level_pairs``), the moving bodies penetrating the level (``bodies_on_level``) and World's counts (candidate,
+  static and filtered pairs, narrow tests). Asserts: MuJoCo's penetrating pair set equals World's outside
+  ``AGREEMENT_BAND``, and World alone finds exactly World's pairs of two moving bodies.
+- ``test_bench_masked`` ("World masked: mixed, N = ..."): the mixed scene at N = 1e3 and 1e4 (``--quick``: 1e3)
+  with ``engine.workloads.category_masks`` (5 of the 10 category pairs masked off) and without, for World,
+  MuJoCo (contype / conaffinity) and pybullet (setCollisionFilterGroupMask). ``extra_info`` adds ``masked`` and
+  World's narrow tests and filtered pairs. Asserts (masked): World's pairs are exactly the unmasked World's pairs
+  whose categories collide, and MuJoCo's and pybullet's penetrating pair sets equal World's outside
+  ``AGREEMENT_BAND``.
+
 Run: ``python -m pytest bench/test_bench_world.py --benchmark-only -q`` (``--quick``: N = 1e3 only;
 ``-m large`` for N = 1e5).
 """
@@ -38,9 +55,10 @@ from bench.world_peers import (
     EngineFrame,
     MuJoCoFrame,
     agreement,
+    disagreements,
     exact_depth,
 )
-from engine.workloads import frame_motion, frame_scene
+from engine.workloads import category_masks, frame_motion, frame_scene, static_level
 from engine.world import Plane
 
 SCENES = ("mixed", "pile", "hulls")
@@ -184,3 +202,139 @@ def test_bench_frame(benchmark, request, quick, peer, scene_name, n):
     benchmark.extra_info.update(info)
     if isinstance(frame, BulletFrame):
         frame.close()
+
+
+# ---------------------------------------------------------------------------------------------------------------
+# the static level: moving bodies among static boxes
+# ---------------------------------------------------------------------------------------------------------------
+
+#: "World": the moving bodies and the level (``static=True``); "World alone": the moving bodies without it
+LEVEL_PEERS = ("World", "World alone", "MuJoCo", "pybullet")
+
+_levels: dict = {}
+_level_references: dict = {}
+
+
+def _level_sizes():
+    return [pytest.param((1_000, 100), id="1e3+1e2"), pytest.param((5_000, 500), id="5e3+5e2")]
+
+
+def _level(size):
+    if size not in _levels:
+        scene, level = static_level(*size)
+        _levels[size] = (scene, level, frame_motion(scene, WARMUP + ROUNDS))
+    return _levels[size]
+
+
+def _make_level(peer, scene, level):
+    if peer.startswith("World"):
+        return EngineFrame(scene, level=None if peer == "World alone" else level)
+    return MuJoCoFrame(scene, level=level) if peer == "MuJoCo" else BulletFrame(scene, level=level)
+
+
+def _last_pose_pairs(frame, poses):
+    """A frame's penetrating pairs (depth > 1e-6) at the last pose, every pose of the sequence run through it."""
+    for centers, quats in poses:
+        frame.upload(centers, quats)
+        frame.detect()
+    return frame.penetrating()
+
+
+def _level_reference(size):
+    """World (level static) at the last pose: its penetrating pairs and depths."""
+    if size not in _level_references:
+        scene, level, poses = _level(size)
+        _level_references[size] = _last_pose_pairs(EngineFrame(scene, level=level), poses)
+    return _level_references[size]
+
+
+@pytest.mark.parametrize("size", _level_sizes())
+@pytest.mark.parametrize("peer", LEVEL_PEERS)
+def test_bench_static_level(benchmark, request, quick, peer, size):
+    n_static, n_moving = size
+    if quick and n_static > 1_000:
+        pytest.skip("--quick: the level of 1,000 static boxes only")
+    scene, level, poses = _level(size)
+    frame = _make_level(peer, scene, level)
+    benchmark.group = f"World static level: {n_static:,} static boxes, {n_moving:,} moving bodies"
+    stages = _time_frames(benchmark, _clock(request), frame, poses)
+    pairs, depth = frame.penetrating()
+    on_level = pairs[:, 1] >= n_moving  # the level's boxes follow the moving bodies
+    info = {"suite": "static_level", "n_static": n_static, "n_moving": n_moving, "peer": peer,
+            "warmup_frames": WARMUP, "penetrating_pairs": len(pairs), "level_pairs": int(on_level.sum()),
+            "bodies_on_level": len(np.unique(pairs[on_level, 0])), **stages}
+    ref = _level_reference(size)
+    if isinstance(frame, EngineFrame):
+        info.update(_world_counts(frame))
+    else:
+        info.update({f"vs_world_{k}": v for k, v in agreement(ref, (pairs, depth)).items()})
+    if isinstance(frame, BulletFrame):
+        frame.close()
+    benchmark.extra_info.update(info)
+    if peer == "World alone":  # without the level, the same pairs of moving bodies
+        assert np.array_equal(pairs, ref[0][ref[0][:, 1] < n_moving])
+    if peer == "MuJoCo":
+        assert not disagreements(ref, (pairs, depth)), disagreements(ref, (pairs, depth))[:10]
+
+
+# ---------------------------------------------------------------------------------------------------------------
+# collision filters: the mixed scene with half of the category pairs masked off
+# ---------------------------------------------------------------------------------------------------------------
+
+MASKED_PEERS = ("World", "MuJoCo", "pybullet")
+
+_masked_references: dict = {}
+
+
+def _masked_sizes():
+    return [pytest.param(1_000, id="1e3"), pytest.param(10_000, id="1e4")]
+
+
+def _make_filtered(peer, scene, filters):
+    if peer == "World":
+        return EngineFrame(scene, filters=filters)
+    return MuJoCoFrame(scene, filters=filters) if peer == "MuJoCo" else BulletFrame(scene, filters=filters)
+
+
+def _masked_reference(n, masked: bool):
+    """World on the mixed scene at the last pose, with ``category_masks(n)`` or without: penetrating pairs."""
+    if (n, masked) not in _masked_references:
+        scene, poses = _scene("mixed", n)
+        frame = EngineFrame(scene, filters=category_masks(n) if masked else None)
+        _masked_references[(n, masked)] = _last_pose_pairs(frame, poses)
+    return _masked_references[(n, masked)]
+
+
+def _passing_masks(pairs, n):
+    """The rows of ``pairs`` whose bodies' categories collide under ``category_masks(n)`` (Box2D's rule)."""
+    category, mask = category_masks(n)
+    i, j = pairs[:, 0], pairs[:, 1]
+    return ((category[i] & mask[j]) != 0) & ((category[j] & mask[i]) != 0)
+
+
+@pytest.mark.parametrize("n", _masked_sizes())
+@pytest.mark.parametrize("masked", (True, False), ids=("masked", "unmasked"))
+@pytest.mark.parametrize("peer", MASKED_PEERS)
+def test_bench_masked(benchmark, request, quick, peer, masked, n):
+    if quick and n > 1_000:
+        pytest.skip("--quick: N = 1e3 only")
+    scene, poses = _scene("mixed", n)
+    frame = _make_filtered(peer, scene, category_masks(n) if masked else None)
+    benchmark.group = f"World masked: mixed, N = {n:,}"
+    stages = _time_frames(benchmark, _clock(request), frame, poses)
+    pairs, depth = frame.penetrating()
+    info = {"suite": "masked", "n": n, "peer": peer, "masked": masked, "warmup_frames": WARMUP,
+            "penetrating_pairs": len(pairs), **stages}
+    ref = _masked_reference(n, masked)
+    if isinstance(frame, EngineFrame):
+        info.update(_world_counts(frame))
+    else:
+        info.update({f"vs_world_{k}": v for k, v in agreement(ref, (pairs, depth)).items()})
+    if isinstance(frame, BulletFrame):
+        frame.close()
+    benchmark.extra_info.update(info)
+    if masked and peer == "World":  # the filter drops exactly the masked-off pairs of the unmasked answer
+        unmasked = _masked_reference(n, False)[0]
+        assert np.array_equal(pairs, unmasked[_passing_masks(unmasked, n)])
+    if masked and peer != "World":
+        assert not disagreements(ref, (pairs, depth)), disagreements(ref, (pairs, depth))[:10]
