@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import shlex
 import subprocess
 import sys
 import tempfile
@@ -232,7 +233,7 @@ def main(argv=None) -> int:
     args = parser.parse_args(argv)
     out = Path(args.out or ("reports-quick" if args.quick else "reports")).resolve()
     out.mkdir(parents=True, exist_ok=True)
-    command = " ".join(["python -m bench.report_world", *(argv if argv is not None else sys.argv[1:])])
+    command = shlex.join(["python", "-m", "bench.report_world", *(argv if argv is not None else sys.argv[1:])])
     with tempfile.TemporaryDirectory() as tmp:
         json_path = Path(tmp) / "world.json"
         cmd = [sys.executable, "-m", "pytest", str(ROOT / "bench" / "test_bench_world.py"), "--benchmark-only",

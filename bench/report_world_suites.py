@@ -13,6 +13,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from bench.world_peers import AGREEMENT_BAND
 from engine.workloads import CATEGORY_MASKS, COLLIDING_CATEGORY_PAIRS, MASKED_CATEGORY_PAIRS
 
 #: the static level the targets are stated for: (static boxes, moving bodies)
@@ -29,13 +30,13 @@ MASKED_PEERS = ("World", "MuJoCo", "pybullet")
 
 def suite_rows(json_path: Path, suite: str) -> pd.DataFrame:
     """One row per benchmark of ``suite``: its ``extra_info``, the minimum and median frame, and ``detection``
-    (the detect and read stages of the fastest frame)."""
+    (the fastest detect + read over the timed frames)."""
     rows = []
     for b in json.loads(Path(json_path).read_text())["benchmarks"]:
         extra = b.get("extra_info") or {}
         if extra.get("suite") == suite:
             rows.append({**extra, "frame_min": b["stats"]["min"], "frame_median": b["stats"]["median"],
-                         "detection": extra["stage_detect"] + extra["stage_read"]})
+                         "detection": extra["detection_min"]})
     return pd.DataFrame(rows)
 
 
@@ -66,6 +67,20 @@ def _value(g: pd.DataFrame, column: str, **where) -> float:
 
 def _agreement_cells(r) -> list[str]:
     return [_count(r.get(f"vs_world_{k}")) for k in ("common", "reference_only", "peer_only")]
+
+
+def _agreement_text(r, peer: str) -> str:
+    """Whether a peer's penetrating pairs are World's: identical, identical outside the band, or not, with the
+    counts."""
+    both, w_only, p_only = (int(r[f"vs_world_{k}"]) for k in ("common", "reference_only", "peer_only"))
+    counts = f"{both:,} both, {w_only:,} World only, {p_only:,} {peer} only"
+    if w_only == p_only == 0:
+        return f"{peer}'s identical to World's ({counts})"
+    beyond = int(r["vs_world_beyond_band"])
+    if beyond == 0:
+        return (f"{peer}'s identical to World's outside the {AGREEMENT_BAND:g} band ({counts}; the deepest pair "
+                f"found by one side only: {r['vs_world_one_sided_max_depth']:.1e})")
+    return f"{peer}'s differ from World's: {beyond:,} pairs deeper than {AGREEMENT_BAND:g} found by one side ({counts})"
 
 
 # ---------------------------------------------------------------------------------------------------------------
@@ -102,7 +117,6 @@ def _level_targets(g: pd.DataFrame) -> list[str]:
     ms = {p: _ms(_value(g, "frame_min", peer=p)) for p in LEVEL_PEERS}
     det = {p: _ms(_value(g, "detection", peer=p)) for p in ("World", "pybullet")}
     mj = g[g.peer == "MuJoCo"]
-    both, w_only, mj_only = _agreement_cells(mj.iloc[0]) if len(mj) else ["", "", ""]
     return [
         f"- World's frame with the level ÷ its frame of the moving bodies alone: {_times(ratios['alone'])} "
         f"({ms['World']} ms against {ms['World alone']} ms; target ≤ {TARGET_LEVEL_VS_ALONE:g}×: "
@@ -112,7 +126,7 @@ def _level_targets(g: pd.DataFrame) -> list[str]:
         f"- detection against pybullet's: {_times(ratios['bullet'])} ({det['pybullet']} ms against "
         f"{det['World']} ms; target ≥ {TARGET_LEVEL_DETECT_VS_BULLET:g}×: "
         f"{_verdict(ratios['bullet'], TARGET_LEVEL_DETECT_VS_BULLET)})",
-        f"- penetrating pairs against MuJoCo's: {both} both, {w_only} World only, {mj_only} MuJoCo only"]
+        "- penetrating pairs: " + (_agreement_text(mj.iloc[0], "MuJoCo") if len(mj) else "MuJoCo not run")]
 
 
 def static_level_lines(df: pd.DataFrame) -> list[str]:
@@ -128,7 +142,8 @@ def static_level_lines(df: pd.DataFrame) -> list[str]:
              "the moving bodies without the level, same poses; MuJoCo: the level as geoms of the world body "
              "(never tested against each other); pybullet: the level as multibodies of mass 0. Detection: "
              "World's `contacts()`, MuJoCo's `mj_kinematics` + `mj_collision` + `d.contact`, pybullet's "
-             "`performCollisionDetection` + `getContactPoints`. Candidate pairs: those of World's broad phase "
+             "`performCollisionDetection` + `getContactPoints`, the fastest over the timed frames (frame: the fastest "
+             "frame, upload: its upload). Candidate pairs: those of World's broad phase "
              "(fat boxes), in brackets those with a level box; penetrating pairs (depth > 1e-6) at the last "
              "frame, in brackets those with a level box; both / World only / peer only: against World's "
              "penetrating pairs (the benchmark asserts MuJoCo's equal World's outside a band of 5e-3).", ""]
@@ -179,14 +194,8 @@ def _masked_table(g: pd.DataFrame) -> list[str]:
 
 def _pair_sets_line(g: pd.DataFrame) -> str:
     """Whether MuJoCo's and pybullet's masked penetrating pair sets are World's, with the counts."""
-    parts = []
-    for peer in ("MuJoCo", "pybullet"):
-        r = g[(g.peer == peer) & g.masked]
-        if len(r):
-            both, w_only, p_only = (int(r.iloc[0][f"vs_world_{k}"]) for k in ("common", "reference_only",
-                                                                               "peer_only"))
-            same = "identical" if w_only == p_only == 0 else "differ"
-            parts.append(f"{peer} {same} to World's ({both:,} both, {w_only:,} World only, {p_only:,} {peer} only)")
+    parts = [_agreement_text(g[(g.peer == peer) & g.masked].iloc[0], peer) for peer in ("MuJoCo", "pybullet")
+             if len(g[(g.peer == peer) & g.masked])]
     return "- masked penetrating pair sets: " + "; ".join(parts)
 
 
