@@ -4,16 +4,30 @@ Reads the benchmarks of bench/test_bench_world.py (``extra_info``: ``scene``, ``
 ``stage_*``, agreement counts ``vs_world_*`` and exact-depth differences ``exact_*``) and writes, per scene and
 N, the frame time of World (each broad phase), MuJoCo and pybullet with their stages and ratios, the issue's
 targets (met / missed), the fitted slope of frame time against N, and the agreement of the penetrating pair
-sets and depths. The chart is built on a Figure with its own Agg canvas: the process's matplotlib backend is
-never switched.
+sets and depths; then the static-level and masked benchmarks (bench/report_world_suites.py). The chart is built
+on a Figure with its own Agg canvas: the process's matplotlib backend is never switched.
+
+The main job (``python -m bench.report``) writes this section from its run of every suite; on its own::
+
+    python -m bench.report_world [--quick] [--out DIR] [-k EXPRESSION]
+
+runs bench/test_bench_world.py (without the ``large`` sizes) and writes world.md, world.csv and world.png (to
+``reports/``, or ``reports-quick/`` with ``--quick``); world.md names the command that produced it.
 """
 from __future__ import annotations
 
+import argparse
 import json
+import shlex
+import subprocess
+import sys
+import tempfile
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
+
+from bench.report_world_suites import masked_lines, static_level_lines, suite_rows
 
 #: issue 15's targets on the mixed scene at N = 10,000 with the default World()
 TARGET_N = 10_000
@@ -29,7 +43,7 @@ def world_rows(json_path: Path, info: dict) -> pd.DataFrame:
     rows = []
     for b in json.loads(Path(json_path).read_text())["benchmarks"]:
         extra = b.get("extra_info") or {}
-        if "scene" not in extra or "peer" not in extra:
+        if "scene" not in extra or "peer" not in extra or "suite" in extra:
             continue
         rows.append({**extra, "frame_min": b["stats"]["min"], "frame_median": b["stats"]["median"],
                      "rounds": b["stats"]["rounds"], "commit": info["commit"], "machine": info["machine"]})
@@ -130,10 +144,21 @@ def _agreement(df) -> list[str]:
     return lines + [""]
 
 
-def world_markdown(df: pd.DataFrame, info: dict) -> str:
+def world_markdown(df: pd.DataFrame, info: dict, suites: tuple = (), command: str = "python -m bench.report"
+                   ) -> str:
+    """The report: the frame benchmark's sections (when ``df`` has rows), then the lines of each of ``suites``."""
     lines = ["# The collision frame: World against MuJoCo and pybullet", "",
              f"{info['date']} · commit `{info['commit']}` · {info['machine']}", "",
-             "Same scenes, same run (bench/test_bench_world.py, engine.workloads.frame_scene). A frame is the pose "
+             f"Produced by `{command}`.", ""]
+    if not df.empty:
+        lines += _frame_lines(df)
+    for suite in suites:
+        lines += suite
+    return "\n".join(lines)
+
+
+def _frame_lines(df: pd.DataFrame) -> list[str]:
+    lines = ["Same scenes, same run (bench/test_bench_world.py, engine.workloads.frame_scene). A frame is the pose "
              "upload of every body, detection, and reading the contacts: World `update(ids, centers, "
              "rotations=quaternions)` + `contacts()`; MuJoCo `qpos` + `mj_kinematics` + `mj_collision` + "
              "`d.contact`; pybullet `resetBasePositionAndOrientation` per body + `performCollisionDetection` + "
@@ -148,8 +173,7 @@ def world_markdown(df: pd.DataFrame, info: dict) -> str:
     for scene in ("mixed", "pile", "hulls"):
         if scene in set(df.scene):
             lines += [f"## Scene: {scene}", "", *_timing_table(df, scene), ""]
-    lines += _agreement(df)
-    return "\n".join(lines)
+    return lines + _agreement(df)
 
 
 def world_chart(df: pd.DataFrame, path: Path):
@@ -177,14 +201,50 @@ def world_chart(df: pd.DataFrame, path: Path):
     return fig
 
 
-def world_section(json_path: Path, out: Path, info: dict, quick: bool):
+def world_section(json_path: Path, out: Path, info: dict, quick: bool, command: str | None = None):
+    """world.md, world.csv (the frame rows, then the static-level and masked rows, told apart by ``suite``) and
+    world.png from the benchmark JSON; ``command``: what produced it, named in world.md (by default the main
+    job, ``python -m bench.report [--quick]``)."""
+    command = command or "python -m bench.report" + (" --quick" if quick else "")
     df = world_rows(json_path, info)
-    if df.empty:
+    level, masked = suite_rows(json_path, "static_level"), suite_rows(json_path, "masked")
+    if df.empty and level.empty and masked.empty:
         return []
-    df.to_csv(out / "world.csv", index=False)
-    (out / "world.md").write_text(world_markdown(df, info))
-    world_chart(df, out / "world.png")
+    pd.concat([df.assign(suite="frame"), level, masked], ignore_index=True).to_csv(out / "world.csv", index=False)
+    (out / "world.md").write_text(world_markdown(df, info, (static_level_lines(level), masked_lines(masked)),
+                                                 command))
+    if not df.empty:
+        world_chart(df, out / "world.png")
     return [("[world.md](world.md), [world.csv](world.csv), [world.png](world.png)",
              "the collision frame: World (tree, SAP, grid) against MuJoCo and pybullet on three scenes (mixed "
              "spheres and boxes, a resting pile, capsules and hulls), per stage, with the issue's targets, the "
-             "fitted slope against N, and the agreement of pair sets and depths (with exact Qhull depths)")]
+             "fitted slope against N, and the agreement of pair sets and depths (with exact Qhull depths); a "
+             "static level (5,000 static boxes, 500 moving bodies) and the mixed scene with collision masks")]
+
+
+def main(argv=None) -> int:
+    """``python -m bench.report_world``: run bench/test_bench_world.py and write the World section alone."""
+    from bench.report import ROOT, stamp
+
+    parser = argparse.ArgumentParser(prog="python -m bench.report_world", description=__doc__.split("\n")[0])
+    parser.add_argument("--quick", action="store_true", help="small sizes (written to reports-quick/)")
+    parser.add_argument("--out", default=None, help="output folder (default reports/, or reports-quick/)")
+    parser.add_argument("-k", dest="select", default=None, help="pytest -k expression: which benchmarks to run")
+    args = parser.parse_args(argv)
+    out = Path(args.out or ("reports-quick" if args.quick else "reports")).resolve()
+    out.mkdir(parents=True, exist_ok=True)
+    command = shlex.join(["python", "-m", "bench.report_world", *(argv if argv is not None else sys.argv[1:])])
+    with tempfile.TemporaryDirectory() as tmp:
+        json_path = Path(tmp) / "world.json"
+        cmd = [sys.executable, "-m", "pytest", str(ROOT / "bench" / "test_bench_world.py"), "--benchmark-only",
+               "-m", "not large", "-p", "no:cacheprovider", f"--benchmark-json={json_path}",
+               "--benchmark-columns=min,median,rounds", "-q", *(["--quick"] if args.quick else []),
+               *(["-k", args.select] if args.select else [])]
+        subprocess.run(cmd, cwd=ROOT, check=True)
+        world_section(json_path, out, stamp(), args.quick, command)
+    print(f"[report_world] wrote {out / 'world.md'}", flush=True)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -9,16 +9,37 @@ each frame; "pile" — boxes and spheres resting on a Plane, most contacts persi
 "grid"); MuJoCo ``qpos`` + ``mj_kinematics`` + ``mj_collision`` + ``d.contact``; pybullet
 ``resetBasePositionAndOrientation`` per body + ``performCollisionDetection`` + ``getContactPoints``.
 
-Each benchmark first runs ``WARMUP`` frames untimed (the tree's fat boxes reach their steady state: bodies
+Each frame benchmark is in the pytest-benchmark group "World frame: <scene>, N = <n>" (reports/benchmarks.md
+ratios the entries of a group to its fastest: World, MuJoCo and pybullet on one scene at one size). Each
+benchmark first runs ``WARMUP`` frames untimed (the tree's fat boxes reach their steady state: bodies
 keep leaving them), then times ``ROUNDS`` frames (pytest-benchmark's statistics are over those). ``extra_info``:
 ``scene``, ``n``, ``peer``, the stages of the fastest frame in seconds (``stage_upload``, ``stage_detect``,
 ``stage_read``, ``stage_frame``, and for World ``stage_broad``, ``stage_narrow``, ``stage_contacts``:
 ``stage_detect`` split in the proportions of the World's own wall-clock stage timers, so that the stages add up
-to the frame in the benchmark's clock),
+to the frame in the benchmark's clock), ``detection_min`` (the fastest detect + read over the timed frames),
 the penetrating pairs (depth > 1e-6) and contact points at the last frame, and the agreement at that frame:
 for each peer against World (pairs both find, only one finds, median / max depth difference on the common
 pairs), and for World and each peer against the exact depth (distance from the origin to the boundary of the
 Minkowski difference, Qhull) on a sample of ``EXACT_SAMPLE`` penetrating pairs.
+
+Two more benchmarks, each in its own group:
+- ``test_bench_static_level`` ("World static level: ..."): ``engine.workloads.static_level`` — 5,000 static
+  boxes (floors, walls, pillars, crates) and 500 moving spheres and boxes of the mixed scene among them
+  (``--quick``: 1,000 and 100). Peers: "World" (the level added ``static=True``), "World alone" (the moving
+  bodies without the level), MuJoCo (the level as geoms of the world body), pybullet (the level as multibodies of
+  mass 0). ``extra_info`` adds ``n_static``, ``n_moving``, the penetrating pairs with a level box
+  (``level_pairs``), the moving bodies penetrating the level (``bodies_on_level``) and World's counts (candidate,
+  static and filtered pairs, narrow tests). Asserts: MuJoCo's penetrating pair set equals World's outside
+  ``AGREEMENT_BAND``, and World alone finds exactly World's pairs of two moving bodies.
+- ``test_bench_masked`` ("World masked: mixed, N = ..."): the mixed scene at N = 1e3 and 1e4 (``--quick``: 1e3)
+  with ``engine.workloads.category_masks`` (5 of the 10 category pairs masked off) and without, for World,
+  MuJoCo (contype / conaffinity) and pybullet (setCollisionFilterGroupMask). ``extra_info`` adds ``masked`` and
+  World's narrow tests and filtered pairs. Asserts (masked): World's pairs are exactly the unmasked World's
+  pairs whose categories collide, and MuJoCo's and pybullet's penetrating pair sets equal World's outside
+  ``AGREEMENT_BAND``.
+Both add, for each peer, the pairs only one side finds deeper than ``AGREEMENT_BAND`` (``vs_world_beyond_band``)
+and the depth of the deepest pair only one side finds (``vs_world_one_sided_max_depth``).
+
 Run: ``python -m pytest bench/test_bench_world.py --benchmark-only -q`` (``--quick``: N = 1e3 only;
 ``-m large`` for N = 1e5).
 """
@@ -31,14 +52,16 @@ import numpy as np
 import pytest
 
 from bench.world_peers import (
+    AGREEMENT_BAND,
     MUJOCO_MAX_BODIES,
     BulletFrame,
     EngineFrame,
     MuJoCoFrame,
     agreement,
+    disagreements,
     exact_depth,
 )
-from engine.workloads import frame_motion, frame_scene
+from engine.workloads import category_masks, frame_motion, frame_scene, static_level
 from engine.world import Plane
 
 SCENES = ("mixed", "pile", "hulls")
@@ -112,7 +135,6 @@ def _engine_reference(name, n):
     return _reference[(name, n)]
 
 
-@pytest.mark.benchmark(group="World frame (upload + detect + read)")
 def _stage_split(wall: dict, detect: float) -> dict:
     """World's ``contacts()`` (``detect``, in the benchmark's clock) split into broad / narrow / contacts in the
     proportions of the World's own stage timers (wall clock): under load wall time exceeds process time, so the
@@ -122,22 +144,15 @@ def _stage_split(wall: dict, detect: float) -> dict:
     return {k: detect * v / total if total > 0.0 else 0.0 for k, v in stages.items()}
 
 
-@pytest.mark.parametrize("n", _sizes())
-@pytest.mark.parametrize("scene_name", SCENES)
-@pytest.mark.parametrize("peer", PEERS)
-def test_bench_frame(benchmark, request, quick, peer, scene_name, n):
-    if quick and n > 1_000:
-        pytest.skip("--quick: N = 1e3 only")
-    if peer == "MuJoCo" and n > MUJOCO_MAX_BODIES:
-        pytest.skip(f"MuJoCo's broad phase needs 4 n^2 bytes of arena ({4 * n * n / 1e9:.0f} GB at n = {n})")
-    scene, poses = _scene(scene_name, n)
-    clock = _clock(request)
-    frame = _make(peer, scene)
+def _time_frames(benchmark, clock, frame, poses) -> dict:
+    """``WARMUP`` untimed frames, then ``ROUNDS`` frames timed by pytest-benchmark; returns the stages of the
+    fastest frame (``upload``, ``detect``, ``read``, ``frame``; and World's ``broad``, ``narrow``, ``contacts``)."""
     for centers, quats in poses[:WARMUP]:
         frame.upload(centers, quats)
         frame.detect()
     todo = iter(poses[WARMUP:])
     stages: dict = {}
+    detection = []
 
     def one_frame():
         centers, quats = next(todo)
@@ -149,24 +164,193 @@ def test_bench_frame(benchmark, request, quick, peer, scene_name, n):
         frame.read()
         t3 = clock()
         times = {"upload": t1 - t0, "detect": t2 - t1, "read": t3 - t2}
-        if peer.startswith("World"):
+        detection.append(t3 - t1)
+        if isinstance(frame, EngineFrame):
             times.update(_stage_split(frame.world.stats.seconds, t2 - t1))
         if t3 - t0 < stages.get("frame", np.inf):  # the stages of the fastest frame, which add up to it
             stages.clear()
             stages.update(times, frame=t3 - t0)
 
     benchmark.pedantic(one_frame, rounds=ROUNDS, iterations=1, warmup_rounds=0)
+    # the fastest detection on its own: a peer whose upload dominates its frame (pybullet's loop of resets) has
+    # its fastest frame chosen by the upload's noise
+    return {**{f"stage_{k}": v for k, v in stages.items()}, "detection_min": min(detection)}
+
+
+def _agreement_info(reference, pairs, depth) -> dict:
+    """``agreement`` with World's answer, and the pairs only one side finds: how many are deeper than
+    ``AGREEMENT_BAND`` and the deepest of them."""
+    one_sided = [d for *_, d, _ in disagreements(reference, (pairs, depth), band=0.0)]
+    return {**{f"vs_world_{k}": v for k, v in agreement(reference, (pairs, depth)).items()},
+            "vs_world_one_sided_max_depth": max(one_sided, default=0.0),
+            "vs_world_beyond_band": sum(d > AGREEMENT_BAND for d in one_sided)}
+
+
+def _world_counts(frame) -> dict:
+    """The World's work at the last frame (``world.stats``)."""
+    s = frame.world.stats
+    return {"contact_points": int(s.contacts), "persisting_points": int(s.persisting),
+            "candidate_pairs": int(s.candidate_pairs), "static_pairs": int(s.static_pairs),
+            "filtered": int(s.filtered), "narrow_tests": int(s.narrow_tests)}
+
+
+@pytest.mark.parametrize("n", _sizes())
+@pytest.mark.parametrize("scene_name", SCENES)
+@pytest.mark.parametrize("peer", PEERS)
+def test_bench_frame(benchmark, request, quick, peer, scene_name, n):
+    if quick and n > 1_000:
+        pytest.skip("--quick: N = 1e3 only")
+    if peer == "MuJoCo" and n > MUJOCO_MAX_BODIES:
+        pytest.skip(f"MuJoCo's broad phase needs 4 n^2 bytes of arena ({4 * n * n / 1e9:.0f} GB at n = {n})")
+    scene, poses = _scene(scene_name, n)
+    frame = _make(peer, scene)
+    benchmark.group = f"World frame: {scene_name}, N = {n:,}"
+    stages = _time_frames(benchmark, _clock(request), frame, poses)
     pairs, depth = frame.penetrating()
     info = {"scene": scene_name, "n": n, "peer": peer, "warmup_frames": WARMUP, "penetrating_pairs": len(pairs),
-            **{f"stage_{k}": v for k, v in stages.items()}}
+            **stages}
     (ref, exact) = _engine_reference(scene_name, n)
     info.update(_against_exact(exact, pairs, depth))
     if peer != "World tree":
         info.update({f"vs_world_{k}": v for k, v in agreement(ref, (pairs, depth)).items()})
     if peer.startswith("World"):
-        info["contact_points"] = int(frame.world.stats.contacts)
-        info["persisting_points"] = int(frame.world.stats.persisting)
-        info["candidate_pairs"] = int(frame.world.stats.candidate_pairs)
+        info.update(_world_counts(frame))
     benchmark.extra_info.update(info)
     if isinstance(frame, BulletFrame):
         frame.close()
+
+
+# ---------------------------------------------------------------------------------------------------------------
+# the static level: moving bodies among static boxes
+# ---------------------------------------------------------------------------------------------------------------
+
+#: "World": the moving bodies and the level (``static=True``); "World alone": the moving bodies without it
+LEVEL_PEERS = ("World", "World alone", "MuJoCo", "pybullet")
+
+_levels: dict = {}
+_level_references: dict = {}
+
+
+def _level_sizes():
+    return [pytest.param((1_000, 100), id="1e3+1e2"), pytest.param((5_000, 500), id="5e3+5e2")]
+
+
+def _level(size):
+    if size not in _levels:
+        scene, level = static_level(*size)
+        _levels[size] = (scene, level, frame_motion(scene, WARMUP + ROUNDS))
+    return _levels[size]
+
+
+def _make_level(peer, scene, level):
+    if peer.startswith("World"):
+        return EngineFrame(scene, level=None if peer == "World alone" else level)
+    return MuJoCoFrame(scene, level=level) if peer == "MuJoCo" else BulletFrame(scene, level=level)
+
+
+def _last_pose_pairs(frame, poses):
+    """A frame's penetrating pairs (depth > 1e-6) at the last pose, every pose of the sequence run through it."""
+    for centers, quats in poses:
+        frame.upload(centers, quats)
+        frame.detect()
+    return frame.penetrating()
+
+
+def _level_reference(size):
+    """World (level static) at the last pose: its penetrating pairs and depths."""
+    if size not in _level_references:
+        scene, level, poses = _level(size)
+        _level_references[size] = _last_pose_pairs(EngineFrame(scene, level=level), poses)
+    return _level_references[size]
+
+
+@pytest.mark.parametrize("size", _level_sizes())
+@pytest.mark.parametrize("peer", LEVEL_PEERS)
+def test_bench_static_level(benchmark, request, quick, peer, size):
+    n_static, n_moving = size
+    if quick and n_static > 1_000:
+        pytest.skip("--quick: the level of 1,000 static boxes only")
+    scene, level, poses = _level(size)
+    frame = _make_level(peer, scene, level)
+    benchmark.group = f"World static level: {n_static:,} static boxes, {n_moving:,} moving bodies"
+    stages = _time_frames(benchmark, _clock(request), frame, poses)
+    pairs, depth = frame.penetrating()
+    on_level = pairs[:, 1] >= n_moving  # the level's boxes follow the moving bodies
+    info = {"suite": "static_level", "n_static": n_static, "n_moving": n_moving, "peer": peer,
+            "warmup_frames": WARMUP, "penetrating_pairs": len(pairs), "level_pairs": int(on_level.sum()),
+            "bodies_on_level": len(np.unique(pairs[on_level, 0])), **stages}
+    ref = _level_reference(size)
+    if isinstance(frame, EngineFrame):
+        info.update(_world_counts(frame))
+    else:
+        info.update(_agreement_info(ref, pairs, depth))
+    if isinstance(frame, BulletFrame):
+        frame.close()
+    benchmark.extra_info.update(info)
+    if peer == "World alone":  # without the level, the same pairs of moving bodies
+        assert np.array_equal(pairs, ref[0][ref[0][:, 1] < n_moving])
+    if peer == "MuJoCo":
+        assert not disagreements(ref, (pairs, depth)), disagreements(ref, (pairs, depth))[:10]
+
+
+# ---------------------------------------------------------------------------------------------------------------
+# collision filters: the mixed scene with half of the category pairs masked off
+# ---------------------------------------------------------------------------------------------------------------
+
+MASKED_PEERS = ("World", "MuJoCo", "pybullet")
+
+_masked_references: dict = {}
+
+
+def _masked_sizes():
+    return [pytest.param(1_000, id="1e3"), pytest.param(10_000, id="1e4")]
+
+
+def _make_filtered(peer, scene, filters):
+    if peer == "World":
+        return EngineFrame(scene, filters=filters)
+    return MuJoCoFrame(scene, filters=filters) if peer == "MuJoCo" else BulletFrame(scene, filters=filters)
+
+
+def _masked_reference(n, masked: bool):
+    """World on the mixed scene at the last pose, with ``category_masks(n)`` or without: penetrating pairs."""
+    if (n, masked) not in _masked_references:
+        scene, poses = _scene("mixed", n)
+        frame = EngineFrame(scene, filters=category_masks(n) if masked else None)
+        _masked_references[(n, masked)] = _last_pose_pairs(frame, poses)
+    return _masked_references[(n, masked)]
+
+
+def _passing_masks(pairs, n):
+    """The rows of ``pairs`` whose bodies' categories collide under ``category_masks(n)`` (Box2D's rule)."""
+    category, mask = category_masks(n)
+    i, j = pairs[:, 0], pairs[:, 1]
+    return ((category[i] & mask[j]) != 0) & ((category[j] & mask[i]) != 0)
+
+
+@pytest.mark.parametrize("n", _masked_sizes())
+@pytest.mark.parametrize("masked", (True, False), ids=("masked", "unmasked"))
+@pytest.mark.parametrize("peer", MASKED_PEERS)
+def test_bench_masked(benchmark, request, quick, peer, masked, n):
+    if quick and n > 1_000:
+        pytest.skip("--quick: N = 1e3 only")
+    scene, poses = _scene("mixed", n)
+    frame = _make_filtered(peer, scene, category_masks(n) if masked else None)
+    benchmark.group = f"World masked: mixed, N = {n:,}"
+    stages = _time_frames(benchmark, _clock(request), frame, poses)
+    pairs, depth = frame.penetrating()
+    info = {"suite": "masked", "n": n, "peer": peer, "masked": masked, "warmup_frames": WARMUP,
+            "penetrating_pairs": len(pairs), **stages}
+    ref = _masked_reference(n, masked)
+    if isinstance(frame, EngineFrame):
+        info.update(_world_counts(frame))
+    else:
+        info.update(_agreement_info(ref, pairs, depth))
+    if isinstance(frame, BulletFrame):
+        frame.close()
+    benchmark.extra_info.update(info)
+    if masked and peer == "World":  # the filter drops exactly the masked-off pairs of the unmasked answer
+        unmasked = _masked_reference(n, False)[0]
+        assert np.array_equal(pairs, unmasked[_passing_masks(unmasked, n)])
+    if masked and peer != "World":
+        assert not disagreements(ref, (pairs, depth)), disagreements(ref, (pairs, depth))[:10]

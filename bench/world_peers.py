@@ -12,7 +12,17 @@ A frame is: upload every body's pose, detect, read the contacts.
 Each frame has ``upload(centers, quaternions)``, ``detect()`` and ``read()``; ``frame.penetrating(threshold)``
 returns the pairs (k, 2) of body indices (the ground is index n) whose deepest contact is deeper than
 ``threshold`` and that depth (k,): MuJoCo's and Bullet's depths are per contact point (the largest is taken), the
-engine's the pair's minimum translation distance. ``agreement`` compares two such answers.
+engine's the pair's minimum translation distance. ``agreement`` compares two such answers, ``disagreements``
+lists the pairs one of them finds deeper than ``AGREEMENT_BAND`` and the other misses.
+
+Each frame also takes a static level (``level``, an ``engine.workloads.StaticBoxes``; its boxes are indices
+n + g, n + g + 1, ... after the moving bodies and the g grounds) and a collision filter (``filters``, the
+``(category, mask)`` arrays of ``engine.workloads.category_masks``):
+- World: the boxes ``add(..., static=True)``; ``set_filter(ids, category=, mask=)``;
+- MuJoCo: the boxes as geoms of the world body (body 0: never tested against each other); ``contype`` =
+  category, ``conaffinity`` = mask (MuJoCo's OR rule equals the AND rule of the others for symmetric masks);
+- pybullet: the boxes as multibodies of mass 0 (static); ``setCollisionFilterGroupMask(body, -1, category,
+  mask)`` (pybullet's rule: ``group_i & mask_j`` and ``group_j & mask_i``).
 
 ``exact_depth(shape_a, pose_a, shape_b, pose_b)``: the penetration depth as the distance from the origin to the
 boundary of the Minkowski difference A − B (Qhull on the differences of the cores' points, plus the radii).
@@ -23,7 +33,7 @@ import time
 
 import numpy as np
 
-from engine.workloads import FrameScene, quaternion_matrices
+from engine.workloads import FrameScene, StaticBoxes, quaternion_matrices
 from engine.world import Box, Capsule, Plane, Sphere, World
 
 
@@ -46,11 +56,18 @@ class EngineFrame:
 
     name = "engine"
 
-    def __init__(self, scene: FrameScene, broad_phase: str = "tree"):
+    def __init__(self, scene: FrameScene, broad_phase: str = "tree", level: StaticBoxes | None = None,
+                 filters=None):
         self.world = World(broad_phase)
         self.ids = np.array([self.world.add(s) for s in scene.shapes], np.int64)
         if scene.ground is not None:
             self.world.add(Plane(scene.ground))
+        for c, h, q in zip(*_level_arrays(level)):
+            self.world.add(Box(c, h, q), static=True)
+        if filters is not None:
+            category, mask = filters
+            for cat, msk in sorted(set(zip(category.tolist(), mask.tolist()))):
+                self.world.set_filter(self.ids[(category == cat) & (mask == msk)], category=cat, mask=msk)
         self.upload(scene.centers, scene.quaternions)
         self.last = None
 
@@ -70,24 +87,46 @@ class EngineFrame:
         return c.pairs[keep], c.depth[keep]
 
 
-def _mjcf(scene: FrameScene) -> str:
+def _level_arrays(level: StaticBoxes | None):
+    """(centres, half extents, quaternions) of a level's boxes as lists, empty for no level."""
+    if level is None:
+        return [], [], []
+    return level.centers.tolist(), level.half_extents.tolist(), level.quaternions.tolist()
+
+
+def _mjcf_filter(filters, i: int) -> str:
+    """contype = category and conaffinity = mask: MuJoCo's rule (an OR of the two directions) then gives the
+    pairs of Box2D's (an AND) for the symmetric masks of ``engine.workloads.category_masks``."""
+    if filters is None:
+        return ""
+    return f' contype="{int(filters[0][i])}" conaffinity="{int(filters[1][i])}"'
+
+
+def _mjcf_level(level: StaticBoxes | None) -> str:
+    """The level's boxes as geoms of the world body (MuJoCo never tests two geoms of one body)."""
+    return "".join('<geom type="box" size="{!r} {!r} {!r}" pos="{!r} {!r} {!r}" quat="{!r} {!r} {!r} {!r}"/>'
+                   .format(*h, *c, *q) for c, h, q in zip(*_level_arrays(level)))
+
+
+def _mjcf(scene: FrameScene, level: StaticBoxes | None = None, filters=None) -> str:
     assets, bodies = [], []
     meshes: dict = {}
     for i, s in enumerate(scene.shapes):
+        filt = _mjcf_filter(filters, i)
         if isinstance(s, Sphere):
-            geom = f'<geom type="sphere" size="{float(s.radius)!r}"/>'
+            geom = f'<geom type="sphere" size="{float(s.radius)!r}"{filt}/>'
         elif isinstance(s, Box):
-            geom = '<geom type="box" size="{!r} {!r} {!r}"/>'.format(*map(float, s.half_extents))
+            geom = '<geom type="box" size="{!r} {!r} {!r}"{}/>'.format(*map(float, s.half_extents), filt)
         elif isinstance(s, Capsule):
             half = float(np.linalg.norm(s.local[1] - s.local[0]) / 2)
-            geom = f'<geom type="capsule" size="{float(s.radius)!r} {half!r}"/>'
+            geom = f'<geom type="capsule" size="{float(s.radius)!r} {half!r}"{filt}/>'
         else:
             key = id(s)
             if key not in meshes:
                 meshes[key] = f"hull{len(meshes)}"
                 verts = " ".join(repr(float(x)) for x in s.local.ravel())
                 assets.append(f'<mesh name="{meshes[key]}" vertex="{verts}"/>')
-            geom = f'<geom type="mesh" mesh="{meshes[key]}"/>'
+            geom = f'<geom type="mesh" mesh="{meshes[key]}"{filt}/>'
         pos = " ".join(repr(float(x)) for x in scene.centers[i])
         bodies.append(f'<body pos="{pos}"><freejoint/>{geom}</body>')
     ground = ""
@@ -97,7 +136,7 @@ def _mjcf(scene: FrameScene) -> str:
     n = len(scene.shapes) + 1
     memory = 64 + (4 * n * n) // 2**20 + 1  # mj_broadphase takes ~2 n^2 bytes of the arena, twice
     return (f'<mujoco><size memory="{memory}M"/><asset>{"".join(assets)}</asset>'
-            f'<worldbody>{ground}{"".join(bodies)}</worldbody></mujoco>')
+            f'<worldbody>{ground}{_mjcf_level(level)}{"".join(bodies)}</worldbody></mujoco>')
 
 
 #: the largest scene handed to MuJoCo here: its arena grows as 4 n² bytes (40 GB at n = 1e5)
@@ -109,15 +148,17 @@ class MuJoCoFrame:
 
     name = "MuJoCo"
 
-    def __init__(self, scene: FrameScene):
+    def __init__(self, scene: FrameScene, level: StaticBoxes | None = None, filters=None):
         import mujoco
 
         self.mujoco = mujoco
-        self.model = mujoco.MjModel.from_xml_string(_mjcf(scene))
+        self.model = mujoco.MjModel.from_xml_string(_mjcf(scene, level, filters))
         self.data = mujoco.MjData(self.model)
         n = len(scene.shapes)
-        # geom id -> body index (the ground, body 0's geom, is index n)
-        self.geom_body = np.where(self.model.geom_bodyid > 0, self.model.geom_bodyid - 1, n).astype(np.int64)
+        # geom id -> body index: free body b + 1 is index b; the world body's geoms, the ground first then the
+        # level's boxes in order, are n, n + 1, ...
+        on_world = self.model.geom_bodyid == 0
+        self.geom_body = np.where(on_world, n + np.cumsum(on_world) - 1, self.model.geom_bodyid - 1).astype(np.int64)
         self.qpos = self.data.qpos.reshape(n, 7)
         self.upload(scene.centers, scene.quaternions)
 
@@ -143,7 +184,7 @@ class BulletFrame:
 
     name = "pybullet"
 
-    def __init__(self, scene: FrameScene):
+    def __init__(self, scene: FrameScene, level: StaticBoxes | None = None, filters=None):
         import pybullet
 
         self.p = pybullet
@@ -165,7 +206,21 @@ class BulletFrame:
             ground = pybullet.createMultiBody(0.0, plane, basePosition=[0, scene.ground, 0],
                                               physicsClientId=self.client)
             self.index[ground] = n
+        self._add_level(level, len(self.index))
+        if filters is not None:
+            for b, cat, msk in zip(self.bodies, filters[0].tolist(), filters[1].tolist()):
+                pybullet.setCollisionFilterGroupMask(b, -1, cat, msk, physicsClientId=self.client)
         self.upload(scene.centers, scene.quaternions)
+
+    def _add_level(self, level: StaticBoxes | None, first: int) -> None:
+        """The level's boxes as multibodies of mass 0 (static: never moved, never tested against each other),
+        indices first, first + 1, ..."""
+        p = self.p
+        for k, (c, h, q) in enumerate(zip(*_level_arrays(level))):
+            shape = p.createCollisionShape(p.GEOM_BOX, halfExtents=h, physicsClientId=self.client)
+            body = p.createMultiBody(0.0, shape, basePosition=c, baseOrientation=[*q[1:], q[0]],
+                                     physicsClientId=self.client)
+            self.index[body] = first + k
 
     def _collision_shape(self, s):
         p = self.p
@@ -263,7 +318,22 @@ def exact_depth(shape_a, pose_a, shape_b, pose_b) -> float:
 
 
 __all__ = ["EngineFrame", "MuJoCoFrame", "BulletFrame", "frame_peers", "time_stages", "exact_depth",
-           "core_points", "MUJOCO_MAX_BODIES", "agreement"]
+           "core_points", "MUJOCO_MAX_BODIES", "agreement", "disagreements", "AGREEMENT_BAND"]
+
+
+#: pairs penetrating by less than this (bodies of size ~1) may be found by one engine only: round-off and the
+#: peers' collision margins (Bullet's box margin puts its depths up to ~1e-3 off), as in
+#: properties/test_world_peers.py
+AGREEMENT_BAND = 5e-3
+
+
+def disagreements(reference, peer, band: float = AGREEMENT_BAND) -> list:
+    """The pairs of two ``penetrating()`` answers that one finds deeper than ``band`` and the other misses:
+    ``[(i, j, depth, "reference" or "peer"), ...]`` (empty when the pair sets agree outside the band)."""
+    ref = dict(zip(map(tuple, reference[0].tolist()), reference[1].tolist()))
+    other = dict(zip(map(tuple, peer[0].tolist()), peer[1].tolist()))
+    return ([(*p, d, "reference") for p, d in ref.items() if d > band and p not in other]
+            + [(*p, d, "peer") for p, d in other.items() if d > band and p not in ref])
 
 
 def agreement(reference, peer) -> dict:

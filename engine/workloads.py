@@ -14,7 +14,12 @@ with the same call:
   0.06; ``"pile"`` — boxes and spheres resting on the ground ``Plane(0)`` in a loose lattice of columns, every
   body pressing 0.002 into the one below; ``"hulls"`` — half capsules (r = 0.25, segment 0.6), half convex hulls of
   12 vertices (radius ~0.5), uniform at solid fraction 0.06. ``frame_motion(scene, rounds)`` gives each frame's
-  poses.
+  poses;
+- ``static_level(n_static, n_moving)`` — a game level of ``n_static`` static boxes (floor slabs, walls, pillars,
+  crates on a grid of cells) and the "mixed" scene's bodies moving in it, most touching it: a ``FrameScene`` and
+  a ``StaticBoxes``;
+- ``category_masks(n)`` — the collision filter of the masked benchmark: four categories round-robin, masks that
+  let 5 of the 10 unordered category pairs collide (``COLLIDING_CATEGORY_PAIRS``).
 
 The big-level scenes, where a grid whose cell count is capped would coarsen until one cell holds a whole cluster
 (the quadratic cliff the broad-phase benchmarks watch for):
@@ -38,7 +43,9 @@ from numpy.typing import ArrayLike
 
 __all__ = ["SEED", "w1_boxes", "w2_spheres", "mixed_world_scene", "random_steps", "clustered_spheres",
            "huge_among_small_boxes", "planar_spheres", "BIG_LEVEL_SCENES", "big_level_boxes", "FrameScene",
-           "FRAME_SCENES", "frame_scene", "frame_motion", "random_quaternions", "quaternion_matrices"]
+           "FRAME_SCENES", "frame_scene", "frame_motion", "random_quaternions", "quaternion_matrices",
+           "StaticBoxes", "LEVEL_CELL", "LEVEL_SLAB", "LEVEL_ROLES", "LEVEL_ITEM_CHANCES", "static_level",
+           "CATEGORY_MASKS", "COLLIDING_CATEGORY_PAIRS", "MASKED_CATEGORY_PAIRS", "category_masks"]
 
 #: the seed of every benchmark workload
 SEED = 4
@@ -477,3 +484,168 @@ def _quaternion_product(a, b):
     bw, bx, by, bz = b.T
     return np.stack([aw * bw - ax * bx - ay * by - az * bz, aw * bx + ax * bw + ay * bz - az * by,
                      aw * by - ax * bz + ay * bw + az * bx, aw * bz + ax * by - ay * bx + az * bw], axis=1)
+
+
+# ---------------------------------------------------------------------------------------------------------------
+# the static level of the World benchmark, and the masked mixed scene
+# ---------------------------------------------------------------------------------------------------------------
+
+#: the side of a level cell (a floor tile) in the x–z plane, and the half thickness of the floor slabs
+LEVEL_CELL = 4.0
+LEVEL_SLAB = 0.25
+#: what each static box of a level is, by its ``role`` code
+LEVEL_ROLES = ("floor", "wall", "pillar", "crate")
+#: the chance that a cell holds a wall, a pillar, a crate (each drawn independently; every cell has a floor)
+LEVEL_ITEM_CHANCES = (0.3, 0.3, 0.4)
+
+
+class StaticBoxes(NamedTuple):
+    """The level geometry of a static-level scene: m boxes that never move.
+
+    Attributes
+    ----------
+    centers : numpy.ndarray, shape (m, 3), float64
+        The boxes' centres.
+    half_extents : numpy.ndarray, shape (m, 3), float64
+        Their half sizes along their own axes.
+    quaternions : numpy.ndarray, shape (m, 4), float64
+        Their orientations, unit quaternions (w, x, y, z) (turns about the vertical y axis).
+    role : numpy.ndarray, shape (m,), int64
+        Index into ``LEVEL_ROLES``: floor slab, wall, pillar or crate.
+    """
+
+    centers: np.ndarray
+    half_extents: np.ndarray
+    quaternions: np.ndarray
+    role: np.ndarray
+
+
+def _yaw_quaternion(angle: float) -> list[float]:
+    return [math.cos(angle / 2), 0.0, math.sin(angle / 2), 0.0]
+
+
+def _cell_items(rng, x0: float, z0: float) -> tuple[float, list]:
+    """The boxes of the cell whose centre is (x0, z0): (floor top, [(role, centre, half extents, yaw), ...]).
+    Every random number of a cell is drawn whatever the items kept, so a cell's layout depends on its rank only."""
+    half = LEVEL_CELL / 2
+    top = rng.uniform(-0.03, 0.03)  # tiles a little uneven
+    u = rng.random(14)
+    floor = (0, [x0 + 0.1 * (u[0] - 0.5), top - LEVEL_SLAB, z0 + 0.1 * (u[1] - 0.5)],
+             [half - 0.02 - 0.08 * u[2], LEVEL_SLAB, half - 0.02 - 0.08 * u[3]], 0.0)
+    items = [floor]
+    along_x = u[4] < 0.5  # a wall on the cell's low-z edge (along x) or on its low-x edge (along z)
+    length, height = half * (0.5 + 0.5 * u[5]), 0.75 + 0.75 * u[6]
+    wall_half = [length, height, 0.15] if along_x else [0.15, height, length]
+    wall_at = [x0, top + height, z0 - half + 0.15] if along_x else [x0 - half + 0.15, top + height, z0]
+    pillar_half = [0.2 + 0.25 * u[7], 1.0 + u[8], 0.2 + 0.25 * u[7]]
+    pillar_at = [x0 + (half - 0.6) * (2 * u[9] - 1), top + pillar_half[1], z0 + (half - 0.6) * (2 * u[10] - 1)]
+    crate_half = rng.uniform(0.3, 0.7, 3)
+    crate_at = [x0 + (half - 1.0) * (2 * u[11] - 1), top + crate_half[1], z0 + (half - 1.0) * (2 * u[12] - 1)]
+    drawn = rng.random(3) < LEVEL_ITEM_CHANCES
+    for role, keep, at, size, yaw in ((1, drawn[0], wall_at, wall_half, 0.0),
+                                      (2, drawn[1], pillar_at, pillar_half, 0.0),
+                                      (3, drawn[2], crate_at, crate_half, math.pi * u[13])):
+        if keep:
+            items.append((role, at, size, yaw))
+    return top, items
+
+
+def _level_boxes(n_static: int, rng) -> tuple[StaticBoxes, np.ndarray]:
+    """n_static boxes, cell after cell in rows of ``cols`` cells, and the (x, z, floor top) of each cell used."""
+    cols = max(1, math.ceil(math.sqrt(n_static / (1 + sum(LEVEL_ITEM_CHANCES)))))
+    rows, cells = [], []
+    while len(rows) < n_static:
+        k = len(cells)
+        x0, z0 = LEVEL_CELL * (k % cols), LEVEL_CELL * (k // cols)
+        top, items = _cell_items(rng, x0, z0)
+        cells.append((x0, z0, top))
+        rows.extend(items[: n_static - len(rows)])
+    role = np.array([r[0] for r in rows], np.int64)
+    centers = np.array([r[1] for r in rows], float)
+    half = np.array([r[2] for r in rows], float)
+    quats = np.array([_yaw_quaternion(r[3]) for r in rows], float)
+    return StaticBoxes(centers, half, quats, role), np.array(cells)
+
+
+def static_level(n_static: int = 5_000, n_moving: int = 500, seed: int = SEED,
+                 resting: float = 0.6) -> tuple[FrameScene, StaticBoxes]:
+    """A game level of static boxes and the bodies moving in it (the World benchmark's "static level").
+
+    The level is a square grid of cells of side ``LEVEL_CELL`` in the x–z plane (y up), filled cell by cell
+    (rows of ``ceil(sqrt(n_static / 2))`` cells) until it holds ``n_static`` boxes: every cell has a floor slab
+    (half thickness ``LEVEL_SLAB``, a few cm smaller than the cell, its top at a random height in ±0.03) and,
+    each drawn independently (``LEVEL_ITEM_CHANCES``), a wall along one of its edges (0.3 thick, 1.5–3 high),
+    a pillar (square, 0.4–0.9 wide, 2–4 high) and a crate (sides 0.6–1.4, turned by a random yaw), all standing
+    on the floor: two boxes per cell on average, of sizes from 0.3 to 4.
+
+    The moving bodies are those of the "mixed" frame scene — alternately spheres (r = 0.5) and boxes (half
+    extents 0.4), random rotations, each frame a random step of 0.02 and turn of 0.02 (``frame_motion``) — each
+    over a random cell's floor: a share ``resting`` of them pressing into the floor by 0–0.1 (they touch it),
+    the others 0.2–2.5 above it, among the walls, pillars and crates (they touch those they overlap).
+
+    Parameters
+    ----------
+    n_static : int, optional
+        The number of static boxes.
+    n_moving : int, optional
+        The number of moving bodies.
+    seed : int, optional
+        The seed of the layout, the placements and the rotations.
+    resting : float, optional
+        The share of the moving bodies placed pressing into the floor, in [0, 1].
+
+    Returns
+    -------
+    scene : FrameScene
+        The moving bodies, named "level", without a ground Plane (the floors are boxes).
+    level : StaticBoxes
+        The static boxes.
+    """
+    from engine.world import Box, Sphere
+
+    rng = np.random.default_rng(seed)
+    level, cells = _level_boxes(int(n_static), rng)
+    n = int(n_moving)
+    is_box = np.arange(n) % 2 == 1
+    shapes = [Box(np.zeros(3), [0.4, 0.4, 0.4]) if b else Sphere(np.zeros(3), 0.5) for b in is_box]
+    quats = random_quaternions(n, rng)
+    # the half height of each body: its support along y (a box's: Σ_k |R[1, k]| h_k)
+    reach = np.where(is_box, 0.4 * np.abs(quaternion_matrices(quats)[:, 1, :]).sum(axis=1), 0.5)
+    cell = cells[rng.integers(0, cells.shape[0], n)]
+    spread = LEVEL_CELL / 2 - 0.3
+    lift = np.where(rng.random(n) < resting, -rng.uniform(0.0, 0.1, n), rng.uniform(0.2, 2.5, n))
+    centers = np.stack([cell[:, 0] + rng.uniform(-spread, spread, n), cell[:, 2] + reach + lift,
+                        cell[:, 1] + rng.uniform(-spread, spread, n)], axis=1)
+    return FrameScene("level", shapes, centers, quats, None, 0.02, 0.02), level
+
+
+#: the masked mixed scene: categories 0–3 (bits 1, 2, 4, 8) are assigned to the bodies round-robin; the mask of
+#: category c is ``CATEGORY_MASKS[c]``: 0 collides with every category, 1 with 0 and 1, 2 and 3 with 0 only
+CATEGORY_MASKS = (0b1111, 0b0011, 0b0001, 0b0001)
+#: the 5 unordered category pairs CATEGORY_MASKS lets collide, and the 5 it masks off (of the 10)
+COLLIDING_CATEGORY_PAIRS = ((0, 0), (0, 1), (0, 2), (0, 3), (1, 1))
+MASKED_CATEGORY_PAIRS = ((1, 2), (1, 3), (2, 2), (2, 3), (3, 3))
+
+
+def category_masks(n: int) -> tuple[np.ndarray, np.ndarray]:
+    """The collision filter of the masked benchmark: body i in category ``i % 4``, with that category's mask.
+
+    ``CATEGORY_MASKS`` is symmetric (category a's mask holds b iff b's mask holds a), so that
+    ``category_i & mask_j`` and ``category_j & mask_i`` are both non-zero or both zero: Box2D's and pybullet's
+    rule (both non-zero) and MuJoCo's (``contype_i & conaffinity_j`` or ``contype_j & conaffinity_i``, with
+    contype = category and conaffinity = mask) give the same pair sets. Of the 10 unordered category pairs, the
+    5 of ``COLLIDING_CATEGORY_PAIRS`` collide; with the categories equally frequent, 8 of the 16 ordered
+    category pairs collide, so half of the body pairs are masked off.
+
+    Parameters
+    ----------
+    n : int
+        The number of bodies.
+
+    Returns
+    -------
+    category, mask : numpy.ndarray, shape (n,), int64
+        Each body's category bit (1, 2, 4 or 8) and mask.
+    """
+    c = np.arange(int(n)) % len(CATEGORY_MASKS)
+    return (np.int64(1) << c).astype(np.int64), np.array(CATEGORY_MASKS, np.int64)[c]
