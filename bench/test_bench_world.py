@@ -224,8 +224,10 @@ def test_bench_frame(benchmark, request, quick, peer, scene_name, n):
 # the static level: moving bodies among static boxes
 # ---------------------------------------------------------------------------------------------------------------
 
-#: "World": the moving bodies and the level (``static=True``); "World alone": the moving bodies without it
-LEVEL_PEERS = ("World", "World alone", "MuJoCo", "pybullet")
+#: "World": the moving bodies and the level (``static=True``); "World alone": the moving bodies without it;
+#: "World, level filtered": the level present but in a category the moving bodies' mask leaves out (what holding
+#: the level costs when it makes no pair)
+LEVEL_PEERS = ("World", "World alone", "World, level filtered", "MuJoCo", "pybullet")
 
 _levels: dict = {}
 _level_references: dict = {}
@@ -243,6 +245,11 @@ def _level(size):
 
 
 def _make_level(peer, scene, level):
+    if peer == "World, level filtered":
+        frame = EngineFrame(scene, level=level)
+        frame.world.set_filter(np.setdiff1d(frame.world.ids(), frame.ids), category=2)
+        frame.world.set_filter(frame.ids, mask=1)
+        return frame
     if peer.startswith("World"):
         return EngineFrame(scene, level=None if peer == "World alone" else level)
     return MuJoCoFrame(scene, level=level) if peer == "MuJoCo" else BulletFrame(scene, level=level)
@@ -287,7 +294,7 @@ def test_bench_static_level(benchmark, request, quick, peer, size):
     if isinstance(frame, BulletFrame):
         frame.close()
     benchmark.extra_info.update(info)
-    if peer == "World alone":  # without the level, the same pairs of moving bodies
+    if peer in ("World alone", "World, level filtered"):  # without the level, the same pairs of moving bodies
         assert np.array_equal(pairs, ref[0][ref[0][:, 1] < n_moving])
     if peer == "MuJoCo":
         assert not disagreements(ref, (pairs, depth)), disagreements(ref, (pairs, depth))[:10]
