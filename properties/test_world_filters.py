@@ -455,3 +455,19 @@ def test_bad_input_names_the_argument_and_leaves_the_world(case):
     begin, end = w.events()
     assert begin.shape == end.shape == (0, 2)
 
+
+
+def test_add_takes_the_smallest_free_id():
+    """``World.add``'s docstring: "The new id (the smallest free one; ...)".
+
+    ENGINE BUG (fails at 245dac2): the store hands out the last released id first (a stack), not the smallest:
+    after removing 1 then 3, ``add`` returns 3 while 1 is free; after removing a compound, the next adds take its
+    id, then its last part's row, then the one before, ... rather than the smallest free ids.
+    """
+    w = World()
+    for k in range(4):
+        w.add(Sphere([3.0 * k, 0.0, 0.0], 1.0))
+    w.remove(1)
+    w.remove(3)
+    assert w.add(Sphere([0.0, 9.0, 0.0], 1.0)) == 1
+    assert w.add(Sphere([0.0, 9.0, 0.0], 1.0)) == 3
