@@ -17,7 +17,7 @@ import functools
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
 
 from engine import BROAD_PHASES, Box, Compound, ConvexPolyhedron, Plane, Sphere, World, gjk_distance
@@ -155,7 +155,6 @@ def scenes(draw):
 
 
 @given(scenes(), st.sampled_from(BROAD_PHASES), st.data())
-@settings(max_examples=40)
 def test_a_compound_is_its_parts(scene, broad_phase, data):
     ground, shapes, static = scene
     twins = Twins(broad_phase, ground, shapes, static)
@@ -284,7 +283,6 @@ def test_from_mesh_parts_cover_the_mesh_vertices():
 
 @given(rotations(), st.tuples(*[st.floats(-5.0, 5.0)] * 3).map(np.array), st.floats(1.2, 2.8),
        st.floats(-0.3, 0.3), st.floats(0.1, 0.45), st.sampled_from(BROAD_PHASES))
-@settings(max_examples=40)
 def test_a_sphere_in_the_notch_of_a_decomposed_u(turn, shift, height, offset, radius, broad_phase):
     """A sphere in the U's notch (its centre at height ``height``, ``offset`` from the notch's middle plane)
     touches the U exactly when its distance to the U is below its radius (a margin of 2e-3 either way, coacd's

@@ -340,7 +340,7 @@ class FilterMachine(RuleBasedStateMachine):
 
 
 TestFilterStateful = FilterMachine.TestCase
-TestFilterStateful.settings = settings(max_examples=100, stateful_step_count=25, deadline=None)
+TestFilterStateful.settings = settings(stateful_step_count=25, deadline=None)  # examples: the profile's
 
 
 # ---------------------------------------------------------------------------------------------------------------
