@@ -34,6 +34,7 @@ Rotations of an update: ``(k, 3, 3)`` matrices (columns = the body axes, orthono
 """
 from __future__ import annotations
 
+import heapq
 from collections import namedtuple
 
 import numpy as np
@@ -61,7 +62,8 @@ _CORE = ("local", "points")
 
 
 class BodyStore:
-    """Structure-of-arrays state of the bodies (see the module docstring); ids are reused after ``release``."""
+    """Structure-of-arrays state of the bodies (see the module docstring); ids are reused after ``release``, the
+    smallest first (``free`` is a heap)."""
 
     # the state arrays, set by _alloc from _FIELDS (+ local, points); shapes and dtypes in the module docstring
     kind: np.ndarray
@@ -120,8 +122,8 @@ class BodyStore:
         return BodyArrays(*(getattr(self, name) for name in BodyArrays._fields))
 
     def new_id(self, m: int) -> int:
-        """A free id for a body of m core points (growing the arrays when needed)."""
-        body = self.free.pop() if self.free else self.n_ids
+        """The smallest free id, for a body of m core points (growing the arrays when needed)."""
+        body = heapq.heappop(self.free) if self.free else self.n_ids
         if body == self.n_ids:
             self.n_ids += 1
         if body >= self.capacity or m > self.local.shape[1]:
@@ -152,7 +154,7 @@ class BodyStore:
         self.kind[body] = -1
         self.escaped[body] = False
         self.first_part[body] = self.owner[body] = -1
-        self.free.append(body)
+        heapq.heappush(self.free, body)
 
     def live(self) -> np.ndarray:
         """Ids of the live bodies (grounds included, parts of compounds excluded), ascending."""

@@ -46,6 +46,15 @@ def _oriented(kind, pairs, p):
 
 
 @njit(inline="always")
+def _ground_second(bounded, pairs, p):
+    """(a, g, flip): the body first, the ground (the unbounded shape) second, whatever their kind codes."""
+    i, j = pairs[p, 0], pairs[p, 1]
+    if bounded[i]:
+        return i, j, False
+    return j, i, True
+
+
+@njit(inline="always")
 def _point(points, b, v):
     return points[b, v, 0], points[b, v, 1], points[b, v, 2]
 
@@ -84,7 +93,7 @@ def _box_box_sat_rows(bodies, pairs, sel, rows, scratch):
 @njit
 def _plane_rows(bodies, pairs, sel, rows, scratch):
     for p in sel:
-        a, g, flip = _oriented(bodies.kind, pairs, p)
+        a, g, flip = _ground_second(bodies.bounded, pairs, p)
         contact_points_plane(bodies.points, bodies.count, bodies.radius, a,
                              (bodies.center[g, 0], bodies.center[g, 1], bodies.center[g, 2]),
                              (bodies.rotation[g, 0, 1], bodies.rotation[g, 1, 1], bodies.rotation[g, 2, 1]),
@@ -102,7 +111,7 @@ def _sphere_sweep_times(bodies, pairs, sel, dt, times):
 @njit
 def _plane_sweep_times(bodies, pairs, sel, dt, times):
     for p in sel:
-        a, g, _ = _oriented(bodies.kind, pairs, p)
+        a, g, _ = _ground_second(bodies.bounded, pairs, p)
         times[p] = impact_time_plane(bodies.points, bodies.count, bodies.radius, bodies.velocity[a], a,
                                      bodies.center[g], bodies.rotation[g, :, 1], dt)
 
@@ -193,9 +202,9 @@ for _x, _a in enumerate(KINDS):
             ROWS[_a, _b] = dict.fromkeys(QUESTIONS, PARTS)
         elif _a.convex and _b.convex:
             ROWS[_a, _b] = _GJK
-        elif _a.convex and _b is PLANE:
+        elif PLANE in (_a, _b) and (_a.convex or _b.convex):  # the kernels find the ground by its unboundedness
             ROWS[_a, _b] = {"overlap": BODY_PLANE, "contact": BODY_PLANE, "impact": PLANE_SWEEP}
-        elif _a.convex and _b is CURVE:
+        elif CURVE in (_a, _b) and (_a.convex or _b.convex):  # ... and by its kind
             ROWS[_a, _b] = {"overlap": CURVE_OVERLAP, "contact": CURVE_CONTACT, "impact": CURVE_SWEEP}
         else:
             ROWS[_a, _b] = dict.fromkeys(QUESTIONS, unsupported(

@@ -593,14 +593,14 @@ class World:
         """The store row of a body's core: the body itself, or part ``part`` of a compound."""
         b = self._check_id(body_id, bounded=True)
         parts = self._store.parts_of(b)
-        if not parts and part is None:
+        if part is None and not parts:
             return b
         if isinstance(part, bool) or not isinstance(part, int | np.integer):
             raise TypeError(f"part must be an int (body {b} is a compound of {len(parts)} parts), got "
-                            f"{type(part).__name__}" if parts else f"part must be None: body {b} has no parts")
-        if not 0 <= int(part) < len(parts):
-            raise ValueError(f"part must be in [0, {len(parts)}) for body {b}, got {part}")
-        return parts[int(part)]
+                            f"{type(part).__name__}")
+        if not 0 <= int(part) < max(len(parts), 1):
+            raise ValueError(f"part must be in [0, {max(len(parts), 1)}) for body {b}, got {part}")
+        return parts[int(part)] if parts else b
 
     def world_points(self, body_id, part=None) -> np.ndarray:
         """A body's core points in world coordinates, swept by ``radius(body_id)``.
@@ -610,7 +610,7 @@ class World:
         body_id : int
             The body whose points to return (not a ground).
         part : int, optional
-            For a compound: which part (required).
+            For a compound: which part (required); for another body: None or 0 (its one part, as contacts name it).
 
         Returns
         -------
@@ -628,7 +628,7 @@ class World:
         body_id : int
             Which body.
         part : int, optional
-            For a compound: which part (required).
+            For a compound: which part (required); for another body: None or 0.
 
         Returns
         -------
@@ -804,8 +804,8 @@ class World:
         (``engine.broadphase.cull_separating_box_pairs``), the filter, then the impact table: closed forms for two
         spheres and a body over a Plane, conservative advancement for the other bodies
         (``engine.narrowphase.time_of_impact_pairs``, distance within 1e-9 at the returned time), bisection on the
-        sampled gap for a HeightCurve; a compound's time is its first part's. Static bodies and grounds are fixed;
-        the poses are not changed. Refreshes ``stats``.
+        sampled gap for a HeightCurve; a compound's time is the earliest of its parts'. Static bodies and grounds
+        are fixed; the poses are not changed. Refreshes ``stats``.
 
         Parameters
         ----------
