@@ -553,7 +553,8 @@ def _cell_items(rng, x0: float, z0: float) -> tuple[float, list]:
 def _level_boxes(n_static: int, rng) -> tuple[StaticBoxes, np.ndarray]:
     """n_static boxes, cell after cell in rows of ``cols`` cells, and the (x, z, floor top) of each cell used."""
     cols = max(1, math.ceil(math.sqrt(n_static / (1 + sum(LEVEL_ITEM_CHANCES)))))
-    rows, cells = [], []
+    rows: list[tuple] = []
+    cells: list[tuple] = []
     while len(rows) < n_static:
         k = len(cells)
         x0, z0 = LEVEL_CELL * (k % cols), LEVEL_CELL * (k // cols)
