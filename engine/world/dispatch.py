@@ -109,13 +109,12 @@ class DispatchTable:
 
 
 @njit
-def classify_pairs(bodies, pairs, index, counts, test_boxes, keys, no_sensors):
+def classify_pairs(bodies, pairs, index, counts, test_boxes, filtering, keys, no_sensors):
     """Which candidate pairs of rows (k, 2) go to the narrow phase — their AABBs overlap (closed; a pair with an
-    unbounded shape is kept: its own candidate test allowed for round-off; every pair when not ``test_boxes``)
-    and the filter lets their bodies through (engine.world.filters.pair_passes, with ``keys`` and
-    ``no_sensors``) —: their rows (k',) in order, each one's kernel index ``index[kind_i, kind_j]`` (k',), and
-    how many the filter dropped; ``counts`` ((kinds, kinds) int64) += the pairs per (kind, kind), lower kind
-    first."""
+    unbounded shape is kept: its own candidate test allowed for round-off; every pair when not ``test_boxes``) and,
+    when ``filtering``, the filter lets their bodies through (engine.world.filters.pair_passes, with ``keys`` and
+    ``no_sensors``) —: their rows (k',) in order, each one's kernel index ``index[kind_i, kind_j]`` (k',), and how
+    many the filter dropped; ``counts`` ((kinds, kinds) int64) += the pairs per (kind, kind), lower kind first."""
     kept = np.empty(pairs.shape[0], np.int64)
     codes = np.empty(pairs.shape[0], np.int64)
     lo, hi, bounded, owner, kind = bodies.lo, bodies.hi, bodies.bounded, bodies.owner, bodies.kind
@@ -125,11 +124,12 @@ def classify_pairs(bodies, pairs, index, counts, test_boxes, keys, no_sensors):
         i, j = pairs[p, 0], pairs[p, 1]
         if test_boxes and bounded[i] and bounded[j] and not boxes_overlap(lo, hi, i, j):
             continue
-        bi = owner[i] if owner[i] >= 0 else i  # the bodies the rows answer for (a part: its compound)
-        bj = owner[j] if owner[j] >= 0 else j
-        if not pair_passes(sensor, category, mask, group, bi, bj, keys, no_sensors):
-            filtered += 1
-            continue
+        if filtering:
+            bi = owner[i] if owner[i] >= 0 else i  # the bodies the rows answer for (a part: its compound)
+            bj = owner[j] if owner[j] >= 0 else j
+            if not pair_passes(sensor, category, mask, group, bi, bj, keys, no_sensors):
+                filtered += 1
+                continue
         ki, kj = kind[i], kind[j]
         kept[m], codes[m] = p, index[ki, kj]
         counts[min(ki, kj), max(ki, kj)] += 1
@@ -198,16 +198,15 @@ def expand_parts(bodies, pairs, test_boxes):
 #: (kind, kind), ``filtered`` the pairs the filter dropped
 Answer = namedtuple("Answer", "pairs origin out counts filtered")
 
-#: the filter of a query: ``keys`` the sorted excluded keys (engine.world.filters.Exclusions.keys), ``no_sensors``
-#: drop every pair with a sensor (the queries "where" and "when")
 _NO_EXCLUSIONS = np.empty(0, np.int64)
 
 
-def answer(table: DispatchTable, question: str, ctx: NarrowContext, pairs: np.ndarray, keys=_NO_EXCLUSIONS,
+def answer(table: DispatchTable, question: str, ctx: NarrowContext, pairs: np.ndarray, keys=None,
            no_sensors: bool = False) -> Answer:
     """Run ``question`` over candidate pairs of bodies (k, 2): split compounds into parts, keep the pairs whose
-    AABBs overlap (all of them for "impact": the bodies move) and that the filter lets through (excluded
-    ``keys``, ``no_sensors``; engine/world/filters.py), then one batched call per kernel of the table."""
+    AABBs overlap (all of them for "impact": the bodies move) and, unless ``keys`` is None (a world with no
+    filter, exclusion or sensor: nothing to drop), that the filter lets through (the sorted excluded ``keys``
+    of engine.world.filters.Exclusions, ``no_sensors``), then one batched call per kernel of the table."""
     view = ctx.bodies
     test_boxes = question != "impact"
     if ctx.has_parts and pairs.shape[0]:
@@ -215,8 +214,9 @@ def answer(table: DispatchTable, question: str, ctx: NarrowContext, pairs: np.nd
     else:
         rows_pairs, origin = pairs, None
     counts = np.zeros((len(KINDS), len(KINDS)), np.int64)
-    kept, codes, filtered = classify_pairs(view, rows_pairs, table.index[question], counts, test_boxes, keys,
-                                           no_sensors)
+    filtering = keys is not None
+    kept, codes, filtered = classify_pairs(view, rows_pairs, table.index[question], counts, test_boxes, filtering,
+                                           _NO_EXCLUSIONS if keys is None else keys, no_sensors)
     tested = np.ascontiguousarray(rows_pairs[kept])
     out = contact_rows(tested.shape[0]) if question != "impact" else np.full(tested.shape[0], np.inf)
     order, bounds = group_by_code(codes, len(table.kernels[question]))

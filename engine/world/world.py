@@ -214,6 +214,7 @@ class World:
         self._broad = make_broad_phase(self.broad_phase)
         self._static = StaticPairs()
         self._exclusions = Exclusions()
+        self._filtering = False  # a body was given a filter, a group or the sensor flag (never reset)
         self._stamps = itertools.count(1)
         self._stamp = np.zeros(16, np.int64)  # per id: which add() it came from (events tell bodies apart)
         self._previous = (_NO_PAIRS, np.empty(0, np.int64))
@@ -280,6 +281,7 @@ class World:
         st = self._store
         st.static[body], st.sensor[body] = static, sensor
         st.category[body], st.mask[body], st.group[body] = bits
+        self._filtering |= sensor or bits != (1, ALL, 0)
         st.fat_lo[body], st.fat_hi[body] = np.inf, -np.inf  # no fat box yet: the upload flags it escaped
         refresh_bodies(st.view(), np.array([body]), shape.center[None], 1,
                        np.ascontiguousarray(shape.rotation, dtype=np.float64)[None], _NO_QUATERNIONS, vel[None])
@@ -434,6 +436,7 @@ class World:
         for name, value in values.items():
             if value is not None:
                 getattr(self._store, name)[idx] = value
+                self._filtering = True
 
     def exclude(self, i, j) -> None:
         """Never test the pair (i, j), whatever the filters and groups (MuJoCo's ``<exclude>``, pybullet's
@@ -684,10 +687,18 @@ class World:
         cand = np.concatenate([self._broad.candidates(st, bodies, escaped), *static])
         return np.ascontiguousarray(cand), bodies, sum(s.shape[0] for s in static)
 
+    def _filter_keys(self):
+        """The excluded keys for the filter, or None while no body has had a filter, a group or the sensor flag
+        and no pair is excluded (every pair passes: the classification skips the filter)."""
+        return self._exclusions.keys() if self._filtering or self._exclusions.pairs else None
+
     def _context(self, dt: float = 0.0) -> NarrowContext:
         view = self._store.view()
-        has_parts = bool((view.first_part[: self._store.n_ids] >= 0).any())
-        return NarrowContext(view, self._grounds, kernel_scratch(view.points.shape[1]), dt, has_parts)
+        return NarrowContext(view, self._grounds, kernel_scratch(view.points.shape[1]), dt, self._has_parts())
+
+    def _has_parts(self) -> bool:
+        """Whether the world holds a compound."""
+        return bool((self._store.first_part[: self._store.n_ids] >= 0).any())
 
     def _answer(self, question: str, query: str):
         """Broad phase, then ``question`` for every candidate the AABB test and the filter keep: (candidate pairs of
@@ -697,7 +708,7 @@ class World:
         stats = WorldStats(query=query, bodies=int(bodies.shape[0]), candidate_pairs=int(cand.shape[0]),
                            static_pairs=int(static))
         t1 = time.perf_counter()
-        result = answer(TABLE, question, self._context(), cand, self._exclusions.keys(), question != "overlap")
+        result = answer(TABLE, question, self._context(), cand, self._filter_keys(), question != "overlap")
         stats.narrow_tests, stats.groups = int(result.pairs.shape[0]), _groups(result.counts)
         stats.filtered = int(result.filtered)
         stats.seconds = {"upload": self._upload_seconds, "broad": t1 - t0, "narrow": time.perf_counter() - t1}
@@ -767,11 +778,13 @@ class World:
         t0 = time.perf_counter()
         st = self._store
         pairs, rows = cand[result.origin], result.out
-        part_a, part_b = st.part[result.pairs[:, 0]], st.part[result.pairs[:, 1]]
         touching = np.flatnonzero(rows.status == TOUCHING)
         order = [pairs[touching, 1], pairs[touching, 0]]
-        if part_a.any() or part_b.any():  # a compound: its rows in part order
+        if self._has_parts():  # a compound: its rows in part order
+            part_a, part_b = st.part[result.pairs[:, 0]], st.part[result.pairs[:, 1]]
             order = [part_b[touching], part_a[touching], *order]
+        else:
+            part_a = part_b = np.zeros(result.pairs.shape[0], np.int64)
         keep = touching[np.lexsort(order)]
         radius = st.radius[result.pairs]
         out = contact_set_from_rows(rows, pairs, radius[:, 0], radius[:, 1], keep=keep)
@@ -837,7 +850,7 @@ class World:
                            static_pairs=int(sum(s.shape[0] for s in static)),
                            culled=int(rows.shape[0] - kept.shape[0]))
         cand = np.ascontiguousarray(np.concatenate([bodies[kept], *static]))
-        result = answer(TABLE, "impact", self._context(dt), cand, self._exclusions.keys(), True)
+        result = answer(TABLE, "impact", self._context(dt), cand, self._filter_keys(), True)
         stats.filtered = int(result.filtered)
         times = np.full(cand.shape[0], np.inf)
         np.minimum.at(times, result.origin, result.out)
