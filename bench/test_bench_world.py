@@ -244,6 +244,18 @@ def _level(size):
     return _levels[size]
 
 
+def _record(benchmark, frame, info, ref, pairs, depth) -> None:
+    """Store ``info`` with World's counts (World) or the agreement of ``pairs``, ``depth`` with World's reference
+    answer ``ref`` (a peer), in the benchmark's ``extra_info``; close a pybullet client."""
+    if isinstance(frame, EngineFrame):
+        info.update(_world_counts(frame))
+    else:
+        info.update(_agreement_info(ref, pairs, depth))
+    if isinstance(frame, BulletFrame):
+        frame.close()
+    benchmark.extra_info.update(info)
+
+
 def _make_level(peer, scene, level):
     if peer == "World, level filtered":
         frame = EngineFrame(scene, level=level)
@@ -287,13 +299,7 @@ def test_bench_static_level(benchmark, request, quick, peer, size):
             "warmup_frames": WARMUP, "penetrating_pairs": len(pairs), "level_pairs": int(on_level.sum()),
             "bodies_on_level": len(np.unique(pairs[on_level, 0])), **stages}
     ref = _level_reference(size)
-    if isinstance(frame, EngineFrame):
-        info.update(_world_counts(frame))
-    else:
-        info.update(_agreement_info(ref, pairs, depth))
-    if isinstance(frame, BulletFrame):
-        frame.close()
-    benchmark.extra_info.update(info)
+    _record(benchmark, frame, info, ref, pairs, depth)
     if peer in ("World alone", "World, level filtered"):  # without the level, the same pairs of moving bodies
         assert np.array_equal(pairs, ref[0][ref[0][:, 1] < n_moving])
     if peer == "MuJoCo":
@@ -349,13 +355,7 @@ def test_bench_masked(benchmark, request, quick, peer, masked, n):
     info = {"suite": "masked", "n": n, "peer": peer, "masked": masked, "warmup_frames": WARMUP,
             "penetrating_pairs": len(pairs), **stages}
     ref = _masked_reference(n, masked)
-    if isinstance(frame, EngineFrame):
-        info.update(_world_counts(frame))
-    else:
-        info.update(_agreement_info(ref, pairs, depth))
-    if isinstance(frame, BulletFrame):
-        frame.close()
-    benchmark.extra_info.update(info)
+    _record(benchmark, frame, info, ref, pairs, depth)
     if masked and peer == "World":  # the filter drops exactly the masked-off pairs of the unmasked answer
         unmasked = _masked_reference(n, False)[0]
         assert np.array_equal(pairs, unmasked[_passing_masks(unmasked, n)])

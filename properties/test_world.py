@@ -36,12 +36,10 @@ from engine import (
     gjk_distance,
 )
 from engine.narrowphase import gjk_distance_batch
-from engine.narrowphase.contacts import TOUCHING, kernel_scratch
 from engine.workloads import quaternion_matrices
-from engine.world import TABLE
-from engine.world.dispatch import NarrowContext, answer
 from engine.world.shapes import BOX, as_rotation
 from properties.strategies.world import bodies, curves, planes, poses, positions, velocities
+from properties.world_reference import reference_pairs
 
 #: pairs whose GJK gap is this close to 0 are "touching": the exact primitive tests and GJK may round apart
 AMBIGUOUS = 1e-7
@@ -88,19 +86,6 @@ def oracle_pairs(model):
             elif gap <= 0:
                 hits.add((i, j))
     return hits, ambiguous
-
-
-def reference_pairs(world):
-    """Every pair of live ids (not static-static) through the overlap table, without any broad phase."""
-    ids = world.ids()
-    static = world.bodies().static
-    allp = np.array([(i, j) for x, i in enumerate(ids) for j in ids[x + 1:] if not (static[i] and static[j])],
-                    dtype=np.int64).reshape(-1, 2)
-    store = world._store.view()
-    grounds = {g: world.shape(g) for g in ids.tolist() if not world.bodies().bounded[g]}
-    result = answer(TABLE, "overlap", NarrowContext(store, grounds, kernel_scratch(store.points.shape[1]), 0.0, True),
-                    allp)
-    return np.unique(allp[result.origin[result.out.status == TOUCHING]], axis=0).reshape(-1, 2)
 
 
 def check_against_oracles(world, model, oracle=None):

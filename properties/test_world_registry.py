@@ -20,11 +20,12 @@ import numpy as np
 import pytest
 
 from engine import World
-from engine.narrowphase.contacts import TOUCHING, contact_rows, kernel_scratch
+from engine.narrowphase.contacts import contact_rows, kernel_scratch
 from engine.world import KINDS, QUESTIONS, TABLE, UnsupportedQuery
 from engine.world.dispatch import PARTS, DispatchTable, Kernel, NarrowContext, answer, unsupported
 from engine.world.kinds import ShapeKind, kind_named
 from properties.strategies.world import shape_class
+from properties.world_reference import every_pair, reference_pairs
 
 CELLS = [(a, b, q) for q in QUESTIONS for a in KINDS for b in KINDS]
 
@@ -147,13 +148,9 @@ def _world_of_every_kind():
 def test_a_world_of_every_kind_answers_every_question():
     world, kinds = _world_of_every_kind()
     ids = world.ids()
-    everything = np.array([(i, j) for x, i in enumerate(ids) for j in ids[x + 1:]
-                           if reachable(kinds[i], kinds[j])], np.int64)
-    store = world._store.view()
-    grounds = {g: world.shape(g) for g in ids.tolist() if kinds[g].static_only}
-    result = answer(TABLE, "overlap", NarrowContext(store, grounds, kernel_scratch(store.points.shape[1]), 0.0, True),
-                    everything)
-    want = np.unique(everything[result.origin[result.out.status == TOUCHING]], axis=0)
+    assert [(i, j) for x, i in enumerate(ids) for j in ids[x + 1:] if reachable(kinds[i], kinds[j])] \
+        == [tuple(p) for p in every_pair(world).tolist()]
+    want = reference_pairs(world)
     got = world.pairs()
     np.testing.assert_array_equal(got, want)
     # every reachable pair of kinds meets (the compound's rows included), and every reachable cell of the

@@ -170,9 +170,9 @@ class BodyStore:
             s = int(self.next_part[s])
         return rows
 
-    def check_ids(self, ids, name: str = "ids") -> np.ndarray:
-        """ids (k,) as int64, each a live body that may move (not static, not a ground), all distinct — else
-        TypeError / ValueError naming ``name`` and the index."""
+    def check_ids(self, ids, name: str = "ids", *, moving: bool = True) -> np.ndarray:
+        """ids (k,) as int64, each a live body (``moving``: one that may move — not static, not a ground), all
+        distinct — else TypeError / ValueError naming ``name`` and the index."""
         idx = np.asarray(ids)
         if idx.dtype.kind not in "iu" or idx.ndim != 1:
             raise TypeError(f"{name} must be a 1-D integer array, got dtype {idx.dtype} and shape {idx.shape}")
@@ -183,7 +183,7 @@ class BodyStore:
         if bad.size:
             raise ValueError(f"{name}[{bad[0]}] = {idx[bad[0]]} is not a body of this world (never added, or "
                              f"removed)")
-        bad = np.flatnonzero(self.static[idx])
+        bad = np.flatnonzero(self.static[idx]) if moving else np.empty(0, np.int64)
         if bad.size:
             what = "a ground" if not self.bounded[idx[bad[0]]] else "static (level geometry)"
             raise ValueError(f"{name}[{bad[0]}] = {idx[bad[0]]} is {what}, which cannot move")

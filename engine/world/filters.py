@@ -15,7 +15,7 @@ import numpy as np
 
 from engine._config import njit
 
-__all__ = ["ALL", "as_bits", "as_group", "Exclusions", "pair_passes", "pairs_passing"]
+__all__ = ["ALL", "as_bits", "as_group", "Exclusions", "pair_passes"]
 
 #: every category bit: the default mask (collide with everything)
 ALL = (1 << 64) - 1
@@ -91,13 +91,3 @@ def pair_passes(sensor, category, mask, group, i, j, keys, no_sensors):
     if group[i] == group[j] and group[i] != 0:
         return group[i] > 0
     return (category[i] & mask[j]) != 0 and (category[j] & mask[i]) != 0
-
-
-@njit
-def pairs_passing(bodies, pairs, keys, no_sensors):
-    """bool (k,): ``pair_passes`` for each candidate pair of bodies (k, 2)."""
-    keep = np.empty(pairs.shape[0], np.bool_)
-    for p in range(pairs.shape[0]):
-        keep[p] = pair_passes(bodies.sensor, bodies.category, bodies.mask, bodies.group, pairs[p, 0], pairs[p, 1],
-                              keys, no_sensors)
-    return keep

@@ -215,6 +215,7 @@ class World:
         self._static = StaticPairs()
         self._exclusions = Exclusions()
         self._filtering = False  # a body was given a filter, a group or the sensor flag (never reset)
+        self._compounds = 0  # live compounds: only then are pairs split into parts
         self._stamps = itertools.count(1)
         self._stamp = np.zeros(16, np.int64)  # per id: which add() it came from (events tell bodies apart)
         self._previous = (_NO_PAIRS, np.empty(0, np.int64))
@@ -310,6 +311,7 @@ class World:
                 st.next_part[last] = row
             last = row
         self._shapes[body] = shape
+        self._compounds += int(shape.kind.composite)
         if body >= self._stamp.shape[0]:
             self._stamp = np.concatenate([self._stamp, np.zeros(body + 1, np.int64)])
         self._stamp[body] = next(self._stamps)
@@ -338,6 +340,7 @@ class World:
             self._broad.remove(st, body)
             self._static.remove(st, body)
         self._exclusions.forget(body)
+        self._compounds -= int(self._shapes[body].kind.composite)
         for row in st.parts_of(body):
             st.release(row)
         del self._shapes[body]
@@ -429,7 +432,7 @@ class World:
         ValueError
             For an unknown or repeated id, a negative or over-64-bit category or mask; the world is then unchanged.
         """
-        idx = self._check_ids(np.atleast_1d(np.asarray(ids)) if not isinstance(ids, bool) else ids)
+        idx = self._store.check_ids(np.atleast_1d(np.asarray(ids)), moving=False)
         values = {"category": None if category is None else as_bits(category, "category"),
                   "mask": None if mask is None else as_bits(mask, "mask"),
                   "group": None if group is None else as_group(group)}
@@ -489,16 +492,6 @@ class World:
         if moving and self._store.static[body]:
             raise ValueError(f"{name} {body} is static (level geometry), which cannot move")
         return body
-
-    def _check_ids(self, ids) -> np.ndarray:
-        idx = np.asarray(ids)
-        if idx.dtype.kind not in "iu" or idx.ndim != 1:
-            raise TypeError(f"ids must be an int or a 1-D integer array, got dtype {idx.dtype}, shape {idx.shape}")
-        for k, body in enumerate(idx.tolist()):
-            self._check_id(body, f"ids[{k}]")
-        if np.unique(idx).shape[0] != idx.shape[0]:
-            raise ValueError("ids must be distinct")
-        return idx.astype(np.int64)
 
     # -- what is in the world ------------------------------------------------------------------------------
     def ids(self) -> np.ndarray:
@@ -694,11 +687,7 @@ class World:
 
     def _context(self, dt: float = 0.0) -> NarrowContext:
         view = self._store.view()
-        return NarrowContext(view, self._grounds, kernel_scratch(view.points.shape[1]), dt, self._has_parts())
-
-    def _has_parts(self) -> bool:
-        """Whether the world holds a compound."""
-        return bool((self._store.first_part[: self._store.n_ids] >= 0).any())
+        return NarrowContext(view, self._grounds, kernel_scratch(view.points.shape[1]), dt, self._compounds > 0)
 
     def _answer(self, question: str, query: str):
         """Broad phase, then ``question`` for every candidate the AABB test and the filter keep: (candidate pairs of
@@ -780,7 +769,7 @@ class World:
         pairs, rows = cand[result.origin], result.out
         touching = np.flatnonzero(rows.status == TOUCHING)
         order = [pairs[touching, 1], pairs[touching, 0]]
-        if self._has_parts():  # a compound: its rows in part order
+        if self._compounds:  # a compound: its rows in part order
             part_a, part_b = st.part[result.pairs[:, 0]], st.part[result.pairs[:, 1]]
             order = [part_b[touching], part_a[touching], *order]
         else:
