@@ -7,10 +7,10 @@ the ray is the earliest of their first points. The cylinder's flat caps lie insi
 lateral surface counts: the first point of the infinite cylinder, kept when its foot on the axis falls within
 the segment.
 
-Infinite cylinder: with a = p1 − p0, m = o − p0 and the components m⊥, d⊥ orthogonal to a, the ray is inside
-for |m⊥ + t d⊥|² <= r², i.e. A t² + 2 B t + C <= 0 with A = d⊥·d⊥, B = m⊥·d⊥, C = m⊥·m⊥ − r². As for the
-sphere the discriminant B² − A C is taken as A (r² − |m⊥ − (B/A) d⊥|²) (r² minus the squared distance from the
-axis to the ray's projected line) and the near root as C / (−B + √(B² − A C)), both free of cancellation.
+Infinite cylinder: with a = p1 − p0, m = o − p0 and the components m⊥, d⊥ orthogonal to a, the ray projected
+on the plane orthogonal to a is m⊥ + λ u, u = d⊥ / |d⊥|, λ = t |d⊥|: the sphere's problem in that plane, solved
+the same cancellation-free way (b = m⊥·u, discriminant r² − |m⊥ − b u|², near root c'/(−b + √discr) with
+c' = |m⊥|² − r²), then t = λ / |d⊥|. A ray parallel to the axis (d⊥ = 0) never meets the lateral surface.
 
 A degenerate segment (p0 == p1, or shorter than 1.5e-154) is a sphere at p0. Ray conventions as in ``ray_sphere``.
 """
@@ -28,36 +28,45 @@ TINY = 2.2250738585072014e-308
 
 
 @njit(inline="always")
-def _perp(x, y, z, ax, ay, az, inv_len2):
-    """The component of (x, y, z) orthogonal to the axis a (1 / |a|² given)."""
-    s = (x * ax + y * ay + z * az) * inv_len2
+def _perp(x, y, z, ax, ay, az, len2):
+    """The component of (x, y, z) orthogonal to the axis a (|a|² given)."""
+    s = (x * ax + y * ay + z * az) / len2  # one rounding, not two of a reciprocal
     return x - s * ax, y - s * ay, z - s * az
 
 
 @njit
 def _ray_cylinder_side(o, d, tmax, p0, p1, r):
     """First hit (t, normal) of the ray with the lateral surface of the cylinder p0–p1 of radius r from outside
-    (an origin inside the infinite cylinder gives a miss: the capsule test decides those); p0 != p1."""
+    (an origin inside the infinite cylinder gives a miss: the capsule test decides those); |p1 − p0|² normal."""
     ax, ay, az = p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]
-    inv = 1.0 / (ax * ax + ay * ay + az * az)
+    len2 = ax * ax + ay * ay + az * az
     mx, my, mz = o[0] - p0[0], o[1] - p0[1], o[2] - p0[2]
-    px, py, pz = _perp(mx, my, mz, ax, ay, az, inv)
-    qx, qy, qz = _perp(d[0], d[1], d[2], ax, ay, az, inv)
-    cc = (px * px + py * py + pz * pz) - r * r
-    A = qx * qx + qy * qy + qz * qz
-    B = px * qx + py * qy + pz * qz
-    if cc <= 0.0 or B >= 0.0:  # inside the infinite cylinder, or not closing in on its axis (A == 0 included)
+    px, py, pz = _perp(mx, my, mz, ax, ay, az, len2)
+    qx, qy, qz = _perp(d[0], d[1], d[2], ax, ay, az, len2)
+    # the projected ray runs along the unit u = d⊥ / |d⊥| at speed |d⊥| (|d⊥| found without under- or overflow)
+    big = max(abs(qx), abs(qy), abs(qz))
+    if big == 0.0:  # parallel to the axis: never crosses the lateral surface
         return math.inf, math.nan, math.nan, math.nan
-    k = B / A  # the foot of the axis on the projected line is m⊥ − k d⊥
-    fx, fy, fz = px - k * qx, py - k * qy, pz - k * qz
+    qx, qy, qz = qx / big, qy / big, qz / big
+    w = math.sqrt(qx * qx + qy * qy + qz * qz)
+    ux, uy, uz, speed = qx / w, qy / w, qz / w, big * w
+    cc = (px * px + py * py + pz * pz) - r * r
+    b = px * ux + py * uy + pz * uz
+    if cc <= 0.0 or b >= 0.0:  # inside the infinite cylinder, or not closing in on its axis
+        return math.inf, math.nan, math.nan, math.nan
+    fx, fy, fz = px - b * ux, py - b * uy, pz - b * uz  # the axis' foot on the projected line
     discr = r * r - (fx * fx + fy * fy + fz * fz)
     if discr < 0.0:
         return math.inf, math.nan, math.nan, math.nan
-    t = cc / (math.sqrt(A * discr) - B)
-    s = ((mx + t * d[0]) * ax + (my + t * d[1]) * ay + (mz + t * d[2]) * az) * inv
-    if t > tmax or s < 0.0 or s > 1.0:  # beyond tmax, or past an end (the end spheres answer there)
+    root = math.sqrt(discr)
+    lam = cc / (root - b)  # the near root, as for the sphere, in distance along u
+    t = lam / speed
+    if t > tmax or t == math.inf:
         return math.inf, math.nan, math.nan, math.nan
-    nx, ny, nz = px + t * qx, py + t * qy, pz + t * qz
+    s = ((mx + t * d[0]) * ax + (my + t * d[1]) * ay + (mz + t * d[2]) * az) / len2
+    if s < 0.0 or s > 1.0:  # past an end: the end spheres answer there
+        return math.inf, math.nan, math.nan, math.nan
+    nx, ny, nz = fx - root * ux, fy - root * uy, fz - root * uz  # m⊥ + λ u without cancellation, as for the sphere
     length = math.sqrt(nx * nx + ny * ny + nz * nz)
     if length == 0.0:  # r == 0: the ray crosses the segment itself
         return t, -d[0], -d[1], -d[2]
@@ -87,13 +96,12 @@ def ray_capsule(o, d, tmax, p0, p1, r):
     """
     ax, ay, az = p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]
     len2 = ax * ax + ay * ay + az * az
-    if len2 < TINY:  # p0 == p1 (or |a| < 1.5e-154, whose 1 / |a|² overflows): a sphere
+    if len2 < TINY:  # p0 == p1 (or |a| < 1.5e-154, whose |a|² is not a normal float): a sphere
         return ray_sphere(o, d, tmax, p0, r)
-    inv = 1.0 / len2
     mx, my, mz = o[0] - p0[0], o[1] - p0[1], o[2] - p0[2]
-    s = (mx * ax + my * ay + mz * az) * inv  # the origin's foot on the axis, in units of the segment
+    s = (mx * ax + my * ay + mz * az) / len2  # the origin's foot on the axis, in units of the segment
     if 0.0 <= s <= 1.0:
-        px, py, pz = mx - s * ax, my - s * ay, mz - s * az
+        px, py, pz = _perp(mx, my, mz, ax, ay, az, len2)
         if px * px + py * py + pz * pz <= r * r:  # the origin is in the cylinder part
             return 0.0, -d[0], -d[1], -d[2]
     best = _ray_cylinder_side(o, d, tmax, p0, p1, r)

@@ -99,8 +99,8 @@ def hull_planes(points) -> np.ndarray:
     numpy.ndarray, shape (F, 4), float64
         Rows (nx, ny, nz, e): the hull is {x : n·x <= e for every row}. The hull's triangles that lie on one
         plane — every vertex of one within ``COPLANAR_EPS`` × (the diagonal of the points' bounding box) of the
-        other's plane, normals in the same half-space — give one row: the area-weighted mean of their normals,
-        and e the largest n·v over their vertices (no point of the face outside the row's half-space). A cube
+        other's plane, normals in the same half-space — give one row: n the area-weighted mean of their normals,
+        e the largest n·v over the hull's vertices (the supporting plane: every point is in the solid). A cube
         gives 6 rows.
 
     Raises
@@ -128,5 +128,5 @@ def hull_planes(points) -> np.ndarray:
         free &= ~group
         normal = (areas[group, None] * hull.normals[group]).sum(axis=0)
         normal /= np.linalg.norm(normal)
-        rows.append([*normal, float((pts[hull.faces[group]].reshape(-1, 3) @ normal).max())])
+        rows.append([*normal, float((pts[hull.vertices] @ normal).max())])  # the supporting plane
     return np.array(rows, dtype=np.float64).reshape(-1, 4)

@@ -55,12 +55,13 @@ def ray_sphere(o, d, tmax, c, r):
     discr = r * r - (qx * qx + qy * qy + qz * qz)
     if discr < 0.0:  # tangent (discr == 0) hits: the ball is closed
         return math.inf, math.nan, math.nan, math.nan
-    t = cc / (math.sqrt(discr) - b)  # the near root c'/q, q = −b + √discr > 0
+    root = math.sqrt(discr)
+    t = cc / (root - b)  # the near root c'/q, q = −b + √discr > 0
     if t > tmax:
         return math.inf, math.nan, math.nan, math.nan
-    # the normal from the hit point's offset to the centre, normalised by its computed length (exactly unit up
-    # to round-off, also for r = 0, where a ray through the point gets −d)
-    nx, ny, nz = mx + t * dx, my + t * dy, mz + t * dz
+    # the hit point's offset from the centre, m + t d = q + (t + b) d = q − √discr d: no cancellation, and its
+    # component along d is <= 0 (the normal faces the ray); a ray through a point (r = 0) gets −d
+    nx, ny, nz = qx - root * dx, qy - root * dy, qz - root * dz
     length = math.sqrt(nx * nx + ny * ny + nz * nz)
     if length == 0.0:
         return t, -dx, -dy, -dz
