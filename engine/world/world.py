@@ -997,3 +997,140 @@ class World:
         stats.impacts = int(pairs.shape[0])
         self.stats = stats
         return ImpactSet(pairs=np.ascontiguousarray(pairs[order]), times=times[order])
+
+    # -- distances -----------------------------------------------------------------------------------------
+    def _pair_ids(self, ids_a, ids_b) -> np.ndarray:
+        """ids_a, ids_b as the rows (k, 2) int64 of a pair list: 1-D integer arrays of one length, live ids, no
+        body paired with itself, not two grounds — else TypeError / ValueError naming the argument and the first
+        bad index."""
+        st = self._store
+        cols = []
+        for value, name in ((ids_a, "ids_a"), (ids_b, "ids_b")):
+            idx = np.asarray(value)
+            if idx.dtype.kind not in "iu" or idx.ndim != 1:
+                raise TypeError(f"{name} must be a 1-D integer array, got dtype {idx.dtype} and shape {idx.shape}")
+            cols.append(idx)
+        if cols[0].shape != cols[1].shape:
+            raise ValueError(f"ids_a and ids_b must have the same length, got {cols[0].shape[0]} and "
+                             f"{cols[1].shape[0]}")
+        for idx, name in zip(cols, ("ids_a", "ids_b")):
+            outside = (idx < 0) | (idx >= st.n_ids)
+            at = np.where(outside, 0, idx).astype(np.int64)
+            bad = np.flatnonzero(outside | (st.kind[at] < 0) | (st.owner[at] >= 0))
+            if bad.size:
+                raise ValueError(f"{name}[{bad[0]}] = {idx[bad[0]]} is not a body of this world (never added, or "
+                                 f"removed)")
+        pairs = np.stack([c.astype(np.int64) for c in cols], axis=1).reshape(-1, 2)
+        bad = np.flatnonzero(pairs[:, 0] == pairs[:, 1])
+        if bad.size:
+            raise ValueError(f"ids_b[{bad[0]}] = {pairs[bad[0], 1]} is ids_a[{bad[0]}]: a body has no distance to "
+                             f"itself")
+        bad = np.flatnonzero(~st.bounded[pairs[:, 0]] & ~st.bounded[pairs[:, 1]])
+        if bad.size:
+            raise ValueError(f"ids_a[{bad[0]}] = {pairs[bad[0], 0]} and ids_b[{bad[0]}] = {pairs[bad[0], 1]} are "
+                             f"both grounds: two grounds have no distance")
+        return pairs
+
+    def _distances(self, pairs: np.ndarray, margin: float, keys):
+        """The distance question over pairs of bodies (k, 2): the signed distance (k,) — the least over a
+        compound's parts; inf for a pair none of whose rows passed the box test and the filter — and the two
+        witness points (k, 3) of the row that gave it, with the Answer."""
+        result = answer(TABLE, "distance", self._context(), np.ascontiguousarray(pairs), keys, False, margin)
+        out = result.out
+        k = pairs.shape[0]
+        distance, point_a, point_b = np.full(k, np.inf), np.full((k, 3), np.nan), np.full((k, 3), np.nan)
+        if result.origin.shape[0]:
+            order = np.lexsort((out.distance, result.origin))  # by pair, nearest row first
+            first = order[np.r_[True, result.origin[order][1:] != result.origin[order][:-1]]]
+            at = result.origin[first]
+            distance[at], point_a[at], point_b[at] = out.distance[first], out.point_a[first], out.point_b[first]
+        return distance, point_a, point_b, result
+
+    def closest_points(self, ids_a, ids_b):
+        """The signed distance of each pair of bodies (ids_a[k], ids_b[k]) and its witness points.
+
+        The distance table (engine/world/rows.py): closed forms for sphere–sphere, sphere–capsule,
+        capsule–capsule and sphere–box (the contact kernels' closest points), a body against a Plane (its lowest
+        core point), GJK distance / EPA depth for every other convex pair (box–box with the SAT's verdict on
+        contact), the sampled curve for a HeightCurve; a compound: its nearest part. No broad phase and no filter:
+        the pairs are asked for. The sign follows the overlap test of ``pairs()``: distance <= 0 exactly when the
+        two bodies overlap by that test. Static bodies, and a body against a ground, are allowed.
+
+        Parameters
+        ----------
+        ids_a, ids_b : array_like, shape (k,), int
+            Live ids; ids_a[k] != ids_b[k], not two grounds.
+
+        Returns
+        -------
+        distance : numpy.ndarray, shape (k,), float64
+            The gap when apart (> 0), 0 touching, minus the penetration depth when overlapping (the depth of
+            ``contacts()`` for that pair).
+        point_a, point_b : numpy.ndarray, shape (k, 3), float64
+            On the surface of ids_a[k] and of ids_b[k]: the closest points when apart, the deepest points when
+            overlapping; point_b − point_a is distance times the unit normal from the first body to the second.
+
+        Raises
+        ------
+        TypeError
+            For ids that are not 1-D integer arrays.
+        ValueError
+            For arrays of different lengths, an id that is not live, a body paired with itself or two grounds
+            (naming the argument and the first bad index); the world is unchanged.
+        """
+        pairs = self._pair_ids(ids_a, ids_b)
+        distance, point_a, point_b, result = self._distances(pairs, np.inf, None)
+        stats = WorldStats(query="closest_points", bodies=int(self._moving().shape[0]),
+                           candidate_pairs=int(pairs.shape[0]), narrow_tests=int(result.pairs.shape[0]),
+                           groups=_groups(result.counts))
+        self.stats = stats
+        return distance, point_a, point_b
+
+    def pairs_within(self, margin):
+        """Every canonical pair of bodies whose signed distance is at most ``margin`` (closed), and the distances.
+
+        Broad phase on the AABBs grown by the margin (the moving bodies among themselves with this world's broad
+        phase, against the static tree, the grounds' own candidate tests), the filter of ``pairs()`` (categories,
+        masks, groups, exclusions; sensors are reported, two sensors never report each other; two static bodies
+        are never paired), the boxes at most ``margin`` apart, then the distance table (``closest_points``).
+        ``pairs_within(0.0)`` gives exactly ``pairs()``. Refreshes ``stats``.
+
+        Parameters
+        ----------
+        margin : float
+            >= 0, finite.
+
+        Returns
+        -------
+        pairs : numpy.ndarray, shape (k, 2), int64
+            i < j in every row, rows in lexicographic order.
+        distance : numpy.ndarray, shape (k,), float64
+            Their signed distances (<= margin; negative: penetrating).
+
+        Raises
+        ------
+        ValueError
+            For a negative or non-finite ``margin``; ``TypeError`` for one that is not a real number.
+        """
+        margin = as_nonnegative(margin, "margin")
+        t0 = time.perf_counter()
+        st = self._store
+        bodies = self._moving()
+        grow = 2.0 * margin  # a superset of the boxes at most margin apart, whatever the round-off
+        lo, hi = st.lo[bodies] - grow, st.hi[bodies] + grow
+        rows = find_pairs(lo, hi, self.broad_phase) if bodies.shape[0] > 1 else _NO_PAIRS
+        static = [self._static.query(st, bodies, lo, hi), *self._ground_candidates(bodies, lo, hi)]
+        cand = np.ascontiguousarray(np.concatenate([bodies[rows], *static]))
+        stats = WorldStats(query="pairs_within", bodies=int(bodies.shape[0]), candidate_pairs=int(cand.shape[0]),
+                           static_pairs=int(sum(s.shape[0] for s in static)))
+        t1 = time.perf_counter()
+        distance, _, _, result = self._distances(cand, margin, self._filter_keys())
+        near = distance <= margin
+        pairs, distance = cand[near], distance[near]
+        order = _canonical_order(pairs)
+        stats.narrow_tests, stats.groups = int(result.pairs.shape[0]), _groups(result.counts)
+        stats.filtered, stats.overlapping = int(result.filtered), int(pairs.shape[0])
+        stats.seconds = {"upload": self._upload_seconds, "broad": t1 - t0, "narrow": time.perf_counter() - t1}
+        self._upload_seconds = 0.0
+        self.stats = stats
+        return np.ascontiguousarray(pairs[order]), distance[order]
