@@ -15,10 +15,11 @@
 from __future__ import annotations
 
 import copy
+import os
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import event, given, settings
 from hypothesis import strategies as st
 
 import engine
@@ -34,6 +35,7 @@ from engine import (
     ShapeHit,
     Sphere,
     World,
+    epa_penetration,
     gjk_distance,
 )
 from engine.narrowphase.curve_ground import ground_gap, lower_boundary
@@ -142,6 +144,20 @@ def gap(world, i, shape, offset):
     return min(gjk_distance(pa, pb)[0] - ra - rb for pa, ra in body_cores(world, i) for pb, rb in cores(shape, offset))
 
 
+def depth(world, i, shape, offset):
+    """How deep ``shape`` translated by offset is in body i (>= 0): the radii less the cores' GJK distance, or
+    with EPA's depth when the cores overlap; a ground's: minus its gap."""
+    if not world.shape(i).kind.bounded:
+        return max(-gap(world, i, shape, offset), 0.0)
+    out = 0.0
+    for pa, ra in body_cores(world, i):
+        for pb, rb in cores(shape, offset):
+            d = gjk_distance(pa, pb)[0]
+            inside = epa_penetration(pa, pb)[0] if d == 0.0 else -d
+            out = max(out, inside + ra + rb)
+    return out
+
+
 def surface_distance(world, i, point):
     """Distance of a point to body i (0 inside), or |height above the plane|; None for a curve."""
     ground = world.shape(i)
@@ -228,7 +244,8 @@ def cast_problems(world, shape, displacement, mask, hit, samples=64):
     on_body = surface_distance(world, hit.body, hit.point)
     on_shape = min(gjk_distance(p, hit.point[None])[0] - r for p, r in cores(shape, f * d))
     tol = 1e-6 * scale
-    if (on_body is not None and on_body > tol) or on_shape > tol:
+    deep = at <= 0.0 and depth(world, hit.body, shape, f * d) > tol  # started inside: the contact's own point
+    if not deep and ((on_body is not None and on_body > tol) or on_shape > tol):
         problems.append(f"point {hit.point} is off the surfaces: {on_body}, {on_shape}")
     return problems
 
@@ -258,12 +275,29 @@ def test_overlap_is_the_frame_with_the_shape_added(world, shape, mask):
     assert_same(before, snapshot(world))
 
 
-@settings(max_examples=30)
-@given(scenes(max_bodies=4), any_bodies, velocities, masks)
-def test_cast_shape_is_the_first_touch(world, shape, displacement, mask):
+@st.composite
+def casts(draw):
+    """(world, shape, displacement, mask): a drawn sweep, or (half the time) one aimed at a body's AABB centre
+    from well outside it (overshooting or falling short), so that hits at fractions > 0 are common."""
+    world, shape, displacement = draw(scenes(max_bodies=4)), draw(any_bodies), draw(velocities)
+    mask = draw(masks)
+    bounded = [i for i in eligible(world, mask, sensors=False) if world.shape(i).kind.bounded]
+    if bounded and draw(st.booleans()):
+        lo, hi = world.aabb(draw(st.sampled_from(bounded)))
+        away = draw(st.tuples(*[st.floats(-1.0, 1.0)] * 3).map(np.array))
+        shape = moved(shape, 0.5 * (lo + hi) - shape.center + 6.0 * away / max(np.linalg.norm(away), 1e-3))
+        displacement = (0.5 * (lo + hi) - shape.center) * draw(st.floats(0.7, 1.5)) + draw(velocities) * 0.1
+    return world, shape, displacement, mask
+
+
+@settings(max_examples=int(os.environ.get("SHAPEQ_EXAMPLES", 30)))
+@given(casts())
+def test_cast_shape_is_the_first_touch(case):
+    world, shape, displacement, mask = case
     before = snapshot(world)
     hit = world.cast_shape(shape, displacement, mask=mask)
     assert hit is None or isinstance(hit, ShapeHit)
+    event("miss" if hit is None else f"hit a {world.kind(hit.body)} at {'0' if hit.fraction == 0 else '> 0'}")
     assert cast_problems(world, shape, displacement, mask, hit) == []
     assert_same(before, snapshot(world))
 

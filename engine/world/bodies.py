@@ -30,8 +30,9 @@ normal (+y).
 Scratch rows (``scratch(shape)``, the world's shape queries): a query shape (a compound with its parts) is
 written into the rows just past ``n_ids``, placed at its pose, and wiped back to fresh rows on exit — the rows
 past ``n_ids`` are never read by the world and never hold a body (``new_id`` hands out ``n_ids`` only after the
-free heap is empty), so ids, ``free`` and ``n_ids`` are untouched. The arrays may grow to make room (as an
-``add`` would).
+free heap is empty), so ids, ``free`` and ``n_ids`` are untouched. More rows are made for good when needed (as
+an ``add`` would); a query shape with more core points than the rows hold runs on grown copies of the arrays,
+and the original arrays are put back on exit.
 
 Rotations of an update: ``(k, 3, 3)`` matrices (columns = the body axes, orthonormal with det +1, to
 ``ROTATION_TOL``), ``(k, 4)`` unit quaternions in (w, x, y, z) order (scalar first, as MuJoCo and scipy's
@@ -150,15 +151,20 @@ class BodyStore:
         Yields the rows: ``[row, *parts]`` — the shape's row (``n_ids``), then a compound's parts (owner = row,
         linked as ``World.add`` links them); every row placed at the shape's pose (``center``, ``rotation``), with
         zero velocity and the default filter. On exit, normal or not, the rows are fresh again (the ``_FIELDS``
-        fills, identity rotations, zero points). A ground (unbounded shape) is refused: ValueError.
+        fills, identity rotations, zero points). Room for more rows is made for good (the capacity is not part of
+        what ``World.bodies()`` shows); when the shape has more core points than the store's rows hold, the block
+        runs on grown copies and the old arrays are put back on exit (a copy of the store per such query). A
+        ground (unbounded shape) is refused: ValueError.
         """
         if not shape.kind.bounded:
             raise ValueError(f"shape must be a bounded body shape, got a {shape.kind.name} (a ground)")
         parts = getattr(shape, "parts", ())
         first = self.n_ids
         rows = list(range(first, first + 1 + len(parts)))
-        self._reserve(rows[-1] + 1, max(s.local.shape[0] for s in (shape, *(p[0] for p in parts))))
+        self._reserve(rows[-1] + 1, self.local.shape[1])  # more rows, kept: rows past n_ids are never shown
+        arrays = {name: getattr(self, name) for name in (*_FIELDS, *_CORE)}
         try:
+            self._reserve(rows[-1] + 1, max(s.local.shape[0] for s in (shape, *(p[0] for p in parts))))
             self.write_shape(first, shape)
             for k, ((part, position, rotation), row) in enumerate(zip(parts, rows[1:])):
                 self.write_shape(row, part)
@@ -174,7 +180,11 @@ class BodyStore:
                            np.zeros((1, 3)))
             yield rows
         finally:
-            self._wipe(first, len(rows))
+            if self.kind is arrays["kind"]:
+                self._wipe(first, len(rows))
+            else:  # the arrays grew for the query: the old ones, untouched, come back (views of them stay live)
+                for name, arr in arrays.items():
+                    setattr(self, name, arr)
 
     def _wipe(self, first: int, k: int) -> None:
         """Rows first to first + k - 1 back to fresh rows (as ``_alloc`` makes them)."""
