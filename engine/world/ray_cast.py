@@ -29,7 +29,7 @@ from engine._validate import as_float_array
 from engine.broadphase.ray_aabb import inverse_direction, ray_aabb_interval
 from engine.broadphase.ray_grid import dda_start, dda_step
 
-from .ray_rows import RAY_ROWS, ray_bodies, ray_hit
+from .ray_rows import RAY_ROWS, ray_hit
 
 __all__ = ["RayHits", "RayHit", "RayScene", "TREE", "GRID", "LIST", "as_rays", "cast_ray_batch", "check_threads"]
 
