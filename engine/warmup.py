@@ -81,7 +81,8 @@ def _narrow_phase() -> None:
 def _world() -> None:
     """Two examples of every registered shape kind (engine.world.KINDS), all near the origin, so that every cell
     of the dispatch table that a scene can reach meets its pairs and is compiled, under each broad phase and for
-    every query; then the same bodies as static level geometry, sensors and filtered bodies."""
+    every question; then the same bodies as static level geometry, sensors and filtered bodies, and every
+    query (rays, shapes, distances)."""
     from engine.world import KINDS, World
 
     examples = [(kind, kind.shape.example()) for kind in KINDS for _ in range(2)]
@@ -98,6 +99,25 @@ def _world() -> None:
         world.contacts()
         world.time_of_impact(1.0)
         world.events()
+        _queries(world, examples)
+
+
+def _queries(world, examples) -> None:
+    """Every query of the World once: rays (nearest, every hit), region, overlap, shape cast, distances."""
+    import numpy as np
+
+    rays = np.array([[0.0, 5.0, 0.0], [3.0, 0.5, 0.2]]), np.array([[0.0, -1.0, 0.0], [-1.0, 0.0, 0.0]])
+    world.cast_rays(*rays)
+    world.cast_rays(*rays, 10.0, all_hits=True)
+    world.query_aabb([-1.0, -1.0, -1.0], [1.0, 1.0, 1.0])
+    for kind, shape in examples[::2]:
+        if not kind.static_only:
+            world.overlap(shape)
+            world.cast_shape(shape, [0.0, -1.0, 0.0])
+    ids = world.ids()
+    bounded = [b for b in ids.tolist() if world.kind(b) not in ("plane", "curve")]
+    world.closest_points(bounded[:-1], bounded[1:])
+    world.pairs_within(0.5)
 
 
 def _gas() -> None:
