@@ -177,6 +177,7 @@ for _name, _fn in [("fit_obb", engine.fit_obb), ("min_bounding_sphere", engine.m
 
 api("circumsphere", bounding.circumsphere)(lambda draw: dict(points=draw(points(2, 4))))
 api("convex_hull", engine.convex_hull)(lambda draw: dict(points=draw(general_points())))
+api("hull_planes", narrow.hull_planes)(lambda draw: dict(points=draw(general_points())))
 api("describe_hull", bounding.describe_hull)(lambda draw: dict(points=draw(general_points())))
 api("is_convex", engine.is_convex)(lambda draw: dict(vertices=draw(convex_polygon())))
 api("triangulate_polygon", bounding.triangulate_polygon)(lambda draw: dict(polygon=draw(convex_polygon())))
@@ -853,6 +854,9 @@ NOT_CALLABLE_API = {
     "TOINotConverged": "exception", "EPANotConverged": "exception", "GJKNotConverged": "exception",
     "ShapeSpec": "result record built by load_shape", "SHAPE_KINDS": "constant", "ALL": "constant",
     "describe_contact": "text front end over load_shape (fuzzed here) and time_of_impact/contact_feature (fuzzed)",
+    **dict.fromkeys(("ray_sphere", "ray_box", "ray_capsule", "ray_halfspace", "ray_hull"),
+                    "compiled ray kernel, called from compiled code: no validation by contract (the caller "
+                    "validates); properties/test_ray_kernels.py checks it"),
 }
 
 PUBLIC_MODULES = (engine, bounding, broadphase, narrow, gas, contact_io)

@@ -5,7 +5,8 @@
   unsupported cell raises ``UnsupportedQuery`` naming both kinds, through ``answer`` as well;
 - every registered kind has one shape class, whose ``example()`` and ``random(...)`` build shapes of that kind
   that a World takes (static when the kind is static-only);
-- a World holding examples of every kind answers ``pairs()``, ``contacts()`` and ``time_of_impact()``, and its
+- a World holding examples of every kind answers ``pairs()``, ``contacts()``, ``time_of_impact()``,
+  ``pairs_within()`` and ``closest_points()``, and its
   queries reach every reachable cell of the table (two of each bounded kind, one of each ground kind, all
   overlapping);
 - a convex kind registered after the grounds gets real rows against them, and a body of it rests on a Plane.
@@ -20,9 +21,9 @@ import numpy as np
 import pytest
 
 from engine import World
-from engine.narrowphase.contacts import contact_rows, kernel_scratch
+from engine.narrowphase.contacts import kernel_scratch
 from engine.world import KINDS, QUESTIONS, TABLE, UnsupportedQuery
-from engine.world.dispatch import PARTS, DispatchTable, Kernel, NarrowContext, answer, unsupported
+from engine.world.dispatch import PARTS, DispatchTable, Kernel, NarrowContext, answer, answer_rows, unsupported
 from engine.world.kinds import ShapeKind, kind_named
 from properties.strategies.world import shape_class
 from properties.world_reference import every_pair, reference_pairs
@@ -81,7 +82,7 @@ def _unsupported_cells():
 def test_running_an_unsupported_cell_raises(a, b, question):
     """The kernel itself, and ``answer`` over a pair of the two kinds in a World's store."""
     kernel = TABLE.cell(a, b, question)
-    out = np.full(1, np.inf) if question == "impact" else contact_rows(1)
+    out = answer_rows(question, 1)
     with pytest.raises(UnsupportedQuery, match=f"{a.name}.*{b.name}"):
         kernel.run(None, np.zeros((1, 2), np.int64), np.zeros(1, np.int64), out)
     world = World()
@@ -168,6 +169,13 @@ def test_a_world_of_every_kind_answers_every_question():
     np.testing.assert_array_equal(impacts.pairs, got)  # all touching now: each at time 0
     np.testing.assert_array_equal(impacts.times, np.zeros(len(got)))
     assert cells <= set(world.stats.groups)
+    within, distance = world.pairs_within(0.0)  # every pair overlaps: the distance cells, each at most 0
+    np.testing.assert_array_equal(within, got)
+    assert cells <= set(world.stats.groups)
+    assert np.isfinite(distance).all() and (distance <= 0).all()
+    d, pa, pb = world.closest_points(got[:, 1], got[:, 0])  # the other way round: the kernels orient the pair
+    np.testing.assert_allclose(d, distance, rtol=0, atol=1e-7)
+    np.testing.assert_allclose(np.linalg.norm(pb - pa, axis=1), -d, rtol=0, atol=1e-7)
     begin, end = world.events()
     np.testing.assert_array_equal(begin, got)
     assert end.shape == (0, 2)
@@ -176,6 +184,7 @@ def test_a_world_of_every_kind_answers_every_question():
 _LATE_KIND = """
 import importlib
 import numpy as np
+import engine.world.dispatch
 import engine.world.rows
 import engine.world.world
 from engine.world.kinds import KINDS, shape_kind
@@ -188,7 +197,7 @@ class Late(Sphere):
 table = importlib.reload(engine.world.rows).TABLE  # the rows built again over the registry
 engine.world.world.TABLE = table
 late = Late.kind
-print([(a.name, b.name, q) for q in ("overlap", "contact", "impact") for a in KINDS for b in KINDS
+print([(a.name, b.name, q) for q in engine.world.dispatch.QUESTIONS for a in KINDS for b in KINDS
        if late in (a, b) and not (a.static_only and b.static_only)
        and table.cell(a, b, q).name.startswith("unsupported")])
 world = engine.world.world.World()

@@ -17,6 +17,7 @@ There are no tree rotations: a long sequence of moves can unbalance the tree; ``
 """
 from __future__ import annotations
 
+from collections import namedtuple
 from typing import Literal, overload
 
 import numpy as np
@@ -37,7 +38,10 @@ from engine.broadphase.pairs import (
     with_tests,
 )
 
-__all__ = ["DynamicAABBTree", "tree_pairs", "tree_leaf_pairs", "tree_query_boxes"]
+__all__ = ["DynamicAABBTree", "TreeArrays", "tree_pairs", "tree_leaf_pairs", "tree_query_boxes"]
+
+#: a tree's arrays for compiled traversals (``DynamicAABBTree.arrays``)
+TreeArrays = namedtuple("TreeArrays", "root node_lo node_hi child1 child2 obj_of")
 
 
 @njit
@@ -315,6 +319,40 @@ def tree_query_boxes(root, node_lo, node_hi, child1, child2, obj_of, obj_lo, obj
     return out[:count].copy()
 
 
+@njit
+def _refit_kernel(root, node_lo, node_hi, child1, child2, obj_of, obj_lo, obj_hi):
+    """Every leaf's box set to its object's box, then every inner node's to the union of its children's — children
+    before parents: the reverse of a depth-first preorder. Returns the summed box sides of the inner nodes over
+    the root's (the tree's quality: it grows as the objects move away from where the tree was built)."""
+    order = np.empty(node_lo.shape[0], np.int64)
+    stack = np.empty(node_lo.shape[0] + 1, np.int64)
+    stack[0], top, count = root, 1, 0
+    while top > 0:
+        top -= 1
+        node = stack[top]
+        order[count] = node
+        count += 1
+        if child1[node] != -1:
+            stack[top], stack[top + 1] = child1[node], child2[node]
+            top += 2
+    inner = 0.0
+    for q in range(count - 1, -1, -1):
+        node = order[q]
+        a, b = child1[node], child2[node]
+        for k in range(3):
+            if a == -1:
+                node_lo[node, k], node_hi[node, k] = obj_lo[obj_of[node], k], obj_hi[obj_of[node], k]
+            else:
+                node_lo[node, k] = min(node_lo[a, k], node_lo[b, k])
+                node_hi[node, k] = max(node_hi[a, k], node_hi[b, k])
+        if a != -1:
+            inner += _sides(node_lo[node, 0], node_lo[node, 1], node_lo[node, 2], node_hi[node, 0],
+                            node_hi[node, 1], node_hi[node, 2])
+    top_sides = _sides(node_lo[root, 0], node_lo[root, 1], node_lo[root, 2], node_hi[root, 0], node_hi[root, 1],
+                       node_hi[root, 2])
+    return inner / top_sides if top_sides > 0.0 else 0.0
+
+
 class DynamicAABBTree(IncrementalBroadPhase):
     """A dynamic AABB tree over objects with ids, as Box2D, Bullet and FCL use (see the module's description).
 
@@ -507,6 +545,41 @@ class DynamicAABBTree(IncrementalBroadPhase):
                 stack += [int(self._child1[node]), int(self._child2[node])]
         root = float((self._node_hi[self._root] - self._node_lo[self._root]).sum())
         return total / root if root > 0.0 else 0.0
+
+    def arrays(self) -> TreeArrays:
+        """The tree's own arrays, for compiled traversals (no copy; valid until the tree next changes).
+
+        Returns
+        -------
+        TreeArrays
+            ``root`` (int, −1 when empty), ``node_lo``, ``node_hi`` (nodes, 3) the nodes' boxes, ``child1``,
+            ``child2`` (nodes,) int64 (−1 at a leaf), ``obj_of`` (nodes,) int64 a leaf's object id.
+        """
+        return TreeArrays(int(self._root), self._node_lo, self._node_hi, self._child1, self._child2, self._obj_of)
+
+    def refit(self, lo: np.ndarray, hi: np.ndarray) -> float:
+        """Give every object its new box, keeping the tree's shape: each leaf's box becomes its object's box
+        exactly (no margin), each inner node's the union of its children's (Bullet's ``btDbvt`` refit). Fast, and
+        exact for queries; the tree's quality decays as the objects move away from where it was built (rebuild
+        then).
+
+        Parameters
+        ----------
+        lo, hi : numpy.ndarray, shape (n, 3), float64
+            The new boxes of the objects 0 .. n − 1 (n = the largest id + 1), lo <= hi, finite (unchecked: the
+            caller's boxes).
+
+        Returns
+        -------
+        float
+            The summed box sides of the inner nodes over the root's (compare it to its value after the build).
+        """
+        self._obj_lo[: lo.shape[0]] = lo
+        self._obj_hi[: hi.shape[0]] = hi
+        if self._root == -1:
+            return 0.0
+        return float(_refit_kernel(self._root, self._node_lo, self._node_hi, self._child1, self._child2,
+                                   self._obj_of, self._obj_lo, self._obj_hi))
 
     def node_boxes(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """Every node of the tree, from the root down (depth first): ``(lo, hi, depth, leaf)``.

@@ -86,6 +86,10 @@ module: kernels                   what they compute (shapes)
 ``time_of_impact``:               conservative advancement on one pair / k packed pairs (times (k,), status (k,))
 ``toi_kernel``,
 ``toi_pairs_kernel``
+``ray_sphere``, ``ray_box``,      the first hit (t, nx, ny, nz) of a ray o + t d (3-tuples, d unit, t in
+``ray_capsule``,                  [0, tmax]) with a closed solid sphere, oriented box, capsule, half-space, convex
+``ray_halfspace``, ``ray_hull``   polyhedron given by planes (F, 4) (``hull_planes`` of a point set); (0, −d) from
+                                  inside, (inf, nan, nan, nan) for a miss
 ================================  ================================================================================
 """
 from __future__ import annotations
@@ -116,6 +120,11 @@ from .primitives import (
     overlap_sphere_sphere,
     overlap_sphere_sphere_batch,
 )
+from .ray_box import ray_box
+from .ray_capsule import ray_capsule
+from .ray_halfspace import ray_halfspace
+from .ray_hull import hull_planes, ray_hull
+from .ray_sphere import ray_sphere
 from .sat import obb_overlap, overlap_convex_sat, overlap_convex_sat_pairs, overlap_obb_obb_batch
 from .status import EPANotConverged, GJKNotConverged, TOINotConverged
 from .time_of_impact import time_of_impact, time_of_impact_pairs
@@ -132,4 +141,5 @@ __all__ = [
     "overlap_sphere_capsule_batch", "overlap_sphere_ground_batch", "overlap_sphere_obb", "overlap_sphere_obb_batch",
     "overlap_sphere_sphere", "overlap_sphere_sphere_batch",
     "obb_overlap", "overlap_convex_sat", "overlap_convex_sat_pairs", "overlap_obb_obb_batch",
+    "hull_planes", "ray_box", "ray_capsule", "ray_halfspace", "ray_hull", "ray_sphere",
 ]

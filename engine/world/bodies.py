@@ -20,7 +20,9 @@ upload (one validation pass over the whole batch, then one compiled kernel).
   body of the world: it is moved with its compound and answers for it in the narrow phase); ``part`` (cap,)
   int64 — the part's number in its compound (0 for a body); ``first_part``, ``next_part`` (cap,) int64 — a
   compound's parts as a linked list (−1 ends it); ``part_center`` (cap, 3), ``part_rotation`` (cap, 3, 3) — a
-  part's pose in its compound's frame.
+  part's pose in its compound's frame;
+- ``planes`` (cap, F, 4), ``n_planes`` (cap,) int64 — a hull's face planes (n, e) in the body frame, the solid
+  being n·x <= e (the ray kernels clip by them); none for the other kinds.
 A ground (``Plane``) stores a point of its surface in ``center``, its rotation's second column is its outward
 normal (+y).
 
@@ -46,7 +48,7 @@ __all__ = ["BodyArrays", "BodyStore", "refresh_bodies", "place_bodies"]
 #: the compiled kernels' view of the store (one namedtuple of arrays)
 BodyArrays = namedtuple("BodyArrays", "kind center rotation velocity radius half count local points lo hi "
                                       "fat_lo fat_hi escaped bounded static sensor category mask group owner part "
-                                      "first_part next_part part_center part_rotation")
+                                      "first_part next_part part_center part_rotation planes n_planes")
 
 _ALL_BITS = np.iinfo(np.uint64).max
 _FIELDS = {"kind": ((), np.int8, -1), "center": ((3,), np.float64, 0.0), "rotation": ((3, 3), np.float64, 0.0),
@@ -57,8 +59,9 @@ _FIELDS = {"kind": ((), np.int8, -1), "center": ((3,), np.float64, 0.0), "rotati
            "category": ((), np.uint64, 1), "mask": ((), np.uint64, _ALL_BITS), "group": ((), np.int64, 0),
            "owner": ((), np.int64, -1), "part": ((), np.int64, 0), "first_part": ((), np.int64, -1),
            "next_part": ((), np.int64, -1), "part_center": ((3,), np.float64, 0.0),
-           "part_rotation": ((3, 3), np.float64, 0.0)}
+           "part_rotation": ((3, 3), np.float64, 0.0), "n_planes": ((), np.int64, 0)}
 _CORE = ("local", "points")
+_PLANES = "planes"
 
 
 class BodyStore:
@@ -92,13 +95,15 @@ class BodyStore:
     next_part: np.ndarray
     part_center: np.ndarray
     part_rotation: np.ndarray
+    planes: np.ndarray
+    n_planes: np.ndarray
 
     def __init__(self, capacity: int = 16, max_points: int = 1):
         self.n_ids = 0
         self.free: list[int] = []
-        self._alloc(capacity, max_points)
+        self._alloc(capacity, max_points, 1)
 
-    def _alloc(self, cap, m, old=None):
+    def _alloc(self, cap, m, f, old=None):
         for name, (shape, dtype, fill) in _FIELDS.items():
             arr = np.full((cap, *shape), fill, dtype)
             if old is not None:
@@ -111,6 +116,10 @@ class BodyStore:
                 arr[:n_old, :m_old] = old[name]
                 arr[:n_old, m_old:] = old[name][:, :1]  # padding repeats the first point
             setattr(self, name, arr)
+        planes = np.zeros((cap, f, 4))
+        if old is not None:
+            planes[: old[_PLANES].shape[0], : old[_PLANES].shape[1]] = old[_PLANES]
+        self.planes = planes
         fresh = slice(0 if old is None else old["kind"].shape[0], cap)
         self.rotation[fresh] = self.part_rotation[fresh] = np.eye(3)
 
@@ -121,14 +130,16 @@ class BodyStore:
     def view(self) -> BodyArrays:
         return BodyArrays(*(getattr(self, name) for name in BodyArrays._fields))
 
-    def new_id(self, m: int) -> int:
-        """The smallest free id, for a body of m core points (growing the arrays when needed)."""
+    def new_id(self, m: int, f: int = 0) -> int:
+        """The smallest free id, for a body of m core points and f face planes (growing the arrays when
+        needed)."""
         body = heapq.heappop(self.free) if self.free else self.n_ids
         if body == self.n_ids:
             self.n_ids += 1
-        if body >= self.capacity or m > self.local.shape[1]:
-            old = {name: getattr(self, name) for name in (*_FIELDS, *_CORE)}
-            self._alloc(max(self.capacity, 2 * body + 2), max(m, self.local.shape[1]), old)
+        if body >= self.capacity or m > self.local.shape[1] or f > self.planes.shape[1]:
+            old = {name: getattr(self, name) for name in (*_FIELDS, *_CORE, _PLANES)}
+            self._alloc(max(self.capacity, 2 * body + 2), max(m, self.local.shape[1]),
+                        max(f, self.planes.shape[1]), old)
         return body
 
     def write_shape(self, body: int, shape) -> None:
@@ -142,6 +153,9 @@ class BodyStore:
         self.count[body] = m
         self.local[body, :m] = shape.local
         self.local[body, m:] = shape.local[0]
+        f = shape.planes.shape[0]
+        self.planes[body, :f] = shape.planes
+        self.n_planes[body] = f
         self.velocity[body] = 0.0
         self.owner[body] = -1
         self.part[body] = 0

@@ -229,6 +229,14 @@ class StaticPairs:
                      if self.static_of.size else None)
         self.dirty = False
 
+    def tree_arrays(self, store):
+        """(TreeArrays, static ids by tree object) of the static tree, built first if the static set changed;
+        an empty tree (root −1) when there is no static body."""
+        if self.dirty:
+            self._build(store)
+        tree = self.tree if self.tree is not None else DynamicAABBTree(dim=3, margin=0.0)
+        return tree.arrays(), self.static_of
+
     def query(self, store, bodies, lo, hi) -> np.ndarray:
         """Canonical pairs (body, static body) whose boxes overlap, for ``bodies`` (m,) with the boxes ``lo``,
         ``hi`` (m, 3); uncached."""

@@ -8,7 +8,8 @@ rows (engine/world/rows.py), never a branch here.
 - A ``Kernel`` answers a batch: ``run(ctx, pairs, sel, out)`` fills rows ``sel`` of ``out`` for the pairs
   ``pairs[sel]`` (k, 2) of body-store rows; the kernel's A is the pair's shape of lower kind code (a pair whose
   first shape is its B is "flipped": normals and features are stored for the pair's own order). ``out`` is a
-  ``ContactRows`` for "overlap" and "contact", a times array (k,) for "impact".
+  ``ContactRows`` for "overlap" and "contact", a times array (k,) for "impact", a ``DistanceRows`` for
+  "distance" (engine.narrowphase.signed_distance) — ``answer_rows(question, k)`` allocates it, in one place.
 - ``unsupported(reason)`` is a cell no query may reach (ground against ground: two static shapes are never
   paired); reaching it raises ``UnsupportedQuery``.
 - ``PARTS`` marks a composite kind's cells (``Compound``): its pairs are split into pairs of parts
@@ -16,8 +17,8 @@ rows (engine/world/rows.py), never a branch here.
 
 ``DispatchTable(rows)`` turns the rows into one (kinds × kinds) index array per question (what the compiled
 classification reads) and one list of kernels; ``answer(table, question, ctx, pairs)`` runs a question over
-candidate pairs: parts first, then the AABB test, the filter and the grouping by kernel (``classify_pairs``,
-``group_by_code``), then one batched call per kernel.
+candidate pairs: parts first, then the AABB test (boxes grown by ``margin`` for "distance"), the filter and the
+grouping by kernel (``classify_pairs``, ``group_by_code``), then one batched call per kernel.
 """
 from __future__ import annotations
 
@@ -28,17 +29,18 @@ from dataclasses import dataclass
 import numpy as np
 
 from engine._config import njit
-from engine.broadphase.pairs import boxes_overlap
 from engine.narrowphase.contacts import contact_rows
+from engine.narrowphase.signed_distance import distance_rows
 
 from .filters import pair_passes
 from .kinds import KINDS, ShapeKind
 
 __all__ = ["QUESTIONS", "Kernel", "UnsupportedQuery", "unsupported", "PARTS", "DispatchTable", "NarrowContext",
-           "classify_pairs", "group_by_code", "expand_parts", "answer", "Answer"]
+           "classify_pairs", "group_by_code", "expand_parts", "answer", "answer_rows", "Answer"]
 
-#: the questions the table answers: do they overlap (touching counts), where do they touch, when do they touch
-QUESTIONS = ("overlap", "contact", "impact")
+#: the questions the table answers: do they overlap (touching counts), where do they touch, when do they touch,
+#: how far apart (or how deep) are they
+QUESTIONS = ("overlap", "contact", "impact", "distance")
 
 
 @dataclass(frozen=True, eq=False)
@@ -108,10 +110,21 @@ class DispatchTable:
         return self.kernels[question][self.index[question][a.code, b.code]]
 
 
+@njit(inline="always")
+def boxes_within(lo, hi, i, j, margin):
+    """Whether the AABBs of rows i and j are at most ``margin`` apart along every axis (closed; ``margin`` = 0: they
+    overlap, as engine.broadphase.pairs.boxes_overlap, to the bit): a pair whose distance is <= margin passes."""
+    for c in range(lo.shape[1]):
+        if lo[i, c] > hi[j, c] + margin or lo[j, c] > hi[i, c] + margin:
+            return False
+    return True
+
+
 @njit
-def classify_pairs(bodies, pairs, index, counts, test_boxes, filtering, keys, no_sensors):
-    """Which candidate pairs of rows (k, 2) go to the narrow phase — their AABBs overlap (closed; a pair with an
-    unbounded shape is kept: its own candidate test allowed for round-off; every pair when not ``test_boxes``) and,
+def classify_pairs(bodies, pairs, index, counts, test_boxes, filtering, keys, no_sensors, margin=0.0):
+    """Which candidate pairs of rows (k, 2) go to the narrow phase — their AABBs overlap (closed; grown by
+    ``margin``: ``boxes_within``; a pair with an unbounded shape is kept: its own candidate test allowed for
+    round-off; every pair when not ``test_boxes``) and,
     when ``filtering``, the filter lets their bodies through (engine.world.filters.pair_passes, with ``keys`` and
     ``no_sensors``) —: their rows (k',) in order, each one's kernel index ``index[kind_i, kind_j]`` (k',), and how
     many the filter dropped; ``counts`` ((kinds, kinds) int64) += the pairs per (kind, kind), lower kind first."""
@@ -122,7 +135,7 @@ def classify_pairs(bodies, pairs, index, counts, test_boxes, filtering, keys, no
     m = filtered = 0
     for p in range(pairs.shape[0]):
         i, j = pairs[p, 0], pairs[p, 1]
-        if test_boxes and bounded[i] and bounded[j] and not boxes_overlap(lo, hi, i, j):
+        if test_boxes and bounded[i] and bounded[j] and not boxes_within(lo, hi, i, j, margin):
             continue
         if filtering:
             bi = owner[i] if owner[i] >= 0 else i  # the bodies the rows answer for (a part: its compound)
@@ -166,10 +179,11 @@ def _next_side(first_part, next_part, b, s):
 
 
 @njit
-def expand_parts(bodies, pairs, test_boxes):
+def expand_parts(bodies, pairs, test_boxes, margin=0.0):
     """Pairs of rows (m, 2) answering the pairs of bodies (k, 2), and the body pair each came from (m,): a pair
     without a compound stands for itself; a compound is replaced by each of its parts whose AABB overlaps the
-    other side's (every part against an unbounded shape, every part when not ``test_boxes``), in the pair's
+    other side's, grown by ``margin`` (every part against an unbounded shape, every part when not ``test_boxes``),
+    in the pair's
     order (Ericson 6.5: descend the hierarchy where the volumes overlap)."""
     first, after, bounded, lo, hi = bodies.first_part, bodies.next_part, bodies.bounded, bodies.lo, bodies.hi
     out = np.empty((2 * pairs.shape[0] + 16, 2), np.int64)
@@ -182,7 +196,7 @@ def expand_parts(bodies, pairs, test_boxes):
             b = _first_side(first, j)
             while b >= 0:
                 whole = a == i and b == j
-                if whole or not (test_boxes and bounded[a] and bounded[b]) or boxes_overlap(lo, hi, a, b):
+                if whole or not (test_boxes and bounded[a] and bounded[b]) or boxes_within(lo, hi, a, b, margin):
                     if m == out.shape[0]:
                         out = np.concatenate((out, np.empty_like(out)))
                         origin = np.concatenate((origin, np.empty_like(origin)))
@@ -194,31 +208,43 @@ def expand_parts(bodies, pairs, test_boxes):
 
 
 #: what ``answer`` returns: ``pairs`` (m, 2) the rows tested (parts for a compound), ``origin`` (m,) the
-#: candidate pair each came from, ``out`` their answers (ContactRows, or times (m,)), ``counts`` the tests per
+#: candidate pair each came from, ``out`` their answers (``answer_rows``), ``counts`` the tests per
 #: (kind, kind), ``filtered`` the pairs the filter dropped
 Answer = namedtuple("Answer", "pairs origin out counts filtered")
 
 _NO_EXCLUSIONS = np.empty(0, np.int64)
 
 
+def answer_rows(question: str, k: int):
+    """The answers of ``question`` for k pairs, before any kernel writes them: ContactRows ("overlap", "contact"),
+    times (k,) all inf ("impact"), DistanceRows ("distance")."""
+    if question == "impact":
+        return np.full(k, np.inf)
+    if question == "distance":
+        return distance_rows(k)
+    return contact_rows(k)
+
+
 def answer(table: DispatchTable, question: str, ctx: NarrowContext, pairs: np.ndarray, keys=None,
-           no_sensors: bool = False) -> Answer:
+           no_sensors: bool = False, margin: float = 0.0) -> Answer:
     """Run ``question`` over candidate pairs of bodies (k, 2): split compounds into parts, keep the pairs whose
-    AABBs overlap (all of them for "impact": the bodies move) and, unless ``keys`` is None (a world with no
+    AABBs overlap (all of them for "impact": the bodies move; for "distance", boxes at most ``margin`` apart:
+    ``margin`` = inf keeps every pair, every part of a compound) and, unless ``keys`` is None (a world with no
     filter, exclusion or sensor: nothing to drop), that the filter lets through (the sorted excluded ``keys``
     of engine.world.filters.Exclusions, ``no_sensors``), then one batched call per kernel of the table."""
     view = ctx.bodies
     test_boxes = question != "impact"
+    margin = float(margin) if question == "distance" else 0.0
     if ctx.has_parts and pairs.shape[0]:
-        rows_pairs, origin = expand_parts(view, pairs, test_boxes)
+        rows_pairs, origin = expand_parts(view, pairs, test_boxes, margin)
     else:
         rows_pairs, origin = pairs, None
     counts = np.zeros((len(KINDS), len(KINDS)), np.int64)
     filtering = keys is not None
     kept, codes, filtered = classify_pairs(view, rows_pairs, table.index[question], counts, test_boxes, filtering,
-                                           _NO_EXCLUSIONS if keys is None else keys, no_sensors)
+                                           _NO_EXCLUSIONS if keys is None else keys, no_sensors, margin)
     tested = np.ascontiguousarray(rows_pairs[kept])
-    out = contact_rows(tested.shape[0]) if question != "impact" else np.full(tested.shape[0], np.inf)
+    out = answer_rows(question, tested.shape[0])
     order, bounds = group_by_code(codes, len(table.kernels[question]))
     for code, kernel in enumerate(table.kernels[question]):
         if bounds[code + 1] > bounds[code]:

@@ -1,6 +1,6 @@
 """The rows of the dispatch table: for every (shape kind, shape kind) pair, the kernel that answers each question
-("overlap", "contact", "impact"; engine/world/dispatch.py), and the batched loops that feed the narrow-phase
-kernels (engine/narrowphase/) from the body store.
+("overlap", "contact", "impact", "distance"; engine/world/dispatch.py), and the batched loops that feed the
+narrow-phase kernels (engine/narrowphase/) from the body store.
 
 Closed forms, exact to round-off:
 - sphere–sphere, sphere–capsule, capsule–capsule: the closest points of their segments (Ericson 5.1.9);
@@ -8,7 +8,9 @@ Closed forms, exact to round-off:
 - every convex body against a ``Plane``: its core points against the half-space; its time of impact is linear;
 - two spheres' time of impact: a quadratic (Ericson 5.5.5).
 Every other pair of convex kinds falls back on GJK distance / GJK + EPA + contact features, and conservative
-advancement for the time of impact (parry's explicit GJK fallback). A convex body against a ``HeightCurve``:
+advancement for the time of impact (parry's explicit GJK fallback); their signed distance is GJK's distance apart
+and EPA's depth overlapping (engine.narrowphase.signed_distance, which also turns the closed forms' contact rows
+into witness points). A convex body against a ``HeightCurve``:
 engine.narrowphase.curve_ground (f is a Python callable). A ``Compound`` is answered part by part. Two grounds
 are never paired (both static): their cells are explicitly unsupported.
 """
@@ -19,11 +21,18 @@ import numpy as np
 from engine._config import njit
 from engine.narrowphase import time_of_impact_pairs
 from engine.narrowphase.box_box import contact_box_box, overlap_box_box
-from engine.narrowphase.contacts import APART, TOUCHING
+from engine.narrowphase.contacts import APART, TOUCHING, contact_rows
 from engine.narrowphase.convex_cores import Cores, gjk_contact_rows, gjk_overlap_rows, pack_cores
 from engine.narrowphase.curve_ground import curve_contact_rows, curve_impact_times, curve_overlap
 from engine.narrowphase.plane import contact_points_plane, impact_time_plane
 from engine.narrowphase.segment_segment import contact_round_cores
+from engine.narrowphase.signed_distance import (
+    convex_distance_rows,
+    curve_distance_rows,
+    distance_plane,
+    sign_like_overlap,
+    witnesses_from_contact,
+)
 from engine.narrowphase.sphere_box import contact_sphere_box
 from engine.narrowphase.sphere_sweep import impact_time_spheres
 
@@ -32,8 +41,9 @@ from .kinds import KINDS
 from .shapes import BOX, CAPSULE, CURVE, PLANE, SPHERE
 
 __all__ = ["ROUND_CORES", "SPHERE_BOX", "BOX_BOX", "BOX_BOX_SAT", "BODY_PLANE", "GJK_DISTANCE", "GJK_EPA",
-           "CURVE_OVERLAP", "CURVE_CONTACT", "SPHERE_SWEEP", "PLANE_SWEEP", "ADVANCEMENT", "CURVE_SWEEP", "ROWS",
-           "TABLE"]
+           "CURVE_OVERLAP", "CURVE_CONTACT", "SPHERE_SWEEP", "PLANE_SWEEP", "ADVANCEMENT", "CURVE_SWEEP",
+           "ROUND_CORES_DISTANCE", "SPHERE_BOX_DISTANCE", "BOX_BOX_DISTANCE", "PLANE_DISTANCE", "GJK_EPA_DISTANCE",
+           "CURVE_DISTANCE", "ROWS", "TABLE"]
 
 
 @njit(inline="always")
@@ -116,6 +126,48 @@ def _plane_sweep_times(bodies, pairs, sel, dt, times):
                                      bodies.center[g], bodies.rotation[g, :, 1], dt)
 
 
+@njit
+def _plane_distances(bodies, pairs, sel, out):
+    for p in sel:
+        a, g, flip = _ground_second(bodies.bounded, pairs, p)
+        distance_plane(bodies.points, bodies.count, bodies.radius, a,
+                       (bodies.center[g, 0], bodies.center[g, 1], bodies.center[g, 2]),
+                       (bodies.rotation[g, 0, 1], bodies.rotation[g, 1, 1], bodies.rotation[g, 2, 1]), out, p, flip)
+
+
+@njit
+def _box_box_touching(bodies, pairs, sel, scratch):
+    touch = np.empty(sel.shape[0], np.bool_)
+    for q in range(sel.shape[0]):
+        a, b, _ = _oriented(bodies.kind, pairs, sel[q])
+        touch[q] = overlap_box_box(bodies.center, bodies.rotation, bodies.half, a, b, scratch)
+    return touch
+
+
+def _witness_rows(rows_kernel):
+    """A distance kernel from a contact kernel whose point 0 lies halfway between the surfaces (the closed forms):
+    the contact rows, then their witnesses."""
+    def run(ctx, pairs, sel, out):
+        rows = contact_rows(pairs.shape[0])
+        rows_kernel(ctx, pairs, sel, rows)
+        witnesses_from_contact(rows, sel, out)
+    return run
+
+
+def _box_box_distances(ctx, pairs, sel, out) -> None:
+    """GJK/EPA on the corners, the sign of the SAT (the overlap question's test: pairs() and the distance agree)."""
+    convex_distance_rows(_cores(ctx.bodies), pairs, sel, out)
+    sign_like_overlap(out, sel, _box_box_touching(ctx.bodies, pairs, sel, ctx.scratch))
+
+
+def _gjk_distances(ctx, pairs, sel, out) -> None:
+    """GJK/EPA on the cores, the sign of the overlap test (core distance − radii <= 0)."""
+    cores = _cores(ctx.bodies)
+    core_distance = convex_distance_rows(cores, pairs, sel, out)
+    pr = pairs[sel]
+    sign_like_overlap(out, sel, core_distance - cores.radius[pr[:, 0]] - cores.radius[pr[:, 1]] <= 0.0)
+
+
 def _cores(bodies) -> Cores:
     return Cores(bodies.points, bodies.count, bodies.radius, bodies.lo, bodies.hi)
 
@@ -148,6 +200,13 @@ def _curve_rows(ctx, pairs, sel, rows, contacts: bool) -> None:
         if contacts:
             curve_contact_rows(curve, bodies.points[body[hit]], bodies.radius[body[hit]], bodies.center[body[hit]],
                                first[hit], rows, at[hit])
+
+
+def _curve_distances(ctx, pairs, sel, out) -> None:
+    bodies = ctx.bodies
+    for curve, at, body, first in _by_curve(ctx, pairs, sel):
+        curve_distance_rows(curve, bodies.points[body], bodies.radius[body], bodies.center[body],
+                            bodies.kind[body] == SPHERE.code, first, out, at)
 
 
 def _curve_times(ctx, pairs, sel, times) -> None:
@@ -183,16 +242,25 @@ PLANE_SWEEP = Kernel("lowest point sweep (linear)", lambda ctx, pairs, sel, out:
 ADVANCEMENT = Kernel("conservative advancement", _advancement_times)
 CURVE_SWEEP = Kernel("bisection on the curve gap", _curve_times)
 
-_GJK = {"overlap": GJK_DISTANCE, "contact": GJK_EPA, "impact": ADVANCEMENT}
-_ROUND = {"overlap": ROUND_CORES, "contact": ROUND_CORES, "impact": ADVANCEMENT}
+ROUND_CORES_DISTANCE = Kernel("closest points of segments, witnesses", _witness_rows(ROUND_CORES.run))
+SPHERE_BOX_DISTANCE = Kernel("closest point of an OBB, witnesses", _witness_rows(SPHERE_BOX.run))
+BOX_BOX_DISTANCE = Kernel("GJK/EPA on the corners, sign of the SAT", _box_box_distances)
+PLANE_DISTANCE = Kernel("lowest core point against a plane", lambda ctx, pairs, sel, out:
+                        _plane_distances(ctx.bodies, pairs, sel, out))
+GJK_EPA_DISTANCE = Kernel("GJK distance / EPA depth", _gjk_distances)
+CURVE_DISTANCE = Kernel("distance to the sampled curve / depth under it", _curve_distances)
+
+_GJK = {"overlap": GJK_DISTANCE, "contact": GJK_EPA, "impact": ADVANCEMENT, "distance": GJK_EPA_DISTANCE}
+_ROUND = {"overlap": ROUND_CORES, "contact": ROUND_CORES, "impact": ADVANCEMENT, "distance": ROUND_CORES_DISTANCE}
 
 #: (kind_a, kind_b), lower code first -> {question: Kernel}
 ROWS: dict = {
     (SPHERE, SPHERE): {**_ROUND, "impact": SPHERE_SWEEP},
     (SPHERE, CAPSULE): _ROUND,
     (CAPSULE, CAPSULE): _ROUND,
-    (SPHERE, BOX): {"overlap": SPHERE_BOX, "contact": SPHERE_BOX, "impact": ADVANCEMENT},
-    (BOX, BOX): {"overlap": BOX_BOX_SAT, "contact": BOX_BOX, "impact": ADVANCEMENT},
+    (SPHERE, BOX): {"overlap": SPHERE_BOX, "contact": SPHERE_BOX, "impact": ADVANCEMENT,
+                    "distance": SPHERE_BOX_DISTANCE},
+    (BOX, BOX): {"overlap": BOX_BOX_SAT, "contact": BOX_BOX, "impact": ADVANCEMENT, "distance": BOX_BOX_DISTANCE},
 }
 for _x, _a in enumerate(KINDS):
     for _b in KINDS[_x:]:
@@ -203,9 +271,11 @@ for _x, _a in enumerate(KINDS):
         elif _a.convex and _b.convex:
             ROWS[_a, _b] = _GJK
         elif PLANE in (_a, _b) and (_a.convex or _b.convex):  # the kernels find the ground by its unboundedness
-            ROWS[_a, _b] = {"overlap": BODY_PLANE, "contact": BODY_PLANE, "impact": PLANE_SWEEP}
+            ROWS[_a, _b] = {"overlap": BODY_PLANE, "contact": BODY_PLANE, "impact": PLANE_SWEEP,
+                            "distance": PLANE_DISTANCE}
         elif CURVE in (_a, _b) and (_a.convex or _b.convex):  # ... and by its kind
-            ROWS[_a, _b] = {"overlap": CURVE_OVERLAP, "contact": CURVE_CONTACT, "impact": CURVE_SWEEP}
+            ROWS[_a, _b] = {"overlap": CURVE_OVERLAP, "contact": CURVE_CONTACT, "impact": CURVE_SWEEP,
+                            "distance": CURVE_DISTANCE}
         else:
             ROWS[_a, _b] = dict.fromkeys(QUESTIONS, unsupported(
                 f"a {_a.name} against a {_b.name}: two static shapes are never paired"))

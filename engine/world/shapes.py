@@ -34,6 +34,7 @@ from engine.bounding.aabb import ROTATION_TOL, as_rotation_matrix
 from engine.bounding.decompose import decompose_mesh
 from engine.bounding.hull import convex_hull
 from engine.narrowphase.curve_ground import curve_candidates
+from engine.narrowphase.ray_hull import hull_planes
 
 from .kinds import ShapeKind, shape_kind
 
@@ -137,11 +138,15 @@ class Shape:
         The radius of the ball that sweeps the core, >= 0 (0 for a polyhedron).
     half : numpy.ndarray, shape (3,), float64
         A box's half extents (zeros for the other kinds).
+    planes : numpy.ndarray, shape (F, 4), float64
+        A polyhedron's face planes (n, e) in the body frame, the solid being n·x <= e, n unit (none for the other
+        kinds).
     """
 
     kind: ShapeKind  # each class sets its own entry
     radius: float = 0.0
     half: np.ndarray = np.zeros(3)
+    planes: np.ndarray = np.zeros((0, 4))
     center: np.ndarray
     rotation: np.ndarray
     local: np.ndarray
@@ -301,6 +306,7 @@ class ConvexPolyhedron(Shape):
         self.center = verts.mean(axis=0)
         self.rotation = np.eye(3)
         self.local = verts - self.center
+        self.planes = hull_planes(self.local)
 
     @classmethod
     def random(cls, rng, center, size) -> ConvexPolyhedron:

@@ -29,7 +29,8 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from engine._validate import as_choice, as_float_array, as_nonnegative
-from engine.broadphase import BROAD_PHASES, cull_separating_box_pairs, find_pairs
+from engine.broadphase import BROAD_PHASES, DynamicAABBTree, cull_separating_box_pairs, find_pairs
+from engine.broadphase.ray_grid import build_ray_grid
 from engine.narrowphase.contacts import (
     FEATURE_NAMES,
     TOUCHING,
@@ -44,16 +45,21 @@ from .broad import StaticPairs, fatten, make_broad_phase
 from .dispatch import NarrowContext, answer
 from .filters import ALL, Exclusions, as_bits, as_group
 from .kinds import KINDS
+from .ray_cast import GRID, LIST, TREE, RayHit, RayHits, RayScene, as_rays, cast_ray_batch, check_threads
+from .ray_rows import RAY_ROWS, ray_bodies
 from .rows import TABLE
 from .shapes import Shape, as_rotation, as_rotation_batch
 
-__all__ = ["World", "ContactSet", "ImpactSet", "WorldStats", "FEATURE_NAMES"]
+__all__ = ["World", "ContactSet", "ImpactSet", "WorldStats", "RayHits", "RayHit", "FEATURE_NAMES"]
 
 # empty stand-ins for the optional arrays of the upload kernel (one compiled signature for every call)
 _NO_VECTORS = np.empty((0, 3))
 _NO_MATRICES = np.empty((0, 3, 3))
 _NO_QUATERNIONS = np.empty((0, 4))
 _NO_PAIRS = np.empty((0, 2), np.int64)
+#: the rays' tree is built again when its summed node sides, over the root's, grow past this factor of the value
+#: it had when built (the bodies moved far from where it was built)
+RAY_TREE_DECAY = 1.5
 #: bits of a part number in the keys that tell the parts of one compound apart (contact persistence)
 _PART_BITS = 20
 
@@ -206,8 +212,12 @@ class World:
     array([0.95])
     """
 
-    def __init__(self, broad_phase: str = "tree"):
+    def __init__(self, broad_phase: str = "tree", *, threads: int = 1):
         self.broad_phase = as_choice(broad_phase, "broad_phase", BROAD_PHASES)
+        self.threads = check_threads(threads)
+        self._version = 0  # bumped by every change of a body: what the ray scene was built for
+        self._ray_scene: tuple[int, RayScene] | None = None
+        self._ray_tree_state: tuple | None = None  # (bodies, tree, quality when built) of the rays' tree
         self._store = BodyStore()
         self._shapes: dict[int, Shape] = {}
         self._grounds: dict[int, Shape] = {}  # the unbounded static shapes, found by their own candidate test
@@ -279,6 +289,7 @@ class World:
         if static and vel.any():
             raise ValueError(f"velocity must be zero for a static body, got {vel.tolist()}")
         body = self._new_body(shape)
+        self._version += 1
         st = self._store
         st.static[body], st.sensor[body] = static, sensor
         st.category[body], st.mask[body], st.group[body] = bits
@@ -297,11 +308,11 @@ class World:
     def _new_body(self, shape) -> int:
         """A store row for the shape (and rows for a compound's parts, linked to it), with a new stamp."""
         st = self._store
-        body = st.new_id(shape.local.shape[0])
+        body = st.new_id(shape.local.shape[0], shape.planes.shape[0])
         st.write_shape(body, shape)
         last = -1
         for k, (part, position, rotation) in enumerate(getattr(shape, "parts", ())):
-            row = st.new_id(part.local.shape[0])
+            row = st.new_id(part.local.shape[0], part.planes.shape[0])
             st.write_shape(row, part)
             st.owner[row], st.part[row] = body, k
             st.part_center[row], st.part_rotation[row] = position, rotation
@@ -331,6 +342,7 @@ class World:
             For an id that is not in this world; ``TypeError`` for a non-integer id.
         """
         body = self._check_id(body_id)
+        self._version += 1
         st = self._store
         if body in self._grounds:
             del self._grounds[body]
@@ -371,6 +383,7 @@ class World:
         c = st.center[body] if center is None else as_float_array(center, "center", shape=(3,))
         rot = None if rotation is None else as_rotation(rotation)
         v = _NO_VECTORS if velocity is None else as_float_array(velocity, "velocity", shape=(3,))[None]
+        self._version += 1
         refresh_bodies(st.view(), np.array([body]), np.array(c)[None], 0 if rot is None else 1,
                        _NO_MATRICES if rot is None else np.ascontiguousarray(rot, dtype=np.float64)[None],
                        _NO_QUATERNIONS, v)
@@ -408,6 +421,7 @@ class World:
         c = as_float_array(centers, "centers", shape=(k, 3))
         mode, rot = (0, None) if rotations is None else as_rotation_batch(rotations, k)
         v = _NO_VECTORS if velocities is None else as_float_array(velocities, "velocities", shape=(k, 3))
+        self._version += 1
         refresh_bodies(st.view(), idx, c, mode, rot if mode == 1 else _NO_MATRICES,
                        rot if mode == 2 else _NO_QUATERNIONS, v)
         self._upload_seconds += time.perf_counter() - t0
@@ -492,6 +506,139 @@ class World:
         if moving and self._store.static[body]:
             raise ValueError(f"{name} {body} is static (level geometry), which cannot move")
         return body
+
+    # -- rays ----------------------------------------------------------------------------------------------
+    def _ray_tree(self, bodies):
+        """A tree over the moving bodies' exact AABBs for the rays: built for a set of bodies, refitted when only
+        their poses changed, built again when they left it much looser than built (``RAY_TREE_DECAY``)."""
+        st = self._store
+        kept = self._ray_tree_state
+        if kept is not None and np.array_equal(kept[0], bodies):
+            if kept[1].refit(st.lo[bodies], st.hi[bodies]) <= RAY_TREE_DECAY * kept[2]:
+                return kept[1]
+        tree = DynamicAABBTree.from_boxes(st.lo[bodies], st.hi[bodies], margin=0.0)
+        self._ray_tree_state = (bodies, tree, tree.refit(st.lo[bodies], st.hi[bodies]))
+        return tree
+
+    def _moving_structure(self, bodies):
+        """(method, tree, tree body ids, grid, grid body ids, listed ids) of the moving bodies, for the rays."""
+        st = self._store
+        none_tree = DynamicAABBTree(dim=3, margin=0.0).arrays()
+        none_grid = build_ray_grid(np.zeros((1, 3)), np.zeros((1, 3)))
+        empty = np.empty(0, np.int64)
+        if self.broad_phase == "brute" or bodies.shape[0] == 0:
+            return LIST, none_tree, empty, none_grid, empty, bodies
+        if self.broad_phase == "grid":
+            return GRID, none_tree, empty, build_ray_grid(st.lo[bodies], st.hi[bodies]), bodies, empty
+        return TREE, self._ray_tree(bodies).arrays(), bodies, none_grid, empty, empty
+
+    def _rays(self) -> RayScene:
+        """The structures the rays walk, built again only when a body changed since (``_version``)."""
+        if self._ray_scene is not None and self._ray_scene[0] == self._version:
+            return self._ray_scene[1]
+        st = self._store
+        bodies = self._moving()
+        method, tree, tree_body, grid, grid_body, listed = self._moving_structure(bodies)
+        static_tree, static_body = self._static.tree_arrays(st)
+        compiled = [g for g in sorted(self._grounds) if RAY_ROWS[self._grounds[g].kind].hit is not None]
+        host = [(g, self._grounds[g]) for g in sorted(self._grounds) if RAY_ROWS[self._grounds[g].kind].hit is None]
+        live = st.live()
+        bounded = live[st.bounded[live]]
+        span = st.hi[bounded].max(axis=0) - st.lo[bounded].min(axis=0) if bounded.size else np.ones(3)
+        view = st.view()
+        scene = RayScene(ray_bodies(view), st.lo, st.hi, st.category, st.sensor, np.array(compiled, np.int64),
+                         static_tree, static_body, method, tree, tree_body, grid, grid_body, listed, host,
+                         max(1.0, 4.0 * float(np.sqrt((span * span).sum()))))
+        self._ray_scene = (self._version, scene)
+        return scene
+
+    def cast_rays(self, origins, directions, max_distance=np.inf, *, mask=ALL, all_hits=False) -> RayHits:
+        """Cast a batch of rays: the nearest body each one hits, or every hit.
+
+        One compiled call for the whole batch (split into ``threads`` chunks): each ray walks the static bodies'
+        tree, the moving bodies' broad-phase structure (the tree of fat boxes, the grid by 3-D DDA, ...) clipped by
+        its nearest hit so far, and tests the bodies it reaches exactly (engine/world/ray_rows.py: spheres, boxes,
+        capsules, hulls, compounds part by part, the Plane; a HeightCurve by sampling and bisection of the height
+        gap, within ``max_distance``, or 4 × the bodies' extent when that is infinite). Sensors are never hit.
+
+        Parameters
+        ----------
+        origins : array_like, shape (k, 3), float64
+            Where the rays start.
+        directions : array_like, shape (k, 3), float64
+            Their directions, of any non-zero length (distances are along the unit direction).
+        max_distance : float or array_like of shape (k,), default inf
+            How far each ray goes, >= 0 (0: only a body containing the origin is hit).
+        mask : int, default ``engine.ALL``
+            A 64-bit set of categories: a body is hit only if ``category & mask`` is non-zero.
+        all_hits : bool, default False
+            Every hit of every ray instead of the nearest.
+
+        Returns
+        -------
+        RayHits
+            Nearest: one row per ray (``body`` −1, ``distance`` inf and NaN point and normal for a miss). A ray
+            that starts inside a body (or on its surface) hits it at distance 0, with normal −direction. Ties in
+            distance go to the lowest id. ``all_hits``: one row per hit, sorted by (ray, distance, body).
+
+        Raises
+        ------
+        ValueError
+            For origins or directions not of shape (k, 3) or not finite, a zero direction, a negative or NaN
+            ``max_distance`` or one of the wrong length (named, with the first bad index); the world is unchanged.
+        TypeError
+            For a non-numeric array, a float ``mask``, or an ``all_hits`` that is not a bool.
+
+        Examples
+        --------
+        >>> from engine import Box, Plane, Sphere, World
+        >>> world = World()
+        >>> ground = world.add(Plane(0.0))
+        >>> ball = world.add(Sphere([0.0, 1.0, 5.0], 0.5))
+        >>> hits = world.cast_rays([[0.0, 1.0, 0.0], [0.0, 3.0, 0.0]], [[0.0, 0.0, 1.0], [0.0, -1.0, 0.0]])
+        >>> hits.body, hits.distance
+        (array([1, 0]), array([4.5, 3. ]))
+        >>> hits.normal[0]
+        array([ 0.,  0., -1.])
+        """
+        o, d, t_max = as_rays(origins, directions, max_distance)
+        bits = as_bits(mask, "mask")
+        every = _flag(all_hits, "all_hits")
+        return cast_ray_batch(self._rays(), o, d, t_max, bits, every, self.threads)
+
+    def cast_ray(self, origin, direction, max_distance=np.inf, *, mask=ALL) -> RayHit | None:
+        """Cast one ray: the nearest body it hits (as ``cast_rays`` for a batch of one).
+
+        Parameters
+        ----------
+        origin, direction : array_like, shape (3,), float64
+            The ray; the direction of any non-zero length.
+        max_distance : float, default inf
+            How far it goes, >= 0.
+        mask : int, default ``engine.ALL``
+            The categories it may hit.
+
+        Returns
+        -------
+        RayHit or None
+            ``body``, ``distance`` (along the unit direction), ``point``, ``normal`` and ``part``; None for a miss.
+
+        Raises
+        ------
+        ValueError, TypeError
+            As ``cast_rays``, naming ``origin``, ``direction`` or ``max_distance``.
+        """
+        o = as_float_array(origin, "origin", shape=(3,))
+        d = as_float_array(direction, "direction", shape=(3,))
+        if not np.sqrt((d * d).sum()) > 0.0:
+            raise ValueError(f"direction must have a non-zero length, got {d.tolist()}")
+        if np.ndim(max_distance) != 0:
+            raise ValueError(f"max_distance must be a scalar, got shape {np.shape(max_distance)}")
+        hits = self.cast_rays(o[None], d[None], max_distance, mask=mask)
+        if hits.body[0] < 0:
+            return None
+        return RayHit(body=int(hits.body[0]), distance=float(hits.distance[0]), point=hits.point[0],
+                      normal=hits.normal[0], part=int(hits.part[0]))
 
     # -- what is in the world ------------------------------------------------------------------------------
     def ids(self) -> np.ndarray:
@@ -850,3 +997,140 @@ class World:
         stats.impacts = int(pairs.shape[0])
         self.stats = stats
         return ImpactSet(pairs=np.ascontiguousarray(pairs[order]), times=times[order])
+
+    # -- distances -----------------------------------------------------------------------------------------
+    def _pair_ids(self, ids_a, ids_b) -> np.ndarray:
+        """ids_a, ids_b as the rows (k, 2) int64 of a pair list: 1-D integer arrays of one length, live ids, no
+        body paired with itself, not two grounds — else TypeError / ValueError naming the argument and the first
+        bad index."""
+        st = self._store
+        cols = []
+        for value, name in ((ids_a, "ids_a"), (ids_b, "ids_b")):
+            idx = np.asarray(value)
+            if idx.dtype.kind not in "iu" or idx.ndim != 1:
+                raise TypeError(f"{name} must be a 1-D integer array, got dtype {idx.dtype} and shape {idx.shape}")
+            cols.append(idx)
+        if cols[0].shape != cols[1].shape:
+            raise ValueError(f"ids_a and ids_b must have the same length, got {cols[0].shape[0]} and "
+                             f"{cols[1].shape[0]}")
+        for idx, name in zip(cols, ("ids_a", "ids_b")):
+            outside = (idx < 0) | (idx >= st.n_ids)
+            at = np.where(outside, 0, idx).astype(np.int64)
+            bad = np.flatnonzero(outside | (st.kind[at] < 0) | (st.owner[at] >= 0))
+            if bad.size:
+                raise ValueError(f"{name}[{bad[0]}] = {idx[bad[0]]} is not a body of this world (never added, or "
+                                 f"removed)")
+        pairs = np.stack([c.astype(np.int64) for c in cols], axis=1).reshape(-1, 2)
+        bad = np.flatnonzero(pairs[:, 0] == pairs[:, 1])
+        if bad.size:
+            raise ValueError(f"ids_b[{bad[0]}] = {pairs[bad[0], 1]} is ids_a[{bad[0]}]: a body has no distance to "
+                             f"itself")
+        bad = np.flatnonzero(~st.bounded[pairs[:, 0]] & ~st.bounded[pairs[:, 1]])
+        if bad.size:
+            raise ValueError(f"ids_a[{bad[0]}] = {pairs[bad[0], 0]} and ids_b[{bad[0]}] = {pairs[bad[0], 1]} are "
+                             f"both grounds: two grounds have no distance")
+        return pairs
+
+    def _distances(self, pairs: np.ndarray, margin: float, keys):
+        """The distance question over pairs of bodies (k, 2): the signed distance (k,) — the least over a
+        compound's parts; inf for a pair none of whose rows passed the box test and the filter — and the two
+        witness points (k, 3) of the row that gave it, with the Answer."""
+        result = answer(TABLE, "distance", self._context(), np.ascontiguousarray(pairs), keys, False, margin)
+        out = result.out
+        k = pairs.shape[0]
+        distance, point_a, point_b = np.full(k, np.inf), np.full((k, 3), np.nan), np.full((k, 3), np.nan)
+        if result.origin.shape[0]:
+            order = np.lexsort((out.distance, result.origin))  # by pair, nearest row first
+            first = order[np.r_[True, result.origin[order][1:] != result.origin[order][:-1]]]
+            at = result.origin[first]
+            distance[at], point_a[at], point_b[at] = out.distance[first], out.point_a[first], out.point_b[first]
+        return distance, point_a, point_b, result
+
+    def closest_points(self, ids_a, ids_b):
+        """The signed distance of each pair of bodies (ids_a[k], ids_b[k]) and its witness points.
+
+        The distance table (engine/world/rows.py): closed forms for sphere–sphere, sphere–capsule,
+        capsule–capsule and sphere–box (the contact kernels' closest points), a body against a Plane (its lowest
+        core point), GJK distance / EPA depth for every other convex pair (box–box with the SAT's verdict on
+        contact), the sampled curve for a HeightCurve; a compound: its nearest part. No broad phase and no filter:
+        the pairs are asked for. The sign follows the overlap test of ``pairs()``: distance <= 0 exactly when the
+        two bodies overlap by that test. Static bodies, and a body against a ground, are allowed.
+
+        Parameters
+        ----------
+        ids_a, ids_b : array_like, shape (k,), int
+            Live ids; ids_a[k] != ids_b[k], not two grounds.
+
+        Returns
+        -------
+        distance : numpy.ndarray, shape (k,), float64
+            The gap when apart (> 0), 0 touching, minus the penetration depth when overlapping (the depth of
+            ``contacts()`` for that pair).
+        point_a, point_b : numpy.ndarray, shape (k, 3), float64
+            On the surface of ids_a[k] and of ids_b[k]: the closest points when apart, the deepest points when
+            overlapping; point_b − point_a is distance times the unit normal from the first body to the second.
+
+        Raises
+        ------
+        TypeError
+            For ids that are not 1-D integer arrays.
+        ValueError
+            For arrays of different lengths, an id that is not live, a body paired with itself or two grounds
+            (naming the argument and the first bad index); the world is unchanged.
+        """
+        pairs = self._pair_ids(ids_a, ids_b)
+        distance, point_a, point_b, result = self._distances(pairs, np.inf, None)
+        stats = WorldStats(query="closest_points", bodies=int(self._moving().shape[0]),
+                           candidate_pairs=int(pairs.shape[0]), narrow_tests=int(result.pairs.shape[0]),
+                           groups=_groups(result.counts))
+        self.stats = stats
+        return distance, point_a, point_b
+
+    def pairs_within(self, margin):
+        """Every canonical pair of bodies whose signed distance is at most ``margin`` (closed), and the distances.
+
+        Broad phase on the AABBs grown by the margin (the moving bodies among themselves with this world's broad
+        phase, against the static tree, the grounds' own candidate tests), the filter of ``pairs()`` (categories,
+        masks, groups, exclusions; sensors are reported, two sensors never report each other; two static bodies
+        are never paired), the boxes at most ``margin`` apart, then the distance table (``closest_points``).
+        ``pairs_within(0.0)`` gives exactly ``pairs()``. Refreshes ``stats``.
+
+        Parameters
+        ----------
+        margin : float
+            >= 0, finite.
+
+        Returns
+        -------
+        pairs : numpy.ndarray, shape (k, 2), int64
+            i < j in every row, rows in lexicographic order.
+        distance : numpy.ndarray, shape (k,), float64
+            Their signed distances (<= margin; negative: penetrating).
+
+        Raises
+        ------
+        ValueError
+            For a negative or non-finite ``margin``; ``TypeError`` for one that is not a real number.
+        """
+        margin = as_nonnegative(margin, "margin")
+        t0 = time.perf_counter()
+        st = self._store
+        bodies = self._moving()
+        grow = 2.0 * margin  # a superset of the boxes at most margin apart, whatever the round-off
+        lo, hi = st.lo[bodies] - grow, st.hi[bodies] + grow
+        rows = find_pairs(lo, hi, self.broad_phase) if bodies.shape[0] > 1 else _NO_PAIRS
+        static = [self._static.query(st, bodies, lo, hi), *self._ground_candidates(bodies, lo, hi)]
+        cand = np.ascontiguousarray(np.concatenate([bodies[rows], *static]))
+        stats = WorldStats(query="pairs_within", bodies=int(bodies.shape[0]), candidate_pairs=int(cand.shape[0]),
+                           static_pairs=int(sum(s.shape[0] for s in static)))
+        t1 = time.perf_counter()
+        distance, _, _, result = self._distances(cand, margin, self._filter_keys())
+        near = distance <= margin
+        pairs, distance = cand[near], distance[near]
+        order = _canonical_order(pairs)
+        stats.narrow_tests, stats.groups = int(result.pairs.shape[0]), _groups(result.counts)
+        stats.filtered, stats.overlapping = int(result.filtered), int(pairs.shape[0])
+        stats.seconds = {"upload": self._upload_seconds, "broad": t1 - t0, "narrow": time.perf_counter() - t1}
+        self._upload_seconds = 0.0
+        self.stats = stats
+        return np.ascontiguousarray(pairs[order]), distance[order]

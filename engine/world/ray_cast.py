@@ -1,0 +1,323 @@
+"""Ray casts against a ``World``: a whole batch of rays through the broad phase's structures in one compiled call.
+
+Each ray o + t·d (d unit, t in [0, t_max]) is answered by every structure that holds bodies, each walked with the
+ray clipped by the nearest hit found so far (Box2D's ``b2DynamicTree_RayCast``; Ericson, *Real-Time Collision
+Detection* 6.5 and 7.4.2):
+
+- the grounds a compiled row answers (``Plane``), one test each;
+- the static bodies' tree (engine/world/broad.py, ``StaticPairs``), depth first, nearer child first;
+- the moving bodies, by the world's broad phase: the dynamic tree of fat boxes ("tree"), a uniform grid walked by
+  the 3-D DDA of Amanatides and Woo ("grid", engine/broadphase/ray_grid.py), every body's box ("brute"), and for
+  the methods that keep no hierarchy ("sap", "octree") a tree built over the AABBs, kept until a body changes;
+- at a body: its AABB's slab test, the filter (its category against the query's mask; sensors are never hit: they
+  are trigger volumes, not surfaces), then the ray table's row for its kind (engine/world/ray_rows.py).
+A nearest-hit query keeps the smallest t (ties: the lowest id, so every structure gives the same answer);
+``every=True`` collects every hit in [0, t_max] instead. Grounds whose shape lives in Python (``HeightCurve``) are
+answered after the compiled pass by their row's batch function. ``threads`` split the rays into contiguous
+chunks run by the same compiled (GIL-free) kernel: each ray's answer is the same bit for bit.
+"""
+from __future__ import annotations
+
+from collections import namedtuple
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass
+
+import numpy as np
+
+from engine._config import MAX_THREADS, njit
+from engine._validate import as_float_array
+from engine.broadphase.ray_aabb import inverse_direction, ray_aabb_interval
+from engine.broadphase.ray_grid import dda_start, dda_step
+
+from .ray_rows import RAY_ROWS, ray_bodies, ray_hit
+
+__all__ = ["RayHits", "RayHit", "RayScene", "TREE", "GRID", "LIST", "as_rays", "cast_ray_batch", "check_threads"]
+
+#: how the scene holds its moving bodies: a tree, a grid, a plain list
+TREE, GRID, LIST = 0, 1, 2
+
+#: what a batch walks (built by the World, engine/world/world.py): ``rb`` the rows' arrays (``ray_bodies``),
+#: ``lo``, ``hi``, ``category``, ``sensor`` the store's; ``grounds`` (g,) the grounds a compiled row answers;
+#: ``static_tree`` (engine.broadphase.TreeArrays) and ``static_body`` (objects → ids); ``method`` (TREE, GRID or
+#: LIST) with ``tree``/``tree_body``, ``grid`` (engine.broadphase.ray_grid.RayGrid)/``grid_body`` or ``listed``
+#: (ids); ``host`` [(id, shape)] the grounds answered in Python; ``reach`` the length a host ground is searched
+#: along a ray of unbounded length
+RayScene = namedtuple("RayScene", "rb lo hi category sensor grounds static_tree static_body method tree tree_body "
+                                  "grid grid_body listed host reach")
+
+
+@dataclass(frozen=True)
+class RayHits:
+    """The answer of ``World.cast_rays``: one row per ray (nearest hit), or one per hit (``all_hits=True``).
+
+    ``len(hits)`` is the number of rows.
+
+    Attributes
+    ----------
+    ray : numpy.ndarray, shape (k,), int64
+        The ray of each row (0 .. rays − 1 in order for the nearest hits; for every hit, rows sorted by (ray,
+        distance, body)).
+    body : numpy.ndarray, shape (k,), int64
+        The id hit, −1 for a miss.
+    distance : numpy.ndarray, shape (k,), float64
+        Along the unit direction, from the origin (0 for a ray starting inside); inf for a miss.
+    point : numpy.ndarray, shape (k, 3), float64
+        origin + distance × unit direction; NaN for a miss.
+    normal : numpy.ndarray, shape (k, 3), float64
+        The outward unit normal of the surface hit (−direction for a ray starting inside); NaN for a miss.
+    part : numpy.ndarray, shape (k,), int64
+        The part hit of a ``Compound`` (0 for other bodies and misses).
+    """
+
+    ray: np.ndarray
+    body: np.ndarray
+    distance: np.ndarray
+    point: np.ndarray
+    normal: np.ndarray
+    part: np.ndarray
+
+    def __len__(self) -> int:
+        return int(self.body.shape[0])
+
+
+@dataclass(frozen=True)
+class RayHit:
+    """The answer of ``World.cast_ray``: ``body`` (int), ``distance`` (float), ``point`` (3,), ``normal`` (3,)
+    and ``part`` (int), as one row of ``RayHits``."""
+
+    body: int
+    distance: float
+    point: np.ndarray
+    normal: np.ndarray
+    part: int
+
+
+def check_threads(threads) -> int:
+    """``threads`` as an int in [1, MAX_THREADS] (TypeError / ValueError naming it)."""
+    if isinstance(threads, bool) or not isinstance(threads, int | np.integer):
+        raise TypeError(f"threads must be an int, got {type(threads).__name__}")
+    if not 1 <= int(threads) <= MAX_THREADS:
+        raise ValueError(f"threads must be in [1, {MAX_THREADS}], got {threads}")
+    return int(threads)
+
+
+def as_rays(origins, directions, max_distance):
+    """(origins (k, 3), unit directions (k, 3), t_max (k,)) checked: finite origins and directions, no zero
+    direction, max_distance >= 0 (inf allowed) as a scalar or (k,) — else ValueError / TypeError naming the
+    argument and the first bad index."""
+    o = as_float_array(origins, "origins", shape=(None, 3))
+    d = as_float_array(directions, "directions", shape=(None, 3))
+    if d.shape[0] != o.shape[0]:
+        raise ValueError(f"directions must have as many rows as origins ({o.shape[0]}), got {d.shape[0]}")
+    length = np.sqrt((d * d).sum(axis=1))
+    bad = np.flatnonzero(~(length > 0.0) | ~np.isfinite(length))
+    if bad.size:
+        raise ValueError(f"directions[{bad[0]}] = {d[bad[0]].tolist()} has no usable length (zero or overflowing)")
+    t_max = np.asarray(max_distance)
+    if t_max.dtype.kind not in "iuf":
+        raise TypeError(f"max_distance must be a real number or array, got dtype {t_max.dtype}")
+    if t_max.ndim > 1 or (t_max.ndim == 1 and t_max.shape[0] != o.shape[0]):
+        raise ValueError(f"max_distance must be a scalar or have shape ({o.shape[0]},), got {t_max.shape}")
+    t_max = np.broadcast_to(t_max.astype(np.float64), (o.shape[0],)).copy()
+    bad = np.flatnonzero(~(t_max >= 0.0))
+    if bad.size:
+        where = f"max_distance[{bad[0]}]" if np.ndim(max_distance) else "max_distance"
+        raise ValueError(f"{where} must be >= 0 (inf allowed), got {t_max[bad[0]]}")
+    return o, d / length[:, None], t_max
+
+
+# -- the compiled walk ------------------------------------------------------------------------------------------
+#: a walk's state: (t, body, nx, ny, nz, part) of the nearest hit so far
+@njit(inline="always")
+def _visit(sc, b, o, d, inv, every, state, hits, r):
+    """Body b met by ray r: the AABB, the filter, the row; keeps the nearer hit (``every``: pushes each one)."""
+    rb, lo, hi, category, sensor, mask = sc
+    if rb[0][b] < 0 or sensor[b] or (category[b] & mask) == 0:
+        return state, hits
+    t0, t1 = ray_aabb_interval(o, d, inv, lo[b], hi[b], state[0])
+    if t0 > t1:
+        return state, hits
+    t, nx, ny, nz, part = ray_hit(rb[0][b], rb, b, o, d, state[0])
+    if t == np.inf:
+        return state, hits
+    if every:
+        return state, _push(hits, r, b, t, nx, ny, nz, part)
+    if t < state[0] or state[1] < 0 or b < state[1]:
+        return (t, b, nx, ny, nz, part), hits
+    return state, hits
+
+
+@njit(inline="always")
+def _push(hits, r, b, t, nx, ny, nz, part):
+    """Append one hit to the growing buffers (ray, body, t, normal, part, count)."""
+    ray, body, dist, normal, parts, n = hits
+    if n == ray.shape[0]:
+        size = 2 * n + 16
+        ray2, body2, dist2 = np.empty(size, np.int64), np.empty(size, np.int64), np.empty(size)
+        normal2, parts2 = np.empty((size, 3)), np.empty(size, np.int64)
+        ray2[:n], body2[:n], dist2[:n], normal2[:n], parts2[:n] = ray, body, dist, normal, parts
+        ray, body, dist, normal, parts = ray2, body2, dist2, normal2, parts2
+    ray[n], body[n], dist[n], parts[n] = r, b, t, part
+    normal[n, 0], normal[n, 1], normal[n, 2] = nx, ny, nz
+    return ray, body, dist, normal, parts, n + 1
+
+
+@njit(inline="always")
+def _walk_tree(sc, tree, body_of, o, d, inv, every, state, hits, r, stack, stack_t):
+    """Depth first through the nodes the clipped ray meets, the nearer child first (Box2D's ray cast)."""
+    root, node_lo, node_hi, child1, child2, obj_of = tree
+    if root < 0:
+        return state, hits
+    t0, t1 = ray_aabb_interval(o, d, inv, node_lo[root], node_hi[root], state[0])
+    if t0 > t1:
+        return state, hits
+    stack[0], stack_t[0], top = root, t0, 1
+    while top > 0:
+        top -= 1
+        node = stack[top]
+        if stack_t[top] > state[0]:
+            continue
+        if child1[node] < 0:
+            state, hits = _visit(sc, body_of[obj_of[node]], o, d, inv, every, state, hits, r)
+            continue
+        a, b = child1[node], child2[node]
+        ta, ea = ray_aabb_interval(o, d, inv, node_lo[a], node_hi[a], state[0])
+        tb, eb = ray_aabb_interval(o, d, inv, node_lo[b], node_hi[b], state[0])
+        if ta > tb:  # push the farther first: the nearer is popped first
+            a, b, ta, ea, tb, eb = b, a, tb, eb, ta, ea
+        if tb <= eb:
+            stack[top], stack_t[top] = b, tb
+            top += 1
+        if ta <= ea:
+            stack[top], stack_t[top] = a, ta
+            top += 1
+    return state, hits
+
+
+@njit(inline="always")
+def _walk_grid(sc, grid, grid_body, o, d, inv, every, state, hits, r, seen):
+    """The cells the ray crosses, in order, until the nearest hit lies before the current cell's exit; ``seen``
+    (per grid box: the last ray that tested it) keeps a box in several cells from being tested twice."""
+    origin, top, side, dims, start, items, large = grid
+    for q in range(large.shape[0]):
+        state, hits = _visit(sc, grid_body[large[q]], o, d, inv, every, state, hits, r)
+    t_enter, t_exit = ray_aabb_interval(o, d, inv, origin, top, state[0])
+    if t_enter > t_exit:
+        return state, hits
+    cells, steps, t_next, t_delta = dda_start(o, d, t_enter, origin, side, dims)
+    slack = 1e-9 * side  # the cell exits are computed: stop only past them by more than their round-off
+    inside = True
+    while inside:
+        c = (cells[0] * dims[1] + cells[1]) * dims[2] + cells[2]
+        for q in range(start[c], start[c + 1]):
+            box = items[q]
+            if seen[box] != r:
+                seen[box] = r
+                state, hits = _visit(sc, grid_body[box], o, d, inv, every, state, hits, r)
+        t_cell = min(t_next[0], t_next[1], t_next[2])
+        if t_cell > t_exit or (not every and state[0] + slack < t_cell):
+            break
+        cells, t_next, inside = dda_step(cells, steps, t_next, t_delta, dims)
+    return state, hits
+
+
+@njit(inline="always")
+def _cast_one(sc, scene, o, d, t_max, every, hits, r, stack, stack_t, seen):
+    grounds, static_tree, static_body, method, tree, tree_body, grid, grid_body, listed = scene
+    inv = inverse_direction(d)
+    state = (t_max, -1, np.nan, np.nan, np.nan, 0)
+    for g in range(grounds.shape[0]):
+        state, hits = _visit(sc, grounds[g], o, d, inv, every, state, hits, r)
+    state, hits = _walk_tree(sc, static_tree, static_body, o, d, inv, every, state, hits, r, stack, stack_t)
+    if method == TREE:
+        state, hits = _walk_tree(sc, tree, tree_body, o, d, inv, every, state, hits, r, stack, stack_t)
+    elif method == GRID:
+        state, hits = _walk_grid(sc, grid, grid_body, o, d, inv, every, state, hits, r, seen)
+    else:
+        for q in range(listed.shape[0]):
+            state, hits = _visit(sc, listed[q], o, d, inv, every, state, hits, r)
+    return state, hits
+
+
+@njit
+def _cast_kernel(r0, r1, every, origins, directions, t_max, sc, scene, out_t, out_body, out_normal, out_part):
+    """Rays r0 .. r1 − 1: the nearest hit of each into the out arrays, or (``every``) every hit, returned as
+    buffers (ray, body, t, normal, part, count)."""
+    static_nodes, tree_nodes = scene[1][1].shape[0], scene[4][1].shape[0]
+    stack = np.empty(max(static_nodes, tree_nodes) + 2, np.int64)
+    stack_t = np.empty(stack.shape[0])
+    seen = np.full(scene[7].shape[0], -1, np.int64)
+    hits = (np.empty(0, np.int64), np.empty(0, np.int64), np.empty(0), np.empty((0, 3)), np.empty(0, np.int64), 0)
+    for r in range(r0, r1):
+        o = (origins[r, 0], origins[r, 1], origins[r, 2])
+        d = (directions[r, 0], directions[r, 1], directions[r, 2])
+        state, hits = _cast_one(sc, scene, o, d, t_max[r], every, hits, r, stack, stack_t, seen)
+        if not every:
+            out_body[r] = state[1]
+            out_t[r] = state[0] if state[1] >= 0 else np.inf
+            out_normal[r, 0], out_normal[r, 1], out_normal[r, 2] = state[2], state[3], state[4]
+            out_part[r] = state[5]
+    return hits
+
+
+# -- the batch --------------------------------------------------------------------------------------------------
+_POOLS: dict[int, ThreadPoolExecutor] = {}
+
+
+def _pool(threads: int) -> ThreadPoolExecutor:
+    if threads not in _POOLS:
+        _POOLS[threads] = ThreadPoolExecutor(max_workers=threads, thread_name_prefix="engine-rays")
+    return _POOLS[threads]
+
+
+def _compiled_args(scene: RayScene, mask: int):
+    sc = (scene.rb, scene.lo, scene.hi, scene.category, scene.sensor, np.uint64(mask))
+    walk = (scene.grounds, scene.static_tree, scene.static_body, scene.method, scene.tree, scene.tree_body,
+            scene.grid, scene.grid_body, scene.listed)
+    return sc, walk
+
+
+def _host_grounds(scene: RayScene, origins, directions, t_max, mask, every, out):
+    """The grounds answered in Python, merged into ``out`` (nearest: (t, body, normal, part) per ray; every: the
+    hit buffers)."""
+    for g, shape in scene.host:
+        if (int(scene.category[g]) & mask) == 0 or scene.sensor[g]:
+            continue
+        reach = np.where(np.isfinite(t_max), t_max, scene.reach)
+        t, normal = RAY_ROWS[shape.kind].host(shape, origins, directions, reach)
+        hit = np.isfinite(t)
+        if every:
+            rows = np.flatnonzero(hit)
+            out = [np.concatenate([a, b]) for a, b in zip(out, (rows, np.full(rows.size, g), t[rows], normal[rows],
+                                                                   np.zeros(rows.size, np.int64)))]
+        else:
+            out_t, out_body, out_normal, _ = out
+            better = hit & ((t < out_t) | ((t == out_t) & ((out_body < 0) | (g < out_body))))
+            out_t[better], out_body[better], out_normal[better] = t[better], g, normal[better]
+            out[3][better] = 0
+    return out
+
+
+def cast_ray_batch(scene: RayScene, origins, directions, t_max, mask: int, every: bool, threads: int) -> RayHits:
+    """Every ray of a checked batch (``as_rays``) through ``scene``: the nearest hits, or every hit (``every``),
+    as ``RayHits``; the rays split into ``threads`` contiguous chunks."""
+    k = origins.shape[0]
+    out = (np.full(k, np.inf), np.full(k, -1, np.int64), np.full((k, 3), np.nan), np.zeros(k, np.int64))
+    sc, walk = _compiled_args(scene, mask)
+    bounds = np.linspace(0, k, min(threads, max(k, 1)) + 1).astype(np.int64)
+
+    def run(c):
+        return _cast_kernel(int(bounds[c]), int(bounds[c + 1]), every, origins, directions, t_max, sc, walk, *out)
+    chunks = [run(0)] if bounds.shape[0] == 2 else list(_pool(threads).map(run, range(bounds.shape[0] - 1)))
+    if every:
+        found = [np.concatenate([c[f][: c[5]] for c in chunks]) for f in range(5)]
+        ray, body, t, normal, part = _host_grounds(scene, origins, directions, t_max, mask, True, found)
+        order = np.lexsort((body, t, ray))
+        ray, body, t, normal, part = ray[order], body[order], t[order], normal[order], part[order]
+    else:
+        t, body, normal, part = _host_grounds(scene, origins, directions, t_max, mask, False, list(out))
+        ray = np.arange(k, dtype=np.int64)
+    point = np.full((t.shape[0], 3), np.nan)
+    hit = body >= 0
+    point[hit] = origins[ray[hit]] + t[hit, None] * directions[ray[hit]]
+    return RayHits(ray=ray, body=body, distance=t, point=point, normal=normal, part=part)

@@ -1,0 +1,155 @@
+"""The ray table: for every shape kind, how a ray meets one body of that kind — the rows the ray traversals of
+engine/world/ray_cast.py call at each body they reach.
+
+A row is a ``RayRow``: ``hit(rb, b, o, d, t_max) -> (t, nx, ny, nz, part)``, compiled, for the body in store row
+b (``rb``: the ``ray_bodies`` tuple of the store's arrays), the ray o + t·d (3-tuples, d unit) and t in
+[0, t_max]: t = inf for a miss, else the distance to the first point of the closed solid and the outward unit
+normal there (a ray starting inside: t = 0, normal −d), ``part`` the compound's part hit (0 otherwise). A kind whose
+shape lives in Python (a ``HeightCurve``'s f) has ``hit = None`` and a ``host(shape, origins, directions, t_max)
+-> (t (k,), normals (k, 3))`` answering a batch, run after the compiled pass.
+
+The exact kernels are in engine/narrowphase/ (ray_sphere, ray_box, ray_capsule, ray_halfspace, ray_hull); a
+``Compound`` asks its parts' rows and keeps the nearest. ``ray_hit`` is the table compiled into one function: a
+chain of ``if kind == code`` links built from the rows, one per kind — a new kind adds a row, not a branch.
+"""
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from engine._config import njit
+from engine.narrowphase.ray_box import ray_box
+from engine.narrowphase.ray_capsule import ray_capsule
+from engine.narrowphase.ray_curve import ray_curve_batch
+from engine.narrowphase.ray_halfspace import ray_halfspace
+from engine.narrowphase.ray_hull import ray_hull
+from engine.narrowphase.ray_sphere import ray_sphere
+
+from .kinds import KINDS, ShapeKind
+from .shapes import BOX, CAPSULE, COMPOUND, CURVE, HULL, PLANE, SPHERE
+
+__all__ = ["RayRow", "RAY_ROWS", "ray_bodies", "ray_hit"]
+
+
+@dataclass(frozen=True, eq=False)
+class RayRow:
+    """How a ray meets a body of one kind (see the module docstring): ``hit`` compiled, or ``host`` for a batch."""
+
+    name: str
+    hit: Callable | None = None
+    host: Callable | None = None
+
+
+def ray_bodies(bodies) -> tuple:
+    """The store's arrays the rows read (engine.world.bodies.BodyArrays → a plain tuple, for the compiled code):
+    (kind, center, rotation, radius, half, points, planes, n_planes, first_part, next_part, part)."""
+    return (bodies.kind, bodies.center, bodies.rotation, bodies.radius, bodies.half, bodies.points, bodies.planes,
+            bodies.n_planes, bodies.first_part, bodies.next_part, bodies.part)
+
+
+@njit(inline="always")
+def _p3(a, b, v):
+    return a[b, v, 0], a[b, v, 1], a[b, v, 2]
+
+
+@njit(inline="always")
+def _v3(a, b):
+    return a[b, 0], a[b, 1], a[b, 2]
+
+
+@njit(inline="always")
+def _with_part(hit, part):
+    return hit[0], hit[1], hit[2], hit[3], part
+
+
+@njit(inline="always")
+def _sphere(rb, b, o, d, t_max):
+    return _with_part(ray_sphere(o, d, t_max, _p3(rb[5], b, 0), rb[3][b]), 0)
+
+
+@njit(inline="always")
+def _box(rb, b, o, d, t_max):
+    return _with_part(ray_box(o, d, t_max, _v3(rb[1], b), rb[2][b], _v3(rb[4], b)), 0)
+
+
+@njit(inline="always")
+def _capsule(rb, b, o, d, t_max):
+    return _with_part(ray_capsule(o, d, t_max, _p3(rb[5], b, 0), _p3(rb[5], b, 1), rb[3][b]), 0)
+
+
+@njit(inline="always")
+def _hull(rb, b, o, d, t_max):
+    return _with_part(ray_hull(o, d, t_max, _v3(rb[1], b), rb[2][b], rb[6][b], rb[7][b]), 0)
+
+
+@njit(inline="always")
+def _plane(rb, b, o, d, t_max):
+    R = rb[2][b]
+    return _with_part(ray_halfspace(o, d, t_max, _v3(rb[1], b), (R[0, 1], R[1, 1], R[2, 1])), 0)
+
+
+@njit(inline="always")
+def _miss(kind, rb, b, o, d, t_max):
+    return np.inf, np.nan, np.nan, np.nan, 0
+
+
+def _link(code: int, hit, rest):
+    """``if kind == code: hit(...) else rest(...)``: one link of the compiled table."""
+    @njit(inline="always")
+    def link(kind, rb, b, o, d, t_max):
+        if kind == code:
+            return hit(rb, b, o, d, t_max)
+        return rest(kind, rb, b, o, d, t_max)
+    return link
+
+
+def _chain(rows: dict) -> Callable:
+    """The rows with a compiled ``hit`` as one function ``(kind, rb, b, o, d, t_max)``; other kinds miss."""
+    chain = _miss
+    for kind, row in rows.items():
+        if row.hit is not None:
+            chain = _link(kind.code, row.hit, chain)
+    return chain
+
+
+#: the convex kinds' rows: what a compound's parts are
+_PART_ROWS: dict[ShapeKind, RayRow] = {
+    SPHERE: RayRow("sphere: the stable quadratic", _sphere),
+    BOX: RayRow("box: slabs in the box frame", _box),
+    CAPSULE: RayRow("capsule: cylinder and end spheres", _capsule),
+    HULL: RayRow("hull: clipping by the face planes", _hull),
+}
+_part_hit = _chain(_PART_ROWS)
+
+
+@njit(inline="always")
+def _compound(rb, b, o, d, t_max):
+    """The nearest part hit (ties: the first part)."""
+    best_t, nx, ny, nz, best_part = np.inf, np.nan, np.nan, np.nan, 0
+    s = rb[8][b]
+    while s >= 0:
+        t, mx, my, mz, _ = _part_hit(rb[0][s], rb, s, o, d, min(t_max, best_t))
+        if t < best_t:
+            best_t, nx, ny, nz, best_part = t, mx, my, mz, rb[10][s]
+        s = rb[9][s]
+    return best_t, nx, ny, nz, best_part
+
+
+def _curve_batch(shape, origins, directions, t_max):
+    """A HeightCurve's rays: four gap samples per sample of its narrow test along each ray."""
+    return ray_curve_batch(shape.height, shape.slope, 4 * shape.samples, origins, directions, t_max)
+
+
+#: kind → its row (every registered kind has one: properties/test_world_rays.py checks it)
+RAY_ROWS: dict[ShapeKind, RayRow] = {
+    **_PART_ROWS,
+    COMPOUND: RayRow("compound: the nearest of its parts", _compound),
+    PLANE: RayRow("plane: the half-space below it", _plane),
+    CURVE: RayRow("curve: sampling and bisection of the height gap", host=_curve_batch),
+}
+assert all(kind in RAY_ROWS for kind in KINDS), "every shape kind needs its row in the ray table"
+
+#: the table compiled: ``ray_hit(kind, rb, b, o, d, t_max) -> (t, nx, ny, nz, part)``
+ray_hit = _chain(RAY_ROWS)
