@@ -51,6 +51,7 @@ from bench.query_peers import (
     shape_casts,
 )
 from bench.ray_reference import agreement, ray_reference
+from engine.world import World
 
 REPEATS = 3
 #: rays of the agreement check at N = 1e5 (the brute-force reference tests every body)
@@ -159,6 +160,8 @@ def test_bench_rays(benchmark, quick, peer, workload, n):
 def test_bench_shape_casts(benchmark, quick, shape, n):
     if quick and n > 1_000:
         pytest.skip("--quick: N = 1e3 only")
+    if not hasattr(World, "cast_shape"):
+        pytest.skip("World.cast_shape is not in this checkout")
     scene, _ = _scene(n)
     casts = shape_casts(scene, shape)
     engine = _peers.get(("World tree", n)) or WorldRays(scene, "tree")
