@@ -24,7 +24,7 @@ from .narrowphase import (
     overlap_convex_sat_pairs,
     time_of_impact,
 )
-from .world import ALL, Box, Capsule, Compound, ConvexPolyhedron, HeightCurve, Plane, Sphere, World
+from .world import ALL, Box, Capsule, Compound, ConvexPolyhedron, HeightCurve, Plane, ShapeHit, Sphere, World
 
 
 def _installed_version() -> str:
@@ -54,4 +54,5 @@ __all__ = [
     "simulate_gas", "GasResult",
     # the collision pipeline: shapes and World
     "Sphere", "Box", "Capsule", "ConvexPolyhedron", "Compound", "Plane", "HeightCurve", "World", "ALL",
+    "ShapeHit",
 ]

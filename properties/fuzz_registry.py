@@ -847,6 +847,7 @@ NOT_CALLABLE_API = {
     "BisectionResult": "result record (dataclass)", "FallResult": "result record", "CubeDrop": "result record",
     "Impact": "result record", "ConvexHull": "result record built by convex_hull", "Contact": "result record",
     "GasResult": "result record",
+    "ShapeHit": "result record built by World.cast_shape",
     "ContactBatch": "result record built by contact_feature_pairs", "BROAD_PHASES": "constant",
     "KDOP_SIZES": "constant",
     "BOUNDING_KINDS": "constant", "GAS_METHODS": "constant", "GAS_BOUNDARIES": "constant",

@@ -6,7 +6,8 @@ structure-of-arrays body store and the compiled pose upload), ``engine.world.bro
 across frames: the moving bodies', the static bodies'), ``engine.world.filters`` (categories, masks, groups,
 exclusions, sensors), ``engine.world.dispatch`` (the dispatch machinery: shape kind × shape kind × question →
 kernel) and ``engine.world.rows`` (its rows), ``engine.world.world`` (World: the frame, with per-stage counters
-and times, and its events).
+and times, and its events), ``engine.world.shape_queries`` (a box or a shape against the world: ``query_aabb``,
+``overlap``, ``cast_shape`` and its ``ShapeHit``).
 """
 from __future__ import annotations
 
@@ -17,8 +18,9 @@ from .dispatch import QUESTIONS, UnsupportedQuery
 from .filters import ALL
 from .kinds import KINDS
 from .rows import TABLE
+from .shape_queries import ShapeHit
 from .shapes import *  # noqa: F403 (the shape classes: shapes.__all__)
 from .world import ImpactSet, World, WorldStats
 
-__all__ = [*shapes.__all__, "World", "ContactSet", "ImpactSet", "WorldStats", "ALL", "KINDS", "TABLE",
+__all__ = [*shapes.__all__, "World", "ContactSet", "ImpactSet", "ShapeHit", "WorldStats", "ALL", "KINDS", "TABLE",
            "QUESTIONS", "UnsupportedQuery", "describe_point_id"]

@@ -29,6 +29,13 @@ normal (+y).
 ``view()`` returns the arrays as a ``BodyArrays`` bundle (no copy: the compiled kernels' argument);
 ``World.bodies()`` gives users read-only views of the live rows.
 
+Scratch rows (``scratch(shape)``, the world's shape queries): a query shape (a compound with its parts) is
+written into the rows just past ``n_ids``, placed at its pose, and wiped back to fresh rows on exit — the rows
+past ``n_ids`` are never read by the world and never hold a body (``new_id`` hands out ``n_ids`` only after the
+free heap is empty), so ids, ``free`` and ``n_ids`` are untouched. More rows are made for good when needed (as
+an ``add`` would); a query shape with more core points than the rows hold runs on grown copies of the arrays,
+and the original arrays are put back on exit.
+
 Rotations of an update: ``(k, 3, 3)`` matrices (columns = the body axes, orthonormal with det +1, to
 ``ROTATION_TOL``), ``(k, 4)`` unit quaternions in (w, x, y, z) order (scalar first, as MuJoCo and scipy's
 ``as_quat(scalar_first=True)``; not normalised for you), or a ``scipy.spatial.transform.Rotation`` of length k
@@ -38,6 +45,8 @@ from __future__ import annotations
 
 import heapq
 from collections import namedtuple
+from collections.abc import Iterator
+from contextlib import contextmanager
 
 import numpy as np
 
@@ -136,11 +145,68 @@ class BodyStore:
         body = heapq.heappop(self.free) if self.free else self.n_ids
         if body == self.n_ids:
             self.n_ids += 1
-        if body >= self.capacity or m > self.local.shape[1] or f > self.planes.shape[1]:
-            old = {name: getattr(self, name) for name in (*_FIELDS, *_CORE, _PLANES)}
-            self._alloc(max(self.capacity, 2 * body + 2), max(m, self.local.shape[1]),
-                        max(f, self.planes.shape[1]), old)
+        self._reserve(body + 1, m, f)
         return body
+
+    def _reserve(self, rows: int, m: int, f: int = 0) -> None:
+        """Room for rows 0 to rows - 1, m core points and f face planes per row (the arrays grow, their content
+        kept)."""
+        if rows > self.capacity or m > self.local.shape[1] or f > self.planes.shape[1]:
+            old = {name: getattr(self, name) for name in (*_FIELDS, *_CORE, _PLANES)}
+            self._alloc(max(self.capacity, 2 * rows), max(m, self.local.shape[1]), max(f, self.planes.shape[1]),
+                        old)
+
+    @contextmanager
+    def scratch(self, shape) -> Iterator[list[int]]:
+        """Hold ``shape`` in scratch rows past the live ones while the block runs (see the module docstring).
+
+        Yields the rows: ``[row, *parts]`` — the shape's row (``n_ids``), then a compound's parts (owner = row,
+        linked as ``World.add`` links them); every row placed at the shape's pose (``center``, ``rotation``), with
+        zero velocity and the default filter. On exit, normal or not, the rows are fresh again (the ``_FIELDS``
+        fills, identity rotations, zero points). Room for more rows is made for good (the capacity is not part of
+        what ``World.bodies()`` shows); when the shape has more core points than the store's rows hold, the block
+        runs on grown copies and the old arrays are put back on exit (a copy of the store per such query). A
+        ground (unbounded shape) is refused: ValueError.
+        """
+        if not shape.kind.bounded:
+            raise ValueError(f"shape must be a bounded body shape, got a {shape.kind.name} (a ground)")
+        parts = getattr(shape, "parts", ())
+        first = self.n_ids
+        rows = list(range(first, first + 1 + len(parts)))
+        self._reserve(rows[-1] + 1, self.local.shape[1])  # more rows, kept: rows past n_ids are never shown
+        arrays = {name: getattr(self, name) for name in (*_FIELDS, *_CORE, _PLANES)}
+        try:
+            shapes = (shape, *(p[0] for p in parts))
+            self._reserve(rows[-1] + 1, max(s.local.shape[0] for s in shapes), max(s.planes.shape[0] for s in shapes))
+            self.write_shape(first, shape)
+            for k, ((part, position, rotation), row) in enumerate(zip(parts, rows[1:])):
+                self.write_shape(row, part)
+                self.owner[row], self.part[row] = first, k
+                self.part_center[row], self.part_rotation[row] = position, rotation
+                if k == 0:
+                    self.first_part[first] = row
+                else:
+                    self.next_part[row - 1] = row
+            self.fat_lo[first], self.fat_hi[first] = np.inf, -np.inf
+            refresh_bodies(self.view(), np.array([first]), np.asarray(shape.center, np.float64)[None], 1,
+                           np.ascontiguousarray(shape.rotation, dtype=np.float64)[None], np.empty((0, 4)),
+                           np.zeros((1, 3)))
+            yield rows
+        finally:
+            if self.kind is arrays["kind"]:
+                self._wipe(first, len(rows))
+            else:  # the arrays grew for the query: the old ones, untouched, come back (views of them stay live)
+                for name, arr in arrays.items():
+                    setattr(self, name, arr)
+
+    def _wipe(self, first: int, k: int) -> None:
+        """Rows first to first + k - 1 back to fresh rows (as ``_alloc`` makes them)."""
+        rows = slice(first, min(first + k, self.capacity))
+        for name, (_, _, fill) in _FIELDS.items():
+            getattr(self, name)[rows] = fill
+        for name in (*_CORE, _PLANES):
+            getattr(self, name)[rows] = 0.0
+        self.rotation[rows] = self.part_rotation[rows] = np.eye(3)
 
     def write_shape(self, body: int, shape) -> None:
         """Row ``body`` from a shape's core (``local``, ``radius``, ``half``) and its kind's flags; the pose is

@@ -48,6 +48,7 @@ from .kinds import KINDS
 from .ray_cast import GRID, LIST, TREE, RayHit, RayHits, RayScene, as_rays, cast_ray_batch, check_threads
 from .ray_rows import RAY_ROWS, ray_bodies
 from .rows import TABLE
+from .shape_queries import ShapeHit, as_box, as_query_shape, bodies_in_box, cast, overlapping_bodies
 from .shapes import Shape, as_rotation, as_rotation_batch
 
 __all__ = ["World", "ContactSet", "ImpactSet", "WorldStats", "RayHits", "RayHit", "FEATURE_NAMES"]
@@ -795,6 +796,128 @@ class World:
         """
         b = self._check_id(body_id, bounded=True)
         return self._store.lo[b].copy(), self._store.hi[b].copy()
+
+    # -- shape queries -------------------------------------------------------------------------------------
+    def query_aabb(self, lo, hi, *, mask=ALL) -> np.ndarray:
+        """The bodies whose AABBs overlap the closed box [lo, hi] (touching counts).
+
+        Moving and static bodies by their current AABB (``aabb(i)``); a ground (``Plane``, ``HeightCurve``: its
+        AABB is the whole space) when its kind's candidate test accepts the box (a box wholly above a Plane does
+        not report it); a compound by its id (never its parts); sensors included. The query has no category of
+        its own: a body is reported iff ``category_body & mask != 0``, whatever the body's mask, group and
+        exclusions. Reads no broad-phase structure (one vectorised pass over the store); changes nothing in the
+        world (``stats`` included).
+
+        Parameters
+        ----------
+        lo, hi : array_like, shape (3,)
+            The box's corners, finite, ``lo <= hi`` on every axis.
+        mask : int, default ``engine.ALL``
+            The categories to report: a 64-bit set (an int in [0, 2^64)).
+
+        Returns
+        -------
+        numpy.ndarray, shape (k,), int64
+            The ids, ascending.
+
+        Raises
+        ------
+        ValueError
+            For ``lo`` or ``hi`` not of shape (3,) or not finite, ``lo > hi`` on an axis, a negative or over-64-bit
+            ``mask``.
+        TypeError
+            For non-numeric corners, or a ``mask`` that is not an int.
+        """
+        box_lo, box_hi = as_box(lo, hi)
+        return bodies_in_box(self._store, self._grounds, box_lo, box_hi, as_bits(mask, "mask"))
+
+    def overlap(self, shape, *, mask=ALL) -> np.ndarray:
+        """The bodies whose shapes overlap ``shape`` at its pose (closed: touching counts), exactly.
+
+        The candidates are the bodies whose AABBs overlap the shape's (grounds: their kind's candidate test, as
+        ``query_aabb``); each is tested through the overlap table, as ``pairs()`` tests a pair (a compound, query
+        or body, part by part). Sensors are reported (they are bodies; leave them out with ``mask``). A body is
+        reported iff ``category_body & mask != 0``. The shape is not added: ids, filters, events, contacts and
+        ``stats`` are unchanged.
+
+        Parameters
+        ----------
+        shape : Shape
+            A ``Sphere``, ``Box``, ``Capsule``, ``ConvexPolyhedron`` or ``Compound``, at its pose as built.
+        mask : int, default ``engine.ALL``
+            The categories to report: a 64-bit set.
+
+        Returns
+        -------
+        numpy.ndarray, shape (k,), int64
+            The ids, ascending.
+
+        Raises
+        ------
+        TypeError
+            For a ``shape`` that is not an engine shape, a ``mask`` that is not an int.
+        ValueError
+            For a ground (``Plane``, ``HeightCurve``) as ``shape``, a negative or over-64-bit ``mask``.
+        """
+        shape = as_query_shape(shape)
+        return overlapping_bodies(self._store, self._grounds, self._compounds > 0, shape, as_bits(mask, "mask"))
+
+    def cast_shape(self, shape, displacement, *, mask=ALL) -> ShapeHit | None:
+        """The first body that ``shape`` touches when translated from its pose by ``fraction * displacement``,
+        fraction in [0, 1] (a shape cast: the rotation stays; every body holds still, its velocity unused).
+
+        Candidates: the bodies whose AABBs overlap the swept AABB of the shape (grounds by their candidate test on
+        that box), with ``category_body & mask != 0``; sensors are never hit (as in ``time_of_impact``). Each
+        candidate's fraction comes from the impact table with the shape's velocity = ``displacement`` over
+        dt = 1: closed forms for two spheres and for a Plane, conservative advancement otherwise (the distance at
+        the returned fraction is <= 1e-9, so a shape that far from a body counts as touching it), bisection for a
+        HeightCurve; the earliest wins, ties to the lowest id. The point and normal are the contact's at the pose
+        moved to that fraction (a pair still apart there by the tolerance: GJK's closest points; see
+        engine/world/shape_queries.py). The world is unchanged.
+
+        Parameters
+        ----------
+        shape : Shape
+            A ``Sphere``, ``Box``, ``Capsule``, ``ConvexPolyhedron`` or ``Compound``, at its start pose.
+        displacement : array_like, shape (3,)
+            The translation of the whole sweep, finite (zero: whether the shape touches a body where it is).
+        mask : int, default ``engine.ALL``
+            The categories that can be hit: a 64-bit set.
+
+        Returns
+        -------
+        ShapeHit or None
+            ``fraction`` (0 when the shape touches a body at its start), ``body`` (the id), ``point`` (3,) and
+            ``normal`` (3,) (unit, from the body hit towards the cast shape); None when nothing is hit.
+
+        Raises
+        ------
+        TypeError
+            For a ``shape`` that is not an engine shape, a non-numeric ``displacement``, a ``mask`` that is not an
+            int.
+        ValueError
+            For a ground as ``shape``, a ``displacement`` not of shape (3,) or not finite, a bad ``mask``.
+        engine.narrowphase.TOINotConverged
+            When conservative advancement reaches its iteration cap.
+
+        Examples
+        --------
+        A ball of radius 0.5 dropped 3 down onto a static box whose top is at y = 0.5:
+
+        >>> from engine import Box, Sphere, World
+        >>> world = World()
+        >>> floor = world.add(Box([0.0, 0.0, 0.0], [2.0, 0.5, 2.0]), static=True)
+        >>> hit = world.cast_shape(Sphere([0.0, 2.0, 0.0], 0.5), [0.0, -3.0, 0.0])
+        >>> hit.body == floor, round(hit.fraction, 12), hit.normal.round(12) + 0.0, hit.point.round(12) + 0.0
+        (True, 0.333333333333, array([0., 1., 0.]), array([0. , 0.5, 0. ]))
+        >>> world.cast_shape(Sphere([0.0, 2.0, 0.0], 0.5), [3.0, 0.0, 0.0]) is None
+        True
+        >>> world.overlap(Sphere([0.0, 1.0, 0.0], 0.5)), world.query_aabb([-1, 3, -1], [1, 4, 1])
+        (array([0]), array([], dtype=int64))
+        """
+        shape = as_query_shape(shape)
+        move = as_float_array(displacement, "displacement", shape=(3,))
+        return cast(self._store, self._grounds, self._compounds > 0, shape, move, as_bits(mask, "mask"))
 
     # -- the frame -----------------------------------------------------------------------------------------
     def _moving(self) -> np.ndarray:
