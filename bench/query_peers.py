@@ -166,8 +166,16 @@ class WorldRays:
         return np.asarray(raw.body), np.asarray(raw.distance), np.asarray(raw.normal)
 
     def cast_shapes(self, casts: ShapeCasts) -> list:
+        """Each cast's ``ShapeHit`` or None; a cast that raises gives its exception instead (counted and shown
+        by the report rather than stopping the batch)."""
         cast = self.world.cast_shape
-        return [cast(s, d) for s, d in zip(casts.shapes, casts.displacements)]
+        out = []
+        for s, d in zip(casts.shapes, casts.displacements):
+            try:
+                out.append(cast(s, d))
+            except RuntimeError as error:
+                out.append(error)
+        return out
 
 
 class BulletRays:

@@ -154,11 +154,16 @@ def _cast_table(df: pd.DataFrame) -> list[str]:
              "or a randomly turned box (half extents 0.3, 0.2, 0.1) from points uniform in the scene's box, "
              "displacements of random direction and length up to a quarter of the scene's size; one Python call "
              "per cast. pybullet and MuJoCo have no shape cast in their Python APIs.", "",
-             "| N | shape | casts/s | µs per cast | hits |", "|---:|---|---:|---:|---:|"]
+             "| N | shape | casts/s | µs per cast | hits | casts that raised |", "|---:|---|---:|---:|---:|---:|"]
+    errors = []
     for _, r in g.sort_values(["n", "workload"]).iterrows():
+        failed = int(_get(r, "errors")) if _get(r, "errors") == _get(r, "errors") else 0
         lines.append(f"| {r.n:,} | {r.workload} | {r.per_second:,.0f} | {1e6 / r.per_second:,.1f} | "
-                     f"{int(r.hits):,} |")
-    return lines + [""]
+                     f"{int(r.hits):,} | {failed:,} |")
+        if failed:
+            errors.append(f"- N = {r.n:,}, {r.workload}: {failed:,} of {int(r.work):,} casts raised "
+                          f"(the first: `{r.first_error}`); they are timed with the batch and not counted as hits.")
+    return lines + [""] + (errors + [""] if errors else [])
 
 
 def queries_markdown(df: pd.DataFrame, info: dict, command: str = "python -m bench.report") -> str:

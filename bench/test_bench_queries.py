@@ -29,7 +29,8 @@ agree within 1e-9 × the scene's size), ``distance_error_median`` / ``_max``, ``
 
 ``test_bench_shape_casts`` — ``CASTS`` = 1,000 ``World.cast_shape`` calls of a sphere (r = 0.3) or a turned box
 over random displacements (group "Queries: shape casts, N = <n>"); the peers have no shape cast in their Python
-APIs. ``work`` = the casts; ``extra_info`` adds ``hits``.
+APIs. ``work`` = the casts; ``extra_info`` adds ``hits`` and ``errors`` (casts for which ``cast_shape`` raised a
+RuntimeError, kept in the batch and counted; ``first_error`` its message).
 
 Run: ``python -m pytest bench/test_bench_queries.py --benchmark-only -q`` (``--quick``: N = 1e3 only;
 ``-m large`` for N = 1e5).
@@ -51,7 +52,6 @@ from bench.query_peers import (
     shape_casts,
 )
 from bench.ray_reference import agreement, ray_reference
-from engine.world import World
 
 REPEATS = 3
 #: rays of the agreement check at N = 1e5 (the brute-force reference tests every body)
@@ -160,14 +160,14 @@ def test_bench_rays(benchmark, quick, peer, workload, n):
 def test_bench_shape_casts(benchmark, quick, shape, n):
     if quick and n > 1_000:
         pytest.skip("--quick: N = 1e3 only")
-    if not hasattr(World, "cast_shape"):
-        pytest.skip("World.cast_shape is not in this checkout")
     scene, _ = _scene(n)
     casts = shape_casts(scene, shape)
     engine = _peers.get(("World tree", n)) or WorldRays(scene, "tree")
     benchmark.group = f"Queries: shape casts, N = {n:,}"
     hits = benchmark.pedantic(engine.cast_shapes, args=(casts,), rounds=REPEATS, iterations=1, warmup_rounds=1)
+    errors = [h for h in hits if isinstance(h, Exception)]
     benchmark.extra_info.update({
         "suite": "queries", "query": "shape cast", "workload": f"{shape} cast", "n": n, "peer": "World tree",
         "call": "World.cast_shape", "work": len(casts.shapes), "unit": "casts", "scene_size": scene_size(scene),
-        "hits": sum(h is not None for h in hits)})
+        "hits": sum(h is not None and not isinstance(h, Exception) for h in hits),
+        "errors": len(errors), "first_error": str(errors[0]) if errors else ""})
