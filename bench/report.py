@@ -32,6 +32,7 @@ import pandas as pd
 
 from bench.report_broadphase import broadphase_section
 from bench.report_narrowphase import narrowphase_section
+from bench.report_queries import queries_section
 from bench.report_world import world_section
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -197,6 +198,7 @@ def main(quick: bool = False, out: Path | str = "reports", scheduler: str | None
         sections += broadphase_matrix_section(out, info, quick, client, where)
     sections += narrowphase_section(json_path, out, info, quick)
     sections += world_section(json_path, out, info, quick)
+    sections += queries_section(json_path, out, info, quick)
     write_index(out, sections, info)
     print(f"[report] wrote {out}", flush=True)
     return 0

@@ -57,8 +57,9 @@ class EngineFrame:
     name = "engine"
 
     def __init__(self, scene: FrameScene, broad_phase: str = "tree", level: StaticBoxes | None = None,
-                 filters=None):
-        self.world = World(broad_phase)
+                 filters=None, threads: int | None = None):
+        # threads: World's thread count (None: its default)
+        self.world = World(broad_phase) if threads is None else World(broad_phase, threads=threads)
         self.ids = np.array([self.world.add(s) for s in scene.shapes], np.int64)
         if scene.ground is not None:
             self.world.add(Plane(scene.ground))
