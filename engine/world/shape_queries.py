@@ -24,9 +24,10 @@ wiped on exit, also after an error), then its candidate pairs (body, query) go t
   a HeightCurve; the earliest fraction wins, ties to the lowest id. Point and normal: the contact question at the
   pose moved to that fraction; when the pair is still apart there by the advancement's tolerance, a bounded body
   gives GJK's closest points instead (normal along them, point halfway between the two surfaces: exact to
-  round-off at that pose), a ground gives the contact of the pose pushed down (−y) by the smallest of 1e-12,
-  2e-12, 4e-12, ... times the scene's scale that touches (the point is then off the pose at the fraction by that
-  push, ~1e-9 at most in practice).
+  round-off at that pose); a ground, or cores that meet to round-off with no contact row yet, give the contact of
+  the pose pushed on along the cast (towards the body's centre for no displacement, down into a ground) by the
+  smallest of 1e-12, 2e-12, 4e-12, ... times the scene's scale that touches (the point is then off the pose at
+  the fraction by that push, ~1e-9 at most in practice).
 """
 from __future__ import annotations
 
@@ -155,7 +156,8 @@ def cast(store: BodyStore, grounds: dict, has_compounds: bool, shape: Shape, dis
         fraction = float(min(max(times[first], 0.0), 1.0))
         body = int(cand[first])
         center = shape.center + fraction * displacement
-        point, normal = _touch(store, grounds, has_parts, shape, rows, body, center)
+        point, normal = _touch(store, grounds, has_parts, shape, rows, body, center,
+                               _push_direction(store, body, center, displacement))
         return ShapeHit(fraction=fraction, body=body, point=point, normal=normal)
 
 
@@ -193,18 +195,30 @@ def _closest(store: BodyStore, body: int, rows: list) -> tuple[np.ndarray, np.nd
     return None if best is None else (best[1], best[2])
 
 
-def _touch(store, grounds, has_parts, shape, rows, body, center):
+def _push_direction(store, body, center, displacement) -> np.ndarray:
+    """Where to push the query into the body it hit when its kernels see no contact yet: along the cast, or
+    (no displacement) towards the body's centre, or down into a ground."""
+    length = float(np.linalg.norm(displacement))
+    if length > 0.0:
+        return displacement / length
+    towards = store.center[body] - center
+    if store.bounded[body] and np.linalg.norm(towards) > 0.0:
+        return towards / np.linalg.norm(towards)
+    return np.array([0.0, -1.0, 0.0])
+
+
+def _touch(store, grounds, has_parts, shape, rows, body, center, push_direction):
     """Point and normal of the contact of the query (scratch rows ``rows``) at ``center`` with ``body``."""
     q = rows[0]
     _place(store, q, shape, center)
     found = _contact(store, grounds, has_parts, body, q)
     if found is None and store.bounded[body]:
         found = _closest(store, body, rows)
-    if found is None:  # a ground (or cores that meet yet no contact row): push the query into it
+    if found is None:  # cores that meet to round-off yet no contact row (or a ground): push the query in
         scale = max(1.0, float(np.abs(store.lo[q]).max()), float(np.abs(store.hi[q]).max()))
         push = 1e-12 * scale
         while found is None and push < 1e-3 * scale:
-            _place(store, q, shape, center - np.array([0.0, push, 0.0]))
+            _place(store, q, shape, center + push * push_direction)
             found = _contact(store, grounds, has_parts, body, q)
             push *= 2.0
         _place(store, q, shape, center)
