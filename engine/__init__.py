@@ -24,7 +24,7 @@ from .narrowphase import (
     overlap_convex_sat_pairs,
     time_of_impact,
 )
-from .world import ALL, Box, Capsule, Compound, ConvexPolyhedron, HeightCurve, Plane, ShapeHit, Sphere, World
+from .world import ALL, Box, Capsule, Compound, ConvexPolyhedron, HeightCurve, Plane, RayHit, RayHits, ShapeHit, Sphere, World
 
 
 def _installed_version() -> str:
@@ -55,4 +55,6 @@ __all__ = [
     # the collision pipeline: shapes and World
     "Sphere", "Box", "Capsule", "ConvexPolyhedron", "Compound", "Plane", "HeightCurve", "World", "ALL",
     "ShapeHit",
+    "RayHits",
+    "RayHit",
 ]
