@@ -24,7 +24,20 @@ from .narrowphase import (
     overlap_convex_sat_pairs,
     time_of_impact,
 )
-from .world import ALL, Box, Capsule, Compound, ConvexPolyhedron, HeightCurve, Plane, RayHit, RayHits, ShapeHit, Sphere, World
+from .world import (
+    ALL,
+    Box,
+    Capsule,
+    Compound,
+    ConvexPolyhedron,
+    HeightCurve,
+    Plane,
+    RayHit,
+    RayHits,
+    ShapeHit,
+    Sphere,
+    World,
+)
 
 
 def _installed_version() -> str:

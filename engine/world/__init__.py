@@ -18,11 +18,12 @@ from . import shapes
 from .dispatch import QUESTIONS, UnsupportedQuery
 from .filters import ALL
 from .kinds import KINDS
-from .rows import TABLE
 from .ray_cast import RayHit, RayHits
+from .rows import TABLE
 from .shape_queries import ShapeHit
 from .shapes import *  # noqa: F403 (the shape classes: shapes.__all__)
 from .world import ImpactSet, World, WorldStats
 
-__all__ = [*shapes.__all__, "World", "ContactSet", "ImpactSet", "RayHits", "RayHit", "ShapeHit", "WorldStats", "ALL", "KINDS", "TABLE",
+__all__ = [*shapes.__all__, "World", "ContactSet", "ImpactSet", "RayHits", "RayHit", "ShapeHit", "WorldStats", "ALL",
+           "KINDS", "TABLE",
            "QUESTIONS", "UnsupportedQuery", "describe_point_id"]
