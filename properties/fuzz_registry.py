@@ -841,6 +841,25 @@ def _(draw):
                 dt=draw(pos(0.01, 1.0)))
 
 
+def _rays(origins, directions):
+    """max_distance is left out: +inf is one of its valid values (properties/test_world_rays.py checks its
+    refusals: negative, NaN, the wrong length)."""
+    max_distance = 30.0
+    world = engine.World()
+    world.add(engine.Plane(-5.0))
+    world.add(engine.Sphere([0.0, 0.0, 0.0], 1.0))
+    world.add(engine.Box([3.0, 0.0, 0.0], [1.0, 0.5, 0.5]), static=True)
+    return world.cast_rays(origins, directions, max_distance), world.cast_rays(origins, directions, max_distance,
+                                                                              all_hits=True)
+
+
+@api("World.cast_rays", _rays, max_examples=60, nan_fields=("point", "normal"))
+def _(draw):
+    n = draw(st.integers(1, 8))
+    return dict(origins=draw(hnp.arrays(np.float64, (n, 3), elements=_coord)),
+                directions=draw(hnp.arrays(np.float64, (n, 3), elements=pos(0.1, 3))))
+
+
 #: public names that are not called with arrays: result records, exceptions, constants, JSON/file front ends (their
 #: parsers are fuzzed in properties/test_contact_io.py-style tests of their own), plotting to a file.
 NOT_CALLABLE_API = {
@@ -848,6 +867,8 @@ NOT_CALLABLE_API = {
     "Impact": "result record", "ConvexHull": "result record built by convex_hull", "Contact": "result record",
     "GasResult": "result record",
     "ShapeHit": "result record built by World.cast_shape",
+    "RayHits": "result record built by World.cast_rays",
+    "RayHit": "result record built by World.cast_ray",
     "ContactBatch": "result record built by contact_feature_pairs", "BROAD_PHASES": "constant",
     "KDOP_SIZES": "constant",
     "BOUNDING_KINDS": "constant", "GAS_METHODS": "constant", "GAS_BOUNDARIES": "constant",
