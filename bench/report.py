@@ -82,6 +82,33 @@ def run_benchmarks(out: Path, quick: bool) -> Path:
     return json_path
 
 
+def section_main(name: str, section, argv=None) -> int:
+    """``python -m bench.report_<name>``: run bench/test_bench_<name>.py and write that section of the report alone
+    (``section(json_path, out, info, quick, command)``, as the main job calls it)."""
+    import shlex
+    import tempfile
+
+    prog = f"python -m bench.report_{name}"
+    parser = argparse.ArgumentParser(prog=prog, description=f"the {name} section of the reports, alone")
+    parser.add_argument("--quick", action="store_true", help="small sizes (written to reports-quick/)")
+    parser.add_argument("--out", default=None, help="output folder (default reports/, or reports-quick/)")
+    parser.add_argument("-k", dest="select", default=None, help="pytest -k expression: which benchmarks to run")
+    args = parser.parse_args(argv)
+    out = Path(args.out or ("reports-quick" if args.quick else "reports")).resolve()
+    out.mkdir(parents=True, exist_ok=True)
+    command = shlex.join([*prog.split(), *(argv if argv is not None else sys.argv[1:])])
+    with tempfile.TemporaryDirectory() as tmp:
+        json_path = Path(tmp) / f"{name}.json"
+        cmd = [sys.executable, "-m", "pytest", str(ROOT / "bench" / f"test_bench_{name}.py"), "--benchmark-only",
+               "-m", "not large", "-p", "no:cacheprovider", f"--benchmark-json={json_path}",
+               "--benchmark-columns=min,median,rounds", "-q", *(["--quick"] if args.quick else []),
+               *(["-k", args.select] if args.select else [])]
+        subprocess.run(cmd, cwd=ROOT, check=True)
+        section(json_path, out, stamp(), args.quick, command)
+    print(f"[report_{name}] wrote {out / (name + '.md')}", flush=True)
+    return 0
+
+
 def benchmark_table(json_path: Path, info: dict) -> pd.DataFrame:
     data = json.loads(json_path.read_text())
     rows = []

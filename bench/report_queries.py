@@ -16,12 +16,8 @@ runs bench/test_bench_queries.py (without the ``large`` size) and writes queries
 """
 from __future__ import annotations
 
-import argparse
 import json
-import shlex
-import subprocess
 import sys
-import tempfile
 from pathlib import Path
 
 import numpy as np
@@ -265,26 +261,9 @@ def queries_section(json_path: Path, out: Path, info: dict, quick: bool, command
 
 def main(argv=None) -> int:
     """``python -m bench.report_queries``: run bench/test_bench_queries.py and write the queries section alone."""
-    from bench.report import ROOT, stamp
+    from bench.report import section_main
 
-    parser = argparse.ArgumentParser(prog="python -m bench.report_queries", description=__doc__.split("\n")[0])
-    parser.add_argument("--quick", action="store_true", help="small sizes (written to reports-quick/)")
-    parser.add_argument("--out", default=None, help="output folder (default reports/, or reports-quick/)")
-    parser.add_argument("-k", dest="select", default=None, help="pytest -k expression: which benchmarks to run")
-    args = parser.parse_args(argv)
-    out = Path(args.out or ("reports-quick" if args.quick else "reports")).resolve()
-    out.mkdir(parents=True, exist_ok=True)
-    command = shlex.join(["python", "-m", "bench.report_queries", *(argv if argv is not None else sys.argv[1:])])
-    with tempfile.TemporaryDirectory() as tmp:
-        json_path = Path(tmp) / "queries.json"
-        cmd = [sys.executable, "-m", "pytest", str(ROOT / "bench" / "test_bench_queries.py"), "--benchmark-only",
-               "-m", "not large", "-p", "no:cacheprovider", f"--benchmark-json={json_path}",
-               "--benchmark-columns=min,median,rounds", "-q", *(["--quick"] if args.quick else []),
-               *(["-k", args.select] if args.select else [])]
-        subprocess.run(cmd, cwd=ROOT, check=True)
-        queries_section(json_path, out, stamp(), args.quick, command)
-    print(f"[report_queries] wrote {out / 'queries.md'}", flush=True)
-    return 0
+    return section_main("queries", queries_section, argv)
 
 
 if __name__ == "__main__":

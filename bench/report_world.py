@@ -16,12 +16,8 @@ runs bench/test_bench_world.py (without the ``large`` sizes) and writes world.md
 """
 from __future__ import annotations
 
-import argparse
 import json
-import shlex
-import subprocess
 import sys
-import tempfile
 from pathlib import Path
 
 import numpy as np
@@ -223,27 +219,10 @@ def world_section(json_path: Path, out: Path, info: dict, quick: bool, command: 
 
 
 def main(argv=None) -> int:
-    """``python -m bench.report_world``: run bench/test_bench_world.py and write the World section alone."""
-    from bench.report import ROOT, stamp
+    """``python -m bench.report_world``: run bench/test_bench_world.py and write the world section alone."""
+    from bench.report import section_main
 
-    parser = argparse.ArgumentParser(prog="python -m bench.report_world", description=__doc__.split("\n")[0])
-    parser.add_argument("--quick", action="store_true", help="small sizes (written to reports-quick/)")
-    parser.add_argument("--out", default=None, help="output folder (default reports/, or reports-quick/)")
-    parser.add_argument("-k", dest="select", default=None, help="pytest -k expression: which benchmarks to run")
-    args = parser.parse_args(argv)
-    out = Path(args.out or ("reports-quick" if args.quick else "reports")).resolve()
-    out.mkdir(parents=True, exist_ok=True)
-    command = shlex.join(["python", "-m", "bench.report_world", *(argv if argv is not None else sys.argv[1:])])
-    with tempfile.TemporaryDirectory() as tmp:
-        json_path = Path(tmp) / "world.json"
-        cmd = [sys.executable, "-m", "pytest", str(ROOT / "bench" / "test_bench_world.py"), "--benchmark-only",
-               "-m", "not large", "-p", "no:cacheprovider", f"--benchmark-json={json_path}",
-               "--benchmark-columns=min,median,rounds", "-q", *(["--quick"] if args.quick else []),
-               *(["-k", args.select] if args.select else [])]
-        subprocess.run(cmd, cwd=ROOT, check=True)
-        world_section(json_path, out, stamp(), args.quick, command)
-    print(f"[report_world] wrote {out / 'world.md'}", flush=True)
-    return 0
+    return section_main("world", world_section, argv)
 
 
 if __name__ == "__main__":

@@ -225,7 +225,8 @@ class StaticPairs:
 
     def _build(self, store) -> None:
         self.static_of = np.array(sorted(self.static), np.int64)
-        self.tree = (DynamicAABBTree.from_boxes(store.lo[self.static_of], store.hi[self.static_of], margin=0.0)
+        self.tree = (DynamicAABBTree.from_boxes(store.lo[self.static_of], store.hi[self.static_of], margin=0.0,
+                                                split="sah")
                      if self.static_of.size else None)
         self.dirty = False
 

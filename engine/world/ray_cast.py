@@ -129,14 +129,16 @@ def as_rays(origins, directions, max_distance):
 # -- the compiled walk ------------------------------------------------------------------------------------------
 #: a walk's state: (t, body, nx, ny, nz, part) of the nearest hit so far
 @njit(inline="always")
-def _visit(sc, b, o, d, inv, every, state, hits, r):
-    """Body b met by ray r: the AABB, the filter, the row; keeps the nearer hit (``every``: pushes each one)."""
+def _visit(sc, b, o, d, inv, every, state, hits, r, box_test):
+    """Body b met by ray r: the filter, its AABB (``box_test``: a tree's leaf box is the AABB already), the row;
+    keeps the nearer hit (``every``: pushes each one)."""
     rb, lo, hi, category, sensor, mask = sc
     if rb[0][b] < 0 or sensor[b] or (category[b] & mask) == 0:
         return state, hits
-    t0, t1 = ray_aabb_interval(o, d, inv, lo[b], hi[b], state[0])
-    if t0 > t1:
-        return state, hits
+    if box_test:
+        t0, t1 = ray_aabb_interval(o, d, inv, lo[b], hi[b], state[0])
+        if t0 > t1:
+            return state, hits
     t, nx, ny, nz, part = ray_hit(rb[0][b], rb, b, o, d, state[0])
     if t == np.inf:
         return state, hits
@@ -178,7 +180,7 @@ def _walk_tree(sc, tree, body_of, o, d, inv, every, state, hits, r, stack, stack
         if stack_t[top] > state[0]:
             continue
         if child1[node] < 0:
-            state, hits = _visit(sc, body_of[obj_of[node]], o, d, inv, every, state, hits, r)
+            state, hits = _visit(sc, body_of[obj_of[node]], o, d, inv, every, state, hits, r, False)
             continue
         a, b = child1[node], child2[node]
         ta, ea = ray_aabb_interval(o, d, inv, node_lo[a], node_hi[a], state[0])
@@ -200,7 +202,7 @@ def _walk_grid(sc, grid, grid_body, o, d, inv, every, state, hits, r, seen):
     (per grid box: the last ray that tested it) keeps a box in several cells from being tested twice."""
     origin, top, side, dims, start, items, large = grid
     for q in range(large.shape[0]):
-        state, hits = _visit(sc, grid_body[large[q]], o, d, inv, every, state, hits, r)
+        state, hits = _visit(sc, grid_body[large[q]], o, d, inv, every, state, hits, r, True)
     t_enter, t_exit = ray_aabb_interval(o, d, inv, origin, top, state[0])
     if t_enter > t_exit:
         return state, hits
@@ -213,7 +215,7 @@ def _walk_grid(sc, grid, grid_body, o, d, inv, every, state, hits, r, seen):
             box = items[q]
             if seen[box] != r:
                 seen[box] = r
-                state, hits = _visit(sc, grid_body[box], o, d, inv, every, state, hits, r)
+                state, hits = _visit(sc, grid_body[box], o, d, inv, every, state, hits, r, True)
         t_cell = min(t_next[0], t_next[1], t_next[2])
         if t_cell > t_exit or (not every and state[0] + slack < t_cell):
             break
@@ -227,7 +229,7 @@ def _cast_one(sc, scene, o, d, t_max, every, hits, r, stack, stack_t, seen):
     inv = inverse_direction(d)
     state = (t_max, -1, np.nan, np.nan, np.nan, 0)
     for g in range(grounds.shape[0]):
-        state, hits = _visit(sc, grounds[g], o, d, inv, every, state, hits, r)
+        state, hits = _visit(sc, grounds[g], o, d, inv, every, state, hits, r, False)
     state, hits = _walk_tree(sc, static_tree, static_body, o, d, inv, every, state, hits, r, stack, stack_t)
     if method == TREE:
         state, hits = _walk_tree(sc, tree, tree_body, o, d, inv, every, state, hits, r, stack, stack_t)
@@ -235,7 +237,7 @@ def _cast_one(sc, scene, o, d, t_max, every, hits, r, stack, stack_t, seen):
         state, hits = _walk_grid(sc, grid, grid_body, o, d, inv, every, state, hits, r, seen)
     else:
         for q in range(listed.shape[0]):
-            state, hits = _visit(sc, listed[q], o, d, inv, every, state, hits, r)
+            state, hits = _visit(sc, listed[q], o, d, inv, every, state, hits, r, True)
     return state, hits
 
 

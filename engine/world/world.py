@@ -7,7 +7,9 @@ filter (engine/world/filters.py) → the exact test of every remaining pair thro
 (engine/world/dispatch.py, rows in engine/world/rows.py: shape kind × shape kind → kernel) → "l'instant et le lieu
 précis (vertex, côtés, faces)": ``contacts()`` (where) and ``time_of_impact(dt)`` (when: "Méthode cinématique"
 culling of separating pairs, then the impact kernels). ``events()`` reports the pairs that began and ended
-touching.
+touching. The questions a game asks of the world between frames: rays (``cast_rays``, ``cast_ray``:
+engine/world/ray_cast.py), a shape swept or placed (``cast_shape``, ``overlap``) and a box (``query_aabb``:
+engine/world/shape_queries.py), distances (``closest_points``, ``pairs_within``: the table's "distance" rows).
 
 A frame::
 
@@ -182,10 +184,15 @@ class World:
     ----------
     broad_phase : str, default "tree"
         A name of ``engine.BROAD_PHASES``: the broad phase of the moving bodies.
+    threads : int, default 1
+        Threads of the batched queries (``cast_rays`` splits its rays into that many chunks); every answer is the
+        same bit for bit whatever the count.
 
     Attributes
     ----------
     broad_phase : str
+        As given.
+    threads : int
         As given.
     stats : WorldStats
         The work of each stage in the last query.
@@ -193,7 +200,7 @@ class World:
     Raises
     ------
     ValueError, TypeError
-        For an unknown ``broad_phase``, or one that is not a string.
+        For an unknown ``broad_phase``, or one that is not a string; ``threads`` not an int in [1, 256].
 
     Examples
     --------
@@ -517,7 +524,7 @@ class World:
         if kept is not None and np.array_equal(kept[0], bodies):
             if kept[1].refit(st.lo[bodies], st.hi[bodies]) <= RAY_TREE_DECAY * kept[2]:
                 return kept[1]
-        tree = DynamicAABBTree.from_boxes(st.lo[bodies], st.hi[bodies], margin=0.0)
+        tree = DynamicAABBTree.from_boxes(st.lo[bodies], st.hi[bodies], margin=0.0, split="sah")
         self._ray_tree_state = (bodies, tree, tree.refit(st.lo[bodies], st.hi[bodies]))
         return tree
 
