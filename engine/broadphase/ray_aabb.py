@@ -12,7 +12,7 @@ import numpy as np
 
 from engine._config import njit
 
-__all__ = ["ray_aabb_interval", "inverse_direction"]
+__all__ = ["ray_aabb_interval", "ray_row_interval", "inverse_direction"]
 
 
 @njit(inline="always")
@@ -46,4 +46,26 @@ def ray_aabb_interval(o, d, inv, lo, hi, t_max):
     t0, t1 = _slab(o[0], d[0], inv[0], lo[0], hi[0], t0, t1)
     t0, t1 = _slab(o[1], d[1], inv[1], lo[1], hi[1], t0, t1)
     t0, t1 = _slab(o[2], d[2], inv[2], lo[2], hi[2], t0, t1)
+    return t0, t1
+
+
+@njit(inline="always")
+def _slab_row(o, d, inv, lo, hi, t0, t1):
+    """``_slab`` with the planes already in the ray's order (lo the one it meets first when d > 0)."""
+    if d == 0.0:
+        if o < lo or o > hi:
+            return 1.0, 0.0
+        return t0, t1
+    if d > 0.0:
+        return max(t0, (lo - o) * inv), min(t1, (hi - o) * inv)
+    return max(t0, (hi - o) * inv), min(t1, (lo - o) * inv)
+
+
+@njit(inline="always")
+def ray_row_interval(o, d, inv, lo, hi, i, t_max):
+    """``ray_aabb_interval`` for the box in row i of lo, hi ((n, 3) arrays), read element by element (a tree walk
+    tests two rows per node)."""
+    t0, t1 = _slab_row(o[0], d[0], inv[0], lo[i, 0], hi[i, 0], 0.0, t_max)
+    t0, t1 = _slab_row(o[1], d[1], inv[1], lo[i, 1], hi[i, 1], t0, t1)
+    t0, t1 = _slab_row(o[2], d[2], inv[2], lo[i, 2], hi[i, 2], t0, t1)
     return t0, t1

@@ -26,7 +26,7 @@ import numpy as np
 
 from engine._config import MAX_THREADS, njit
 from engine._validate import as_float_array
-from engine.broadphase.ray_aabb import inverse_direction, ray_aabb_interval
+from engine.broadphase.ray_aabb import inverse_direction, ray_aabb_interval, ray_row_interval
 from engine.broadphase.ray_grid import dda_start, dda_step
 
 from .ray_rows import RAY_ROWS, ray_hit
@@ -131,37 +131,23 @@ def as_rays(origins, directions, max_distance):
 @njit(inline="always")
 def _visit(sc, b, o, d, inv, every, state, hits, r, box_test):
     """Body b met by ray r: the filter, its AABB (``box_test``: a tree's leaf box is the AABB already), the row;
-    keeps the nearer hit (``every``: pushes each one)."""
+    keeps the nearer hit (``every``: appends each one to ``hits``)."""
     rb, lo, hi, category, sensor, mask = sc
     if rb[0][b] < 0 or sensor[b] or (category[b] & mask) == 0:
-        return state, hits
+        return state
     if box_test:
-        t0, t1 = ray_aabb_interval(o, d, inv, lo[b], hi[b], state[0])
+        t0, t1 = ray_row_interval(o, d, inv, lo, hi, b, state[0])
         if t0 > t1:
-            return state, hits
+            return state
     t, nx, ny, nz, part = ray_hit(rb[0][b], rb, b, o, d, state[0])
     if t == np.inf:
-        return state, hits
+        return state
     if every:
-        return state, _push(hits, r, b, t, nx, ny, nz, part)
+        hits.append((r, b, t, nx, ny, nz, part))
+        return state
     if t < state[0] or state[1] < 0 or b < state[1]:
-        return (t, b, nx, ny, nz, part), hits
-    return state, hits
-
-
-@njit(inline="always")
-def _push(hits, r, b, t, nx, ny, nz, part):
-    """Append one hit to the growing buffers (ray, body, t, normal, part, count)."""
-    ray, body, dist, normal, parts, n = hits
-    if n == ray.shape[0]:
-        size = 2 * n + 16
-        ray2, body2, dist2 = np.empty(size, np.int64), np.empty(size, np.int64), np.empty(size)
-        normal2, parts2 = np.empty((size, 3)), np.empty(size, np.int64)
-        ray2[:n], body2[:n], dist2[:n], normal2[:n], parts2[:n] = ray, body, dist, normal, parts
-        ray, body, dist, normal, parts = ray2, body2, dist2, normal2, parts2
-    ray[n], body[n], dist[n], parts[n] = r, b, t, part
-    normal[n, 0], normal[n, 1], normal[n, 2] = nx, ny, nz
-    return ray, body, dist, normal, parts, n + 1
+        return (t, b, nx, ny, nz, part)
+    return state
 
 
 @njit(inline="always")
@@ -169,10 +155,10 @@ def _walk_tree(sc, tree, body_of, o, d, inv, every, state, hits, r, stack, stack
     """Depth first through the nodes the clipped ray meets, the nearer child first (Box2D's ray cast)."""
     root, node_lo, node_hi, child1, child2, obj_of = tree
     if root < 0:
-        return state, hits
-    t0, t1 = ray_aabb_interval(o, d, inv, node_lo[root], node_hi[root], state[0])
+        return state
+    t0, t1 = ray_row_interval(o, d, inv, node_lo, node_hi, root, state[0])
     if t0 > t1:
-        return state, hits
+        return state
     stack[0], stack_t[0], top = root, t0, 1
     while top > 0:
         top -= 1
@@ -180,11 +166,11 @@ def _walk_tree(sc, tree, body_of, o, d, inv, every, state, hits, r, stack, stack
         if stack_t[top] > state[0]:
             continue
         if child1[node] < 0:
-            state, hits = _visit(sc, body_of[obj_of[node]], o, d, inv, every, state, hits, r, False)
+            state = _visit(sc, body_of[obj_of[node]], o, d, inv, every, state, hits, r, False)
             continue
         a, b = child1[node], child2[node]
-        ta, ea = ray_aabb_interval(o, d, inv, node_lo[a], node_hi[a], state[0])
-        tb, eb = ray_aabb_interval(o, d, inv, node_lo[b], node_hi[b], state[0])
+        ta, ea = ray_row_interval(o, d, inv, node_lo, node_hi, a, state[0])
+        tb, eb = ray_row_interval(o, d, inv, node_lo, node_hi, b, state[0])
         if ta > tb:  # push the farther first: the nearer is popped first
             a, b, ta, ea, tb, eb = b, a, tb, eb, ta, ea
         if tb <= eb:
@@ -193,7 +179,7 @@ def _walk_tree(sc, tree, body_of, o, d, inv, every, state, hits, r, stack, stack
         if ta <= ea:
             stack[top], stack_t[top] = a, ta
             top += 1
-    return state, hits
+    return state
 
 
 @njit(inline="always")
@@ -202,10 +188,10 @@ def _walk_grid(sc, grid, grid_body, o, d, inv, every, state, hits, r, seen):
     (per grid box: the last ray that tested it) keeps a box in several cells from being tested twice."""
     origin, top, side, dims, start, items, large = grid
     for q in range(large.shape[0]):
-        state, hits = _visit(sc, grid_body[large[q]], o, d, inv, every, state, hits, r, True)
+        state = _visit(sc, grid_body[large[q]], o, d, inv, every, state, hits, r, True)
     t_enter, t_exit = ray_aabb_interval(o, d, inv, origin, top, state[0])
     if t_enter > t_exit:
-        return state, hits
+        return state
     cells, steps, t_next, t_delta = dda_start(o, d, t_enter, origin, side, dims)
     slack = 1e-9 * side  # the cell exits are computed: stop only past them by more than their round-off
     inside = True
@@ -215,51 +201,60 @@ def _walk_grid(sc, grid, grid_body, o, d, inv, every, state, hits, r, seen):
             box = items[q]
             if seen[box] != r:
                 seen[box] = r
-                state, hits = _visit(sc, grid_body[box], o, d, inv, every, state, hits, r, True)
+                state = _visit(sc, grid_body[box], o, d, inv, every, state, hits, r, True)
         t_cell = min(t_next[0], t_next[1], t_next[2])
         if t_cell > t_exit or (not every and state[0] + slack < t_cell):
             break
         cells, t_next, inside = dda_step(cells, steps, t_next, t_delta, dims)
-    return state, hits
+    return state
 
 
 @njit(inline="always")
 def _cast_one(sc, scene, o, d, t_max, every, hits, r, stack, stack_t, seen):
-    grounds, static_tree, static_body, method, tree, tree_body, grid, grid_body, listed = scene
+    """One ray through the scene: the listed bodies (grounds, and every moving body for "brute"), the static
+    tree and the moving tree, or the grid."""
+    listed, static_tree, static_body, tree, tree_body, method, grid, grid_body = scene
     inv = inverse_direction(d)
     state = (t_max, -1, np.nan, np.nan, np.nan, 0)
-    for g in range(grounds.shape[0]):
-        state, hits = _visit(sc, grounds[g], o, d, inv, every, state, hits, r, False)
-    state, hits = _walk_tree(sc, static_tree, static_body, o, d, inv, every, state, hits, r, stack, stack_t)
+    for q in range(listed.shape[0]):
+        state = _visit(sc, listed[q], o, d, inv, every, state, hits, r, True)
+    state = _walk_tree(sc, static_tree, static_body, o, d, inv, every, state, hits, r, stack, stack_t)
     if method == TREE:
-        state, hits = _walk_tree(sc, tree, tree_body, o, d, inv, every, state, hits, r, stack, stack_t)
+        state = _walk_tree(sc, tree, tree_body, o, d, inv, every, state, hits, r, stack, stack_t)
     elif method == GRID:
-        state, hits = _walk_grid(sc, grid, grid_body, o, d, inv, every, state, hits, r, seen)
-    else:
-        for q in range(listed.shape[0]):
-            state, hits = _visit(sc, listed[q], o, d, inv, every, state, hits, r, True)
-    return state, hits
+        state = _walk_grid(sc, grid, grid_body, o, d, inv, every, state, hits, r, seen)
+    return state
 
 
 @njit
 def _cast_kernel(r0, r1, every, origins, directions, t_max, sc, scene, out_t, out_body, out_normal, out_part):
     """Rays r0 .. r1 − 1: the nearest hit of each into the out arrays, or (``every``) every hit, returned as
-    buffers (ray, body, t, normal, part, count)."""
-    static_nodes, tree_nodes = scene[1][1].shape[0], scene[4][1].shape[0]
-    stack = np.empty(max(static_nodes, tree_nodes) + 2, np.int64)
+    arrays (ray, body, t, normal, part)."""
+    stack = np.empty(max(scene[1][1].shape[0], scene[3][1].shape[0]) + 2, np.int64)
     stack_t = np.empty(stack.shape[0])
     seen = np.full(scene[7].shape[0], -1, np.int64)
-    hits = (np.empty(0, np.int64), np.empty(0, np.int64), np.empty(0), np.empty((0, 3)), np.empty(0, np.int64), 0)
+    hits = [(np.int64(0), np.int64(0), 0.0, 0.0, 0.0, 0.0, np.int64(0))]  # (ray, body, t, normal, part)
+    hits.pop()
     for r in range(r0, r1):
         o = (origins[r, 0], origins[r, 1], origins[r, 2])
         d = (directions[r, 0], directions[r, 1], directions[r, 2])
-        state, hits = _cast_one(sc, scene, o, d, t_max[r], every, hits, r, stack, stack_t, seen)
+        state = _cast_one(sc, scene, o, d, t_max[r], every, hits, r, stack, stack_t, seen)
         if not every:
             out_body[r] = state[1]
             out_t[r] = state[0] if state[1] >= 0 else np.inf
             out_normal[r, 0], out_normal[r, 1], out_normal[r, 2] = state[2], state[3], state[4]
             out_part[r] = state[5]
-    return hits
+    return _hit_arrays(hits)
+
+
+@njit
+def _hit_arrays(hits):
+    k = len(hits)
+    ray, body, dist = np.empty(k, np.int64), np.empty(k, np.int64), np.empty(k)
+    normal, part = np.empty((k, 3)), np.empty(k, np.int64)
+    for q in range(k):
+        ray[q], body[q], dist[q], normal[q, 0], normal[q, 1], normal[q, 2], part[q] = hits[q]
+    return ray, body, dist, normal, part
 
 
 # -- the batch --------------------------------------------------------------------------------------------------
@@ -274,8 +269,8 @@ def _pool(threads: int) -> ThreadPoolExecutor:
 
 def _compiled_args(scene: RayScene, mask: int):
     sc = (scene.rb, scene.lo, scene.hi, scene.category, scene.sensor, np.uint64(mask))
-    walk = (scene.grounds, scene.static_tree, scene.static_body, scene.method, scene.tree, scene.tree_body,
-            scene.grid, scene.grid_body, scene.listed)
+    walk = (np.concatenate([scene.grounds, scene.listed]), scene.static_tree, scene.static_body, scene.tree,
+            scene.tree_body, scene.method, scene.grid, scene.grid_body)
     return sc, walk
 
 
@@ -312,7 +307,7 @@ def cast_ray_batch(scene: RayScene, origins, directions, t_max, mask: int, every
         return _cast_kernel(int(bounds[c]), int(bounds[c + 1]), every, origins, directions, t_max, sc, walk, *out)
     chunks = [run(0)] if bounds.shape[0] == 2 else list(_pool(threads).map(run, range(bounds.shape[0] - 1)))
     if every:
-        found = [np.concatenate([c[f][: c[5]] for c in chunks]) for f in range(5)]
+        found = [np.concatenate([c[f] for c in chunks]) for f in range(5)]
         ray, body, t, normal, part = _host_grounds(scene, origins, directions, t_max, mask, True, found)
         order = np.lexsort((body, t, ray))
         ray, body, t, normal, part = ray[order], body[order], t[order], normal[order], part[order]
