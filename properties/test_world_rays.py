@@ -306,7 +306,7 @@ def test_a_missing_body_is_caught_by_the_brute_force():
     world.add(Sphere([0.0, 0.0, 10.0], 1.0))
     scene = world._rays()
     assert scene.method == LIST
-    broken = scene._replace(listed=scene.listed[1:])
+    broken = scene._replace(listed=scene.listed[1:])  # the first body left out
     o, d = np.zeros((1, 3)), np.array([[0.0, 0.0, 1.0]])
     from engine.world.ray_cast import as_rays
     oo, dd, tt = as_rays(o, d, np.inf)

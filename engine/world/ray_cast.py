@@ -31,19 +31,45 @@ from engine.broadphase.ray_grid import dda_start, dda_step
 
 from .ray_rows import RAY_ROWS, ray_hit
 
-__all__ = ["RayHits", "RayHit", "RayScene", "TREE", "GRID", "LIST", "as_rays", "cast_ray_batch", "check_threads"]
+__all__ = ["RayHits", "RayHit", "RayScene", "Forest", "TREE", "GRID", "LIST", "forest_of", "as_rays",
+           "cast_ray_batch", "check_threads"]
 
 #: how the scene holds its moving bodies: a tree, a grid, a plain list
 TREE, GRID, LIST = 0, 1, 2
 
 #: what a batch walks (built by the World, engine/world/world.py): ``rb`` the rows' arrays (``ray_bodies``),
-#: ``lo``, ``hi``, ``category``, ``sensor`` the store's; ``grounds`` (g,) the grounds a compiled row answers;
-#: ``static_tree`` (engine.broadphase.TreeArrays) and ``static_body`` (objects → ids); ``method`` (TREE, GRID or
-#: LIST) with ``tree``/``tree_body``, ``grid`` (engine.broadphase.ray_grid.RayGrid)/``grid_body`` or ``listed``
-#: (ids); ``host`` [(id, shape)] the grounds answered in Python; ``reach`` the length a host ground is searched
-#: along a ray of unbounded length
-RayScene = namedtuple("RayScene", "rb lo hi category sensor grounds static_tree static_body method tree tree_body "
-                                  "grid grid_body listed host reach")
+#: ``lo``, ``hi``, ``category``, ``sensor`` the store's; ``listed`` (k,) ids tested one by one (the grounds a
+#: compiled row answers, and every moving body for "brute"); ``forest`` the trees (``forest_of``: the static
+#: bodies' and, for TREE, the moving bodies'); ``method`` (TREE, GRID or LIST) with ``grid``
+#: (engine.broadphase.ray_grid.RayGrid) and ``grid_body`` for GRID; ``host`` [(id, shape)] the grounds answered
+#: in Python; ``reach`` the length a host ground is searched along a ray of unbounded length
+RayScene = namedtuple("RayScene", "rb lo hi category sensor listed forest method grid grid_body host reach")
+
+#: trees side by side in one set of arrays: ``roots`` (k,), ``node_lo``, ``node_hi`` (nodes, 3), ``child1``,
+#: ``child2`` (nodes,) (−1 at a leaf), ``body_at`` (nodes,) the body id of a leaf (−1 for an inner node)
+Forest = namedtuple("Forest", "roots node_lo node_hi child1 child2 body_at")
+
+
+def forest_of(trees) -> Forest:
+    """One ``Forest`` of trees given as (engine.broadphase.TreeArrays, body ids by tree object) pairs: one compiled
+    copy of the walk goes through every root."""
+    roots, lo, hi, c1, c2, body_at, offset = [], [np.zeros((1, 3))], [np.zeros((1, 3))], [], [], [], 0
+    for tree, body_of in trees:
+        if tree.root < 0:
+            continue
+        roots.append(tree.root + offset)
+        lo.append(tree.node_lo)
+        hi.append(tree.node_hi)
+        c1.append(np.where(tree.child1 >= 0, tree.child1 + offset, -1))
+        c2.append(np.where(tree.child2 >= 0, tree.child2 + offset, -1))
+        leaf = (tree.child1 < 0) & (tree.obj_of >= 0)
+        body_at.append(np.where(leaf, body_of[np.where(leaf, tree.obj_of, 0)] if body_of.size else -1, -1))
+        offset += tree.node_lo.shape[0]
+    if not roots:  # one unused node keeps the arrays' shapes
+        return Forest(np.empty(0, np.int64), lo[0], hi[0], np.full(1, -1, np.int64), np.full(1, -1, np.int64),
+                      np.full(1, -1, np.int64))
+    return Forest(np.array(roots, np.int64), np.concatenate(lo[1:]), np.concatenate(hi[1:]), np.concatenate(c1),
+                  np.concatenate(c2), np.concatenate(body_at).astype(np.int64))
 
 
 @dataclass(frozen=True)
@@ -151,11 +177,10 @@ def _visit(sc, b, o, d, inv, every, state, hits, r, box_test):
 
 
 @njit(inline="always")
-def _walk_tree(sc, tree, body_of, o, d, inv, every, state, hits, r, stack, stack_t):
-    """Depth first through the nodes the clipped ray meets, the nearer child first (Box2D's ray cast)."""
-    root, node_lo, node_hi, child1, child2, obj_of = tree
-    if root < 0:
-        return state
+def _walk_tree(sc, forest, root, o, d, inv, every, state, hits, r, stack, stack_t):
+    """Depth first through the nodes of one tree that the clipped ray meets, the nearer child first (Box2D's ray
+    cast)."""
+    _, node_lo, node_hi, child1, child2, body_at = forest
     t0, t1 = ray_row_interval(o, d, inv, node_lo, node_hi, root, state[0])
     if t0 > t1:
         return state
@@ -166,7 +191,7 @@ def _walk_tree(sc, tree, body_of, o, d, inv, every, state, hits, r, stack, stack
         if stack_t[top] > state[0]:
             continue
         if child1[node] < 0:
-            state = _visit(sc, body_of[obj_of[node]], o, d, inv, every, state, hits, r, False)
+            state = _visit(sc, body_at[node], o, d, inv, every, state, hits, r, False)
             continue
         a, b = child1[node], child2[node]
         ta, ea = ray_row_interval(o, d, inv, node_lo, node_hi, a, state[0])
@@ -210,41 +235,65 @@ def _walk_grid(sc, grid, grid_body, o, d, inv, every, state, hits, r, seen):
 
 
 @njit(inline="always")
-def _cast_one(sc, scene, o, d, t_max, every, hits, r, stack, stack_t, seen):
-    """One ray through the scene: the listed bodies (grounds, and every moving body for "brute"), the static
-    tree and the moving tree, or the grid."""
-    listed, static_tree, static_body, tree, tree_body, method, grid, grid_body = scene
+def _cast_one(sc, scene, o, d, t_max, every, grid_walk, hits, r, stack, stack_t, seen):
+    """One ray through the scene: the listed bodies, the trees, and (``grid_walk``) the grid."""
+    listed, forest, grid, grid_body = scene
     inv = inverse_direction(d)
     state = (t_max, -1, np.nan, np.nan, np.nan, 0)
     for q in range(listed.shape[0]):
         state = _visit(sc, listed[q], o, d, inv, every, state, hits, r, True)
-    state = _walk_tree(sc, static_tree, static_body, o, d, inv, every, state, hits, r, stack, stack_t)
-    if method == TREE:
-        state = _walk_tree(sc, tree, tree_body, o, d, inv, every, state, hits, r, stack, stack_t)
-    elif method == GRID:
+    for k in range(forest[0].shape[0]):
+        state = _walk_tree(sc, forest, forest[0][k], o, d, inv, every, state, hits, r, stack, stack_t)
+    if grid_walk:
         state = _walk_grid(sc, grid, grid_body, o, d, inv, every, state, hits, r, seen)
     return state
 
 
-@njit
-def _cast_kernel(r0, r1, every, origins, directions, t_max, sc, scene, out_t, out_body, out_normal, out_part):
-    """Rays r0 .. r1 − 1: the nearest hit of each into the out arrays, or (``every``) every hit, returned as
-    arrays (ray, body, t, normal, part)."""
-    stack = np.empty(max(scene[1][1].shape[0], scene[3][1].shape[0]) + 2, np.int64)
+@njit(inline="always")
+def _cast_rays(r0, r1, every, grid_walk, origins, directions, t_max, sc, scene, out):
+    """Rays r0 .. r1 − 1: the nearest hit of each into ``out`` (t, body, normal, part), or (``every``) every
+    hit, returned as arrays (ray, body, t, normal, part)."""
+    out_t, out_body, out_normal, out_part = out
+    stack = np.empty(scene[1][1].shape[0] + 2, np.int64)
     stack_t = np.empty(stack.shape[0])
-    seen = np.full(scene[7].shape[0], -1, np.int64)
+    seen = np.full(scene[3].shape[0], -1, np.int64)
     hits = [(np.int64(0), np.int64(0), 0.0, 0.0, 0.0, 0.0, np.int64(0))]  # (ray, body, t, normal, part)
     hits.pop()
     for r in range(r0, r1):
         o = (origins[r, 0], origins[r, 1], origins[r, 2])
         d = (directions[r, 0], directions[r, 1], directions[r, 2])
-        state = _cast_one(sc, scene, o, d, t_max[r], every, hits, r, stack, stack_t, seen)
+        state = _cast_one(sc, scene, o, d, t_max[r], every, grid_walk, hits, r, stack, stack_t, seen)
         if not every:
             out_body[r] = state[1]
             out_t[r] = state[0] if state[1] >= 0 else np.inf
             out_normal[r, 0], out_normal[r, 1], out_normal[r, 2] = state[2], state[3], state[4]
             out_part[r] = state[5]
     return _hit_arrays(hits)
+
+
+# one kernel per (every, grid): the flags are constants in each, so the compiler drops the code they rule out
+@njit
+def _nearest_kernel(r0, r1, origins, directions, t_max, sc, scene, out):
+    return _cast_rays(r0, r1, False, False, origins, directions, t_max, sc, scene, out)
+
+
+@njit
+def _every_kernel(r0, r1, origins, directions, t_max, sc, scene, out):
+    return _cast_rays(r0, r1, True, False, origins, directions, t_max, sc, scene, out)
+
+
+@njit
+def _nearest_grid_kernel(r0, r1, origins, directions, t_max, sc, scene, out):
+    return _cast_rays(r0, r1, False, True, origins, directions, t_max, sc, scene, out)
+
+
+@njit
+def _every_grid_kernel(r0, r1, origins, directions, t_max, sc, scene, out):
+    return _cast_rays(r0, r1, True, True, origins, directions, t_max, sc, scene, out)
+
+
+_KERNELS = {(False, False): _nearest_kernel, (True, False): _every_kernel, (False, True): _nearest_grid_kernel,
+            (True, True): _every_grid_kernel}
 
 
 @njit
@@ -269,8 +318,7 @@ def _pool(threads: int) -> ThreadPoolExecutor:
 
 def _compiled_args(scene: RayScene, mask: int):
     sc = (scene.rb, scene.lo, scene.hi, scene.category, scene.sensor, np.uint64(mask))
-    walk = (np.concatenate([scene.grounds, scene.listed]), scene.static_tree, scene.static_body, scene.tree,
-            scene.tree_body, scene.method, scene.grid, scene.grid_body)
+    walk = (scene.listed, scene.forest, scene.grid, scene.grid_body)
     return sc, walk
 
 
@@ -303,8 +351,10 @@ def cast_ray_batch(scene: RayScene, origins, directions, t_max, mask: int, every
     sc, walk = _compiled_args(scene, mask)
     bounds = np.linspace(0, k, min(threads, max(k, 1)) + 1).astype(np.int64)
 
+    kernel = _KERNELS[every, scene.method == GRID]
+
     def run(c):
-        return _cast_kernel(int(bounds[c]), int(bounds[c + 1]), every, origins, directions, t_max, sc, walk, *out)
+        return kernel(int(bounds[c]), int(bounds[c + 1]), origins, directions, t_max, sc, walk, out)
     chunks = [run(0)] if bounds.shape[0] == 2 else list(_pool(threads).map(run, range(bounds.shape[0] - 1)))
     if every:
         found = [np.concatenate([c[f] for c in chunks]) for f in range(5)]

@@ -47,7 +47,18 @@ from .broad import StaticPairs, fatten, make_broad_phase
 from .dispatch import NarrowContext, answer
 from .filters import ALL, Exclusions, as_bits, as_group
 from .kinds import KINDS
-from .ray_cast import GRID, LIST, TREE, RayHit, RayHits, RayScene, as_rays, cast_ray_batch, check_threads
+from .ray_cast import (
+    GRID,
+    LIST,
+    TREE,
+    RayHit,
+    RayHits,
+    RayScene,
+    as_rays,
+    cast_ray_batch,
+    check_threads,
+    forest_of,
+)
 from .ray_rows import RAY_ROWS, ray_bodies
 from .rows import TABLE
 from .shape_queries import ShapeHit, as_box, as_query_shape, bodies_in_box, cast, overlapping_bodies
@@ -529,16 +540,14 @@ class World:
         return tree
 
     def _moving_structure(self, bodies):
-        """(method, tree, tree body ids, grid, grid body ids, listed ids) of the moving bodies, for the rays."""
+        """(method, trees, listed ids, grid, grid body ids) of the moving bodies, for the rays."""
         st = self._store
-        none_tree = DynamicAABBTree(dim=3, margin=0.0).arrays()
-        none_grid = build_ray_grid(np.zeros((1, 3)), np.zeros((1, 3)))
         empty = np.empty(0, np.int64)
         if self.broad_phase == "brute" or bodies.shape[0] == 0:
-            return LIST, none_tree, empty, none_grid, empty, bodies
+            return LIST, [], bodies, None, empty
         if self.broad_phase == "grid":
-            return GRID, none_tree, empty, build_ray_grid(st.lo[bodies], st.hi[bodies]), bodies, empty
-        return TREE, self._ray_tree(bodies).arrays(), bodies, none_grid, empty, empty
+            return GRID, [], empty, build_ray_grid(st.lo[bodies], st.hi[bodies]), bodies
+        return TREE, [(self._ray_tree(bodies).arrays(), bodies)], empty, None, empty
 
     def _rays(self) -> RayScene:
         """The structures the rays walk, built again only when a body changed since (``_version``)."""
@@ -546,17 +555,17 @@ class World:
             return self._ray_scene[1]
         st = self._store
         bodies = self._moving()
-        method, tree, tree_body, grid, grid_body, listed = self._moving_structure(bodies)
-        static_tree, static_body = self._static.tree_arrays(st)
-        compiled = [g for g in sorted(self._grounds) if RAY_ROWS[self._grounds[g].kind].hit is not None]
-        host = [(g, self._grounds[g]) for g in sorted(self._grounds) if RAY_ROWS[self._grounds[g].kind].hit is None]
+        method, trees, listed, grid, grid_body = self._moving_structure(bodies)
+        rows = {g: RAY_ROWS[shape.kind] for g, shape in sorted(self._grounds.items())}
+        compiled = np.array([g for g, row in rows.items() if row.hit is not None], np.int64)
+        host = [(g, self._grounds[g]) for g, row in rows.items() if row.hit is None]
         live = st.live()
         bounded = live[st.bounded[live]]
         span = st.hi[bounded].max(axis=0) - st.lo[bounded].min(axis=0) if bounded.size else np.ones(3)
-        view = st.view()
-        scene = RayScene(ray_bodies(view), st.lo, st.hi, st.category, st.sensor, np.array(compiled, np.int64),
-                         static_tree, static_body, method, tree, tree_body, grid, grid_body, listed, host,
-                         max(1.0, 4.0 * float(np.sqrt((span * span).sum()))))
+        scene = RayScene(ray_bodies(st.view()), st.lo, st.hi, st.category, st.sensor,
+                         np.concatenate([compiled, listed]), forest_of([self._static.tree_arrays(st), *trees]),
+                         method, build_ray_grid(np.zeros((1, 3)), np.zeros((1, 3))) if grid is None else grid,
+                         grid_body, host, max(1.0, 4.0 * float(np.sqrt((span * span).sum()))))
         self._ray_scene = (self._version, scene)
         return scene
 
