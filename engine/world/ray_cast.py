@@ -329,7 +329,9 @@ def _host_grounds(scene: RayScene, origins, directions, t_max, mask, every, out)
         if (int(scene.category[g]) & mask) == 0 or scene.sensor[g]:
             continue
         reach = np.where(np.isfinite(t_max), t_max, scene.reach)
-        t, normal = RAY_ROWS[shape.kind].host(shape, origins, directions, reach)
+        host = RAY_ROWS[shape.kind].host
+        assert host is not None  # the World lists here only the grounds whose row answers in Python
+        t, normal = host(shape, origins, directions, reach)
         hit = np.isfinite(t)
         if every:
             rows = np.flatnonzero(hit)
