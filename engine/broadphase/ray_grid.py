@@ -2,7 +2,7 @@
 
 Chapter slides "Phase Large : Subdivision spatiale" (the uniform cut), asked a ray instead of a box: Ericson,
 *Real-Time Collision Detection* 7.4.2 (grid traversal). The ray's parameter t at the next cell boundary along each
-axis, ``t_next``, grows by ``t_delta`` = side / |d_k| per step; the walk steps along the axis whose boundary comes
+axis, ``t_next``, grows by ``t_delta`` = side / abs(d_k) per step; the walk steps along the axis whose boundary comes
 first, so it visits exactly the cells the ray crosses, in order of t. A nearest-hit query stops as soon as its
 best hit lies before the exit of the current cell: a body further on is met in a later cell, at a larger t.
 
