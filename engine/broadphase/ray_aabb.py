@@ -25,33 +25,9 @@ def inverse_direction(d):
 
 
 @njit(inline="always")
-def _slab(o, d, inv, lo, hi, t0, t1):
-    """Clip [t0, t1] to the slab lo <= o + t·d <= hi of one axis (an empty result has t0 > t1)."""
-    if d == 0.0:
-        if o < lo or o > hi:
-            return 1.0, 0.0
-        return t0, t1
-    a = (lo - o) * inv
-    b = (hi - o) * inv
-    if a > b:
-        a, b = b, a
-    return max(t0, a), min(t1, b)
-
-
-@njit(inline="always")
-def ray_aabb_interval(o, d, inv, lo, hi, t_max):
-    """The part [t_enter, t_exit] of [0, t_max] where the ray o + t·d lies in the closed box [lo, hi]
-    (``inv`` = ``inverse_direction(d)``; o, d, inv 3-tuples, lo, hi (3,) arrays); empty when t_enter > t_exit."""
-    t0, t1 = 0.0, t_max
-    t0, t1 = _slab(o[0], d[0], inv[0], lo[0], hi[0], t0, t1)
-    t0, t1 = _slab(o[1], d[1], inv[1], lo[1], hi[1], t0, t1)
-    t0, t1 = _slab(o[2], d[2], inv[2], lo[2], hi[2], t0, t1)
-    return t0, t1
-
-
-@njit(inline="always")
 def _slab_row(o, d, inv, lo, hi, t0, t1):
-    """``_slab`` with the planes already in the ray's order (lo the one it meets first when d > 0)."""
+    """Clip [t0, t1] to the slab lo <= o + t·d <= hi of one axis (an empty result has t0 > t1): the plane the ray
+    meets first by the sign of d, an axis it runs parallel to apart."""
     if d == 0.0:
         if o < lo or o > hi:
             return 1.0, 0.0
@@ -59,6 +35,16 @@ def _slab_row(o, d, inv, lo, hi, t0, t1):
     if d > 0.0:
         return max(t0, (lo - o) * inv), min(t1, (hi - o) * inv)
     return max(t0, (hi - o) * inv), min(t1, (lo - o) * inv)
+
+
+@njit(inline="always")
+def ray_aabb_interval(o, d, inv, lo, hi, t_max):
+    """The part [t_enter, t_exit] of [0, t_max] where the ray o + t·d lies in the closed box [lo, hi]
+    (``inv`` = ``inverse_direction(d)``; o, d, inv 3-tuples, lo, hi (3,) arrays); empty when t_enter > t_exit."""
+    t0, t1 = _slab_row(o[0], d[0], inv[0], lo[0], hi[0], 0.0, t_max)
+    t0, t1 = _slab_row(o[1], d[1], inv[1], lo[1], hi[1], t0, t1)
+    t0, t1 = _slab_row(o[2], d[2], inv[2], lo[2], hi[2], t0, t1)
+    return t0, t1
 
 
 @njit(inline="always")
