@@ -36,6 +36,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from engine._validate import as_float_array
+from engine.bounding.aabb import check_ordered
 from engine.narrowphase import gjk_distance
 from engine.narrowphase.contacts import TOUCHING, kernel_scratch
 
@@ -76,11 +77,7 @@ class ShapeHit:
 def as_box(lo, hi) -> tuple[np.ndarray, np.ndarray]:
     """A closed box from corners ``lo``, ``hi`` ((3,), finite, lo <= hi): ValueError / TypeError naming them."""
     lo_, hi_ = as_float_array(lo, "lo", shape=(3,)), as_float_array(hi, "hi", shape=(3,))
-    bad = np.flatnonzero(lo_ > hi_)
-    if bad.size:
-        c = int(bad[0])
-        raise ValueError(f"lo must be <= hi on every axis, got lo[{c}] = {float(lo_[c])!r} > hi[{c}] = "
-                         f"{float(hi_[c])!r}")
+    check_ordered(lo_, hi_)
     return lo_, hi_
 
 
