@@ -111,13 +111,16 @@ def section_main(name: str, section, argv=None) -> int:
 
 def benchmark_table(json_path: Path, info: dict) -> pd.DataFrame:
     data = json.loads(json_path.read_text())
+    untitled = [b.get("fullname", b["name"]) for b in data["benchmarks"] if not b.get("group")]
+    if untitled:  # one group, one table of ratios: a benchmark outside every group would be compared with anything
+        raise ValueError(f"benchmarks without a pytest-benchmark group: {untitled}")
     rows = []
     for b in data["benchmarks"]:
         extra = b.get("extra_info", {})
         stats = b["stats"]
         work = extra.get("work")
         rows.append({
-            "group": b.get("group") or "",
+            "group": b["group"],
             "name": b["name"],
             "params": json.dumps(b.get("params") or {}, sort_keys=True),
             "seconds_min": stats["min"],

@@ -65,7 +65,10 @@ def hulls():
 
 
 def _run(benchmark, fn, pairs: int, peer: str, test: str):
-    benchmark.extra_info.update({"pairs": pairs, "peer": peer, "test": test})
+    """Time ``fn`` in the group of its test ("narrow phase: gjk box-box", ...): the engine's batch, its threads and
+    the peers on one table, compared per pair."""
+    benchmark.group = f"narrow phase: {test}"
+    benchmark.extra_info.update({"pairs": pairs, "peer": peer, "test": test, "work": pairs, "unit": "pairs"})
     return benchmark.pedantic(fn, rounds=3, iterations=1, warmup_rounds=1)
 
 

@@ -11,6 +11,10 @@
 ``candidates(store, bodies, escaped)`` returns pairs (k, 2) of body ids, i < j in each row, no repeat, whose
 boxes overlap — fat boxes for the tree (a superset: the narrow phase tests the AABBs first; its rows are not
 sorted), the AABBs for the others (sorted). Only the moving bodies enter it: static bodies and grounds never do.
+``swept(store, bodies, moved, lo, hi)`` asks the same kept structure for the pairs whose *swept* boxes ``lo``,
+``hi`` may overlap (``World.time_of_impact``): the bodies ``moved`` were given fat boxes around their swept boxes
+(``fatten_around``, Box2D's ``b2MoveProxy`` with a displacement), so the tree's cached fat pairs cover them; the
+SAP sorts the swept boxes from its kept order; the others sweep them afresh.
 
 Static bodies (level geometry) are kept apart, as Jolt keeps its static tree apart from the dynamic one and Box2D
 queries its static tree with the moved proxies only: ``StaticPairs`` holds a tree of their AABBs, built when the
@@ -26,7 +30,7 @@ import numpy as np
 from engine.broadphase import DynamicAABBTree, IncrementalSAP, canonical_pairs, find_pairs
 
 __all__ = ["FAT_MARGIN", "REBUILD_THRESHOLD", "TreeBroadPhase", "SAPBroadPhase", "RebuildBroadPhase",
-           "StaticPairs", "make_broad_phase", "fatten"]
+           "StaticPairs", "make_broad_phase", "fatten", "fatten_around", "boxes_overlap"]
 
 #: the tree's fat boxes: the AABB grown on each side by this fraction of its largest side (bodies jittering by
 #: 2 % of their size per frame then leave their fat box once every ~400 frames: a few tree queries per frame)
@@ -50,10 +54,28 @@ def _drop_rows_of(pairs: np.ndarray, bodies, capacity: int) -> np.ndarray:
 
 def fatten(store, bodies) -> None:
     """Give ``bodies`` new fat boxes: their AABB grown on each side by FAT_MARGIN × its largest side."""
-    grow = FAT_MARGIN * (store.hi[bodies] - store.lo[bodies]).max(axis=1, keepdims=True)
-    store.fat_lo[bodies] = store.lo[bodies] - grow
-    store.fat_hi[bodies] = store.hi[bodies] + grow
+    fatten_around(store, bodies, store.lo[bodies], store.hi[bodies])
+
+
+def fatten_around(store, bodies, lo, hi) -> None:
+    """Give ``bodies`` new fat boxes around the boxes ``lo``, ``hi`` (m, 3) — each containing its body's AABB —:
+    grown on each side by FAT_MARGIN × the largest side."""
+    grow = FAT_MARGIN * (hi - lo).max(axis=1, keepdims=True)
+    store.fat_lo[bodies] = lo - grow
+    store.fat_hi[bodies] = hi + grow
     store.escaped[bodies] = False
+
+
+def boxes_overlap(lo, hi, a, b) -> np.ndarray:
+    """Whether the closed boxes a[k] and b[k] of ``lo``, ``hi`` (n, 3) overlap, for index arrays a, b (k,)."""
+    return ((lo[a] <= hi[b]) & (lo[b] <= hi[a])).all(axis=1)
+
+
+def _local_rows(pairs: np.ndarray, bodies: np.ndarray, capacity: int) -> np.ndarray:
+    """Pairs of body ids (k, 2), both among ``bodies`` (m,), as rows of ``bodies``."""
+    position = np.full(capacity + 1, -1, np.int64)  # a free slot's −1 reads the last entry: −1
+    position[bodies] = np.arange(bodies.shape[0])
+    return position[pairs]
 
 
 class RebuildBroadPhase:
@@ -73,6 +95,10 @@ class RebuildBroadPhase:
             return np.empty((0, 2), np.int64)
         rows = find_pairs(store.lo[bodies], store.hi[bodies], self.method)
         return bodies[rows]  # bodies ascending: rows i < j stay canonical
+
+    def swept(self, store, bodies, moved, lo, hi) -> np.ndarray:
+        """Rows of ``bodies`` (k, 2) whose swept boxes ``lo``, ``hi`` (m, 3) overlap."""
+        return find_pairs(lo, hi, self.method) if bodies.shape[0] > 1 else np.empty((0, 2), np.int64)
 
 
 class SAPBroadPhase:
@@ -118,6 +144,18 @@ class SAPBroadPhase:
             return np.empty((0, 2), np.int64)
         owner = self.body_of[slots]
         return _canonical(self.body_of[self.sap.update(store.lo[owner], store.hi[owner])])
+
+    def swept(self, store, bodies, moved, lo, hi) -> np.ndarray:
+        """Rows of ``bodies`` (k, 2) whose swept boxes ``lo``, ``hi`` (m, 3) overlap: the kept order sorted again
+        over the swept boxes (the next frame sorts the AABBs back from it)."""
+        if self.pending:
+            self._insert_pending(store, bodies)
+        slots = self.sap.ids()
+        if slots.shape[0] < 2:
+            return np.empty((0, 2), np.int64)
+        row = _local_rows(self.body_of, bodies, store.capacity)  # slot -> row of bodies (free slots: unread)
+        live = row[slots]
+        return _canonical(row[self.sap.update(lo[live], hi[live])])
 
 
 class TreeBroadPhase:
@@ -198,6 +236,12 @@ class TreeBroadPhase:
                 np.empty((0, 2), np.int64)
         return self.cached
 
+    def swept(self, store, bodies, moved, lo, hi) -> np.ndarray:
+        """Rows of ``bodies`` (k, 2) whose swept boxes ``lo``, ``hi`` (m, 3) overlap: the fat pairs (every swept
+        box lies in its fat box: ``moved`` were fattened around theirs), kept where the swept boxes overlap."""
+        rows = _local_rows(self.candidates(store, bodies, moved), bodies, store.capacity)
+        return rows[boxes_overlap(lo, hi, rows[:, 0], rows[:, 1])]
+
 
 class StaticPairs:
     """The candidate pairs of the moving bodies against the static ones (see the module docstring): a
@@ -264,6 +308,17 @@ class StaticPairs:
             self.cached = np.concatenate([kept, self.query(store, escaped, store.fat_lo[escaped],
                                                            store.fat_hi[escaped])])
         return self.cached
+
+    def swept(self, store, bodies, moved, lo, hi) -> np.ndarray:
+        """The cached pairs (body, static body) whose swept box (``lo``, ``hi`` (m, 3), by row of ``bodies``) meets
+        the static body's AABB; ``moved``: the bodies given fat boxes around their swept boxes."""
+        pairs = self.candidates(store, bodies, moved)
+        side = _local_rows(pairs, bodies, store.capacity)
+        first = side[:, 0] >= 0  # the moving body's column
+        mover = np.where(first, side[:, 0], side[:, 1])
+        fixed = np.where(first, pairs[:, 1], pairs[:, 0])
+        meet = ((lo[mover] <= store.hi[fixed]) & (store.lo[fixed] <= hi[mover])).all(axis=1)
+        return pairs[meet]
 
 
 def make_broad_phase(method: str):

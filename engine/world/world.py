@@ -43,7 +43,7 @@ from engine.narrowphase.contacts import (
 )
 
 from .bodies import BodyArrays, BodyStore, refresh_bodies
-from .broad import StaticPairs, fatten, make_broad_phase
+from .broad import StaticPairs, fatten, fatten_around, make_broad_phase
 from .dispatch import NarrowContext, answer
 from .filters import ALL, Exclusions, as_bits, as_group
 from .kinds import KINDS
@@ -125,7 +125,8 @@ class WorldStats:
     culled : int
         Candidates dropped by the kinematic culling (pairs apart and moving apart; ``time_of_impact`` only).
     narrow_tests : int
-        Pairs tested exactly (a compound's: pairs of its parts whose boxes overlap).
+        Pairs tested exactly (a compound's: pairs of its parts whose boxes overlap); for ``time_of_impact`` the
+        overlap tests of the pairs whose boxes overlap at the start plus the impact tests of those not touching.
     overlapping : int
         Pairs that touch (``contacts``: pairs of parts).
     contacts, persisting : int
@@ -1084,16 +1085,38 @@ class World:
         self._previous = (np.ascontiguousarray(owner[order]), point_ids[order])
         return persists
 
+    def _swept_candidates(self, dt: float):
+        """The kept broad phase asked for the pairs whose swept boxes (each body's AABB swept over ``dt`` with its
+        velocity) overlap: the bodies whose swept box leaves their fat box are given fat boxes around it first
+        (Box2D's ``b2MoveProxy`` with a displacement). Returns (pairs (k, 2) of ids — moving pairs the kinematic
+        method keeps, then the static and ground pairs —, how many are static or ground pairs, how many moving
+        pairs were culled)."""
+        st = self._store
+        bodies = self._moving()
+        v, lo, hi = st.velocity[bodies], st.lo[bodies], st.hi[bodies]
+        sw_lo, sw_hi = np.minimum(lo, lo + v * dt), np.maximum(hi, hi + v * dt)
+        out = st.escaped[bodies] | ((sw_lo < st.fat_lo[bodies]) | (sw_hi > st.fat_hi[bodies])).any(axis=1)
+        moved = bodies[out]
+        fatten_around(st, moved, sw_lo[out], sw_hi[out])
+        rows = self._broad.swept(st, bodies, moved, sw_lo, sw_hi)
+        kept = cull_separating_box_pairs(rows, lo, hi, v) if rows.shape[0] else _NO_PAIRS
+        static = [self._static.swept(st, bodies, moved, sw_lo, sw_hi), *self._ground_candidates(bodies, sw_lo, sw_hi)]
+        n_static = sum(s.shape[0] for s in static)
+        cand = np.ascontiguousarray(np.concatenate([bodies[kept], *static]))
+        return cand, n_static, int(rows.shape[0] - kept.shape[0])
+
     def time_of_impact(self, dt) -> ImpactSet:
         """The pairs that touch within ``dt`` while the bodies move with their velocities, and when (sensors
         never).
 
-        Broad phase on the swept boxes, kinematic culling of the moving pairs apart and moving apart
-        (``engine.broadphase.cull_separating_box_pairs``), the filter, then the impact table: closed forms for two
-        spheres and a body over a Plane, conservative advancement for the other bodies
+        The world's kept broad phase asked for the pairs whose swept boxes overlap (a body whose swept box leaves
+        its fat box is given a fat box around it, as Box2D moves a proxy by its displacement), kinematic culling of
+        the moving pairs apart and moving apart (``engine.broadphase.cull_separating_box_pairs``), the filter, the
+        overlap table for the pairs touching at the start (time 0), then the impact table for the others: closed
+        forms for two spheres and a body over a Plane, conservative advancement for the other bodies
         (``engine.narrowphase.time_of_impact_pairs``, distance within 1e-9 at the returned time), bisection on the
         sampled gap for a HeightCurve; a compound's time is the earliest of its parts'. Static bodies and grounds
-        are fixed; the poses are not changed. Refreshes ``stats``.
+        are fixed; the poses are not changed (the fat boxes may grow). Refreshes ``stats``.
 
         Parameters
         ----------
@@ -1113,26 +1136,24 @@ class World:
             When conservative advancement reaches its iteration cap on a pair.
         """
         dt = as_nonnegative(dt, "dt")
-        st = self._store
-        bodies = self._moving()
-        v, lo, hi = st.velocity[bodies], st.lo[bodies], st.hi[bodies]
-        sw_lo, sw_hi = np.minimum(lo, lo + v * dt), np.maximum(hi, hi + v * dt)
-        rows = find_pairs(sw_lo, sw_hi, self.broad_phase) if bodies.shape[0] > 1 else _NO_PAIRS
-        kept = cull_separating_box_pairs(rows, lo, hi, v) if rows.shape[0] else rows
-        static = [self._static.query(st, bodies, sw_lo, sw_hi), *self._ground_candidates(bodies, sw_lo, sw_hi)]
-        stats = WorldStats(query="time_of_impact", bodies=int(bodies.shape[0]),
-                           candidate_pairs=int(rows.shape[0] + sum(s.shape[0] for s in static)),
-                           static_pairs=int(sum(s.shape[0] for s in static)),
-                           culled=int(rows.shape[0] - kept.shape[0]))
-        cand = np.ascontiguousarray(np.concatenate([bodies[kept], *static]))
-        result = answer(TABLE, "impact", self._context(dt), cand, self._filter_keys(), True)
+        cand, static, culled = self._swept_candidates(dt)
+        stats = WorldStats(query="time_of_impact", bodies=int(self._moving().shape[0]),
+                           candidate_pairs=int(cand.shape[0] + culled), static_pairs=int(static), culled=culled)
+        keys = self._filter_keys()
+        touching = answer(TABLE, "overlap", self._context(), cand, keys, True)
+        now = np.zeros(cand.shape[0], np.bool_)
+        now[touching.origin[touching.out.status == TOUCHING]] = True
+        later = np.flatnonzero(~now)
+        result = answer(TABLE, "impact", self._context(dt), np.ascontiguousarray(cand[later]), keys, True)
         stats.filtered = int(result.filtered)
         times = np.full(cand.shape[0], np.inf)
-        np.minimum.at(times, result.origin, result.out)
+        times[now] = 0.0
+        np.minimum.at(times, later[result.origin], result.out)
         hit = np.isfinite(times)
         pairs, times = cand[hit], times[hit]
         order = _canonical_order(pairs)
-        stats.narrow_tests, stats.groups = int(result.pairs.shape[0]), _groups(result.counts)
+        stats.narrow_tests = int(touching.pairs.shape[0] + result.pairs.shape[0])
+        stats.groups = _groups(touching.counts + result.counts)
         stats.impacts = int(pairs.shape[0])
         self.stats = stats
         return ImpactSet(pairs=np.ascontiguousarray(pairs[order]), times=times[order])
