@@ -540,22 +540,23 @@ def _sweep_sorted(order: np.ndarray, lo: np.ndarray, hi: np.ndarray, axis: int, 
     ranges = pair_buffer.split_work(start, threads, MIN_ENTRIES_PER_THREAD)
     shift = int(pair_buffer.pair_key_shift(n_objects))
 
-    # one range: this thread's reusable key buffer; several: a buffer of its own per range (a pool thread may
-    # run two ranges one after the other, and the merge reads every range's buffer at the end)
-    def buffer(size: int) -> np.ndarray:
-        if len(ranges) == 1:
-            return pair_buffer.work_array("sap_pair_keys", size, np.int64)
-        return np.empty(max(size, 16), dtype=np.int64)
+    # each range records into a key buffer of its own, held by this (the calling) thread between calls: a range
+    # run by a pool thread cannot use that thread's work arrays (it may run two ranges, one after the other)
+    names = {r: f"sap_pair_keys_{t}" for t, r in enumerate(ranges)}
+    buffers = {r: pair_buffer.work_array(names[r], start[r[1]] - start[r[0]], np.int64) for r in ranges}
 
     def sweep(first, last):
-        out = buffer(start[last] - start[first])
+        out = buffers[first, last]
         count, tests = _sweep_columns(start, rec, first, last, out, shift)
         if count > out.shape[0]:  # too many pairs for the buffer: again, with room for all of them
-            out = buffer(count)
+            out = buffers[first, last] = np.empty(count + count // 4, dtype=np.int64)
             count, tests = _sweep_columns(start, rec, first, last, out, shift)
         return out, count, tests
 
-    return pair_buffer.run_split(sweep, ranges, n_objects, canonicalise=pair_buffer.canonicalise_key_buffer)
+    result = pair_buffer.run_split(sweep, ranges, n_objects, canonicalise=pair_buffer.canonicalise_key_buffer)
+    for r, buf in buffers.items():  # the grown buffers serve the next call
+        pair_buffer.keep_work_array(names[r], buf)
+    return result
 
 
 def _widest_axis(lo: np.ndarray, hi: np.ndarray) -> int:
