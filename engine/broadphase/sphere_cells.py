@@ -16,10 +16,14 @@ comparison:
 - the three cells (iy, ix + 1, iz − 1 .. iz + 1);
 - for dx = −1, 0, 1 the three cells (iy + 1, ix + dx, iz − 1 .. iz + 1).
 
-Data-oriented passes: one 64-bit word per sphere, its cell · 2^32 + its id, one stable radix sort of the words
-by cell (``counting_sort.radix_sort_packed``: the key and the id move as one word), one gather of the
-coordinates into sorted float arrays (structure of arrays), the table of cell ends (a histogram of the sorted
-cells and its prefix sum), the sweep.
+Data-oriented passes: one 64-bit word per sphere, its cell · 2^32 + its id (the key and the id move as one
+word), sorted by cell in two counting passes whose counters stay in cache (``counting_sort``'s two-pass sort,
+Ericson 7.1.6): the words scattered by bucket (a high part of the cell number, ``cell_words`` then
+``counting_sort.scatter_to_buckets``), then each bucket sorted by cell (``place_in_cells``), which also writes the
+table of cell ends (its counters' running sum) and gathers the coordinates into sorted float arrays (structure of
+arrays); then the sweep. Each pass is split among threads — the first by chunks of spheres, each with its own
+histogram of buckets (``counting_sort.bucket_offsets`` gives each chunk its slots, so the order is the same for
+any split), the second by ranges of buckets, the sweep by ranges of sorted spheres.
 The table has one entry per cell, so the grid is used only when there are at most ``MAX_CELLS_PER_SPHERE`` cells
 per sphere (``cell_layout`` says so); sparser scenes use the sorted columns of ``sphere_columns``.
 """
@@ -30,10 +34,10 @@ from collections import namedtuple
 import numpy as np
 
 from engine._config import njit
-from engine.broadphase.counting_sort import cell_of, radix_sort_packed
+from engine.broadphase.counting_sort import cell_of
 from engine.broadphase.sphere_columns import pair_hit
 
-__all__ = ["MAX_CELLS_PER_SPHERE", "ID_MASK", "CellLayout", "cell_layout", "sort_into_cells", "cell_ends",
+__all__ = ["MAX_CELLS_PER_SPHERE", "ID_MASK", "CellLayout", "cell_layout", "cell_words", "place_in_cells",
            "sweep_cells"]
 
 #: the most cells (padding included) per sphere for which the padded grid is used (its table of cell ends is
@@ -65,57 +69,66 @@ def cell_layout(lo, hi, h, n):
 
 
 @njit
-def _cell_keys(c, large, layout, order):
-    """order[m] = (padded cell number of sphere i) · 2^32 + i for each sphere i in the grid; returns m."""
-    m = 0
-    for i in range(c.shape[0]):
+def cell_words(c, large, layout, first, last, words, bucket_shift, hist):
+    """The words of the spheres first .. last − 1 outside ``large``: words[first + k] = (padded cell number of
+    the k-th of them) · 2^32 + its index, and hist[b] += 1 (hist (B,) int64) for its bucket b = word >>
+    bucket_shift; returns k (one chunk of the first pass of ``place_in_cells``' sort)."""
+    k = first
+    for i in range(first, last):
         if large[i]:
             continue
         iy = cell_of(c[i, 1], layout.y0, layout.inv_h, layout.ny)
         ix = cell_of(c[i, 0], layout.x0, layout.inv_h, layout.nx) + 1
         iz = cell_of(c[i, 2], layout.z0, layout.inv_h, layout.nz) + 1
-        order[m] = (np.int64((iy * layout.row_x + ix) * layout.row_z + iz) << 32) | i
-        m += 1
-    return m
-
-
-#: from this many spheres on, the sort's digits are 8 bits (its arrays no longer fit in the L2 cache)
-_SMALL_DIGITS_FROM = 1 << 17
-
-
-@njit
-def sort_into_cells(c, r, large, equal, layout, order, order_tmp, sx, sy, sz, sr):
-    """Sort the spheres of the grid by cell: returns (m, order) with order[:m] (int64, one of the two buffers
-    given) the sorted words cell · 2^32 + sphere id, and fills sx, sy, sz, sr[:m] (the sorted centres and radii,
-    float64; ``equal``: every radius is r[0], which is then not gathered). order, order_tmp: int64 work arrays
-    of at least n entries."""
-    m = _cell_keys(c, large, layout, order)
-    bits = 0
-    while ((layout.n_cells - 1) >> bits) > 0:
-        bits += 1
-    order = radix_sort_packed(order, order_tmp, m, 32, bits, 8 if m >= _SMALL_DIGITS_FROM else 11)
-    r0 = r[0]
-    for p in range(m):  # the one random-access pass: each sphere's centre read once, written in cell order
-        i = order[p] & ID_MASK
-        sx[p] = c[i, 0]
-        sy[p] = c[i, 1]
-        sz[p] = c[i, 2]
-        sr[p] = r0 if equal else r[i]
-    return m, order
+        word = (np.int64((iy * layout.row_x + ix) * layout.row_z + iz) << 32) | i
+        words[k] = word
+        hist[word >> bucket_shift] += 1
+        k += 1
+    return k - first
 
 
 @njit
-def cell_ends(order, m, n_cells, ends):
-    """Fill ends[:n_cells] (int32) with ends[k] = the number of sorted spheres in cells <= k (order: the sorted
-    words of ``sort_into_cells``), so that cell k holds the sorted spheres ends[k − 1] .. ends[k] − 1: a
-    histogram of the cells, then its running sum (no branch per cell)."""
-    ends[:n_cells] = 0
-    for p in range(m):
-        ends[order[p] >> 32] += 1
-    total = 0
-    for k in range(n_cells):
-        total += ends[k]
-        ends[k] = total
+def place_in_cells(grouped, bucket_start, first, last, shift, n_cells, c, r, equal, order, ends, sx, sy, sz, sr):
+    """The second pass of the sort by cell, for the buckets first .. last − 1 (bucket b: the cells b · 2^shift ..
+    (b + 1) · 2^shift − 1, its words grouped[bucket_start[b]:bucket_start[b + 1]], in index order — the first
+    pass, ``cell_words`` then ``counting_sort.scatter_to_buckets``, put them there).
+
+    A counting sort of each bucket by cell (its counters in cache): writes ends[k] (int32) = the number of
+    sorted spheres in cells <= k for each of the buckets' cells, each word at its sorted slot p of ``order``
+    (int64; in a cell, by index), and gathers the sphere's centre and radius into sx, sy, sz, sr[p] (float64;
+    ``equal``: every radius is r[0], not gathered) — the one random-access pass over the centres.
+    """
+    width = 1 << shift
+    local = np.zeros(width, dtype=np.int64)
+    for b in range(first, last):
+        first_cell = b << shift
+        cells = min(n_cells, first_cell + width) - first_cell
+        lo, hi = bucket_start[b], bucket_start[b + 1]
+        local[:cells] = 0
+        for t in range(lo, hi):
+            local[(grouped[t] >> 32) - first_cell] += 1
+        total = lo
+        for u in range(cells):  # local[u]: the first slot of cell u (a running sum held in a register)
+            count = local[u]
+            local[u] = total
+            total += count
+        for t in range(lo, hi):
+            word = grouped[t]
+            u = (word >> 32) - first_cell
+            p = local[u]
+            local[u] = p + 1
+            order[p] = word
+        ends[first_cell:first_cell + cells] = local[:cells]  # each slot advanced to its cell's end
+        for p in range(lo, hi):  # the gather: one random read of each centre, written in sorted order
+            i = order[p] & ID_MASK
+            sx[p] = c[i, 0]
+            sy[p] = c[i, 1]
+            sz[p] = c[i, 2]
+        if equal:  # a loop of its own: a select would still load r[i], one more random read per sphere
+            sr[lo:hi] = r[0]
+        else:
+            for p in range(lo, hi):
+                sr[p] = r[order[p] & ID_MASK]
 
 
 @njit
