@@ -812,9 +812,10 @@ class IncrementalSAP(IncrementalBroadPhase):
         self._lo[ids, : self._d] = lo
         self._hi[ids, : self._d] = hi
 
-    def pairs(self) -> np.ndarray:
-        # repair the sorted order by insertion sort, then sweep
+    def pairs(self, *, threads: int = 1) -> np.ndarray:
+        # repair the sorted order by insertion sort, then sweep (the threads share the columns)
+        threads = as_threads(threads)
         if self._order.shape[0] < 2:
             return empty_pairs()
         self.last_swaps = int(_insertion_sort_order(self._order, self._lo, self.axis))
-        return _sweep_sorted(self._order, self._lo, self._hi, self.axis, self._size)[0]
+        return _sweep_sorted(self._order, self._lo, self._hi, self.axis, self._size, threads)[0]
