@@ -27,10 +27,11 @@ from engine.broadphase import (
     uniform_grid,
 )
 from engine.broadphase.aabb_tree import DynamicAABBTree
-from engine.broadphase.counting_sort import bucket_offsets, scatter_to_buckets
+from engine.broadphase.counting_sort import bucket_offsets
 from engine.broadphase.octree import octree_pairs
 from engine.broadphase.pair_merge import merge_pair_parts
 from engine.broadphase.pairs import canonical_pairs, pair_key_shift, split_even, split_work
+from engine.broadphase.sphere_cells import scatter_spheres
 from engine.broadphase.sweep_and_prune import IncrementalSAP, sap_pairs
 from engine.broadphase.uniform_grid import grid_pairs
 from engine.workloads import clustered_spheres, w1_boxes, w2_spheres
@@ -312,24 +313,33 @@ def test_merge_of_the_threads_buffers_is_the_canonical_form_of_their_union(parts
     np.testing.assert_array_equal(got, expected)
 
 
-@given(st.lists(st.integers(0, 2**40), max_size=300), st.integers(0, 11), st.integers(1, 6))
-def test_parallel_counting_sort_by_bucket_is_the_stable_sort(words, bucket_bits, chunks):
-    """bucket_offsets + scatter_to_buckets over any cut into chunks = the stable sort by word >> shift (the
-    words' top ``bucket_bits`` bits at most: up to 2048 buckets, as the engine uses them)."""
-    src = np.array(words, dtype=np.int64)
-    shift = max(0, max(words, default=0).bit_length() - bucket_bits)
-    n_buckets = int(src.max() >> shift) + 1 if src.size else 1
-    cuts = split_even(src.shape[0], chunks, 1)
+@given(st.lists(st.integers(0, 2**20), max_size=300), st.integers(0, 11), st.integers(1, 6), st.booleans())
+def test_parallel_counting_sort_by_bucket_is_the_stable_sort(cells, bucket_bits, chunks, equal):
+    """bucket_offsets + scatter_spheres over any cut into chunks = the stable sort of the words cell · 2^32 + i
+    by bucket (the cells' top ``bucket_bits`` bits at most: up to 2048 buckets, as the engine uses them), each
+    sphere's centre and radius carried with its word."""
+    n = len(cells)
+    src = (np.array(cells, dtype=np.int64) << 32) | np.arange(n, dtype=np.int64)
+    shift = 32 + max(0, max(cells, default=0).bit_length() - bucket_bits)
+    n_buckets = int(src.max() >> shift) + 1 if n else 1
+    centres = np.random.default_rng(n).random((n, 3))
+    radii = np.random.default_rng(n + 1).random(n)
+    cuts = split_even(n, chunks, 1)
     hist = np.zeros((len(cuts), n_buckets), dtype=np.int64)
     for t, (a, b) in enumerate(cuts):
         np.add.at(hist[t], src[a:b] >> shift, 1)
     offsets, bucket_start = bucket_offsets(hist)
-    dst = np.full(src.shape[0], -1, dtype=np.int64)
+    grouped = np.full((n, 4), np.nan)
+    grouped_radii = np.full(n, np.nan)
     for t, (a, b) in enumerate(cuts):
-        scatter_to_buckets(src, a, b - a, shift, offsets[t], dst)
-    np.testing.assert_array_equal(dst, src[np.argsort(src >> shift, kind="stable")])
+        scatter_spheres(src, a, b - a, shift, offsets[t], centres, radii, equal, grouped, grouped_radii)
+    expected = np.argsort(src >> shift, kind="stable")
+    np.testing.assert_array_equal(grouped[:, 0].view(np.int64), src[expected])
+    np.testing.assert_array_equal(grouped[:, 1:], centres[expected])
+    if not equal:
+        np.testing.assert_array_equal(grouped_radii, radii[expected])
     np.testing.assert_array_equal(np.diff(bucket_start), np.bincount(src >> shift, minlength=n_buckets)
-                                  if src.size else [0])
+                                  if n else [0])
 
 
 @given(st.integers(0, 10_000), st.integers(1, 9), st.integers(1, 500))

@@ -8,7 +8,8 @@ bits (``sort_within_buckets``), which gives every entry its final slot. ``cell_o
 coordinate and ``grid_dims`` the cells per axis under a cap on their number, the same way for every grid.
 The first pass can be shared among threads: each counts the buckets of its chunk of the input, ``bucket_offsets``
 gives each chunk its slots in every bucket (after the lower buckets and the earlier chunks' entries), and each
-chunk moves its own entries (``scatter_to_buckets``) — the order is that of the one-thread pass, for any split.
+chunk moves its own entries (``sphere_cells.scatter_spheres``) — the order is that of the one-thread pass, for
+any split.
 """
 from __future__ import annotations
 
@@ -187,7 +188,7 @@ def bucket_offsets(hist):
     thread): hist (T, B) int64 counts the entries of bucket b in chunk t of the input; returns (offsets (T, B),
     bucket_start (B + 1,)) with offsets[t, b] the first slot of chunk t's entries of bucket b — after every
     entry of a lower bucket and after the entries of bucket b of the chunks before t, so that the scatter
-    (``scatter_to_buckets``) is stable whatever the number of chunks."""
+    (e.g. ``sphere_cells.scatter_spheres``) is stable whatever the number of chunks."""
     chunks, buckets = hist.shape
     offsets = np.empty((chunks, buckets), dtype=np.int64)
     bucket_start = np.empty(buckets + 1, dtype=np.int64)
@@ -200,14 +201,3 @@ def bucket_offsets(hist):
     bucket_start[buckets] = total
     return offsets, bucket_start
 
-
-@njit
-def scatter_to_buckets(src, first, count, shift, offsets, dst):
-    """Move the words src[first:first + count] (non-negative int64, bucket src[t] >> shift) to their slots in
-    dst, in order within each bucket: ``offsets`` (B,) int64 is this chunk's row of ``bucket_offsets``
-    (overwritten: advanced past the entries placed)."""
-    for t in range(first, first + count):
-        word = src[t]
-        b = word >> shift
-        dst[offsets[b]] = word
-        offsets[b] += 1

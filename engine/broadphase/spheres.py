@@ -31,9 +31,18 @@ import engine.broadphase.pairs as pair_buffer
 from engine._config import njit
 from engine._validate import MAX_MAGNITUDE, as_choice, as_float_array, as_radii
 from engine.bounding.sphere import spheres_touch
-from engine.broadphase.counting_sort import bucket_offsets, radix_split, scatter_to_buckets
+from engine.broadphase.counting_sort import bucket_offsets, radix_split
 from engine.broadphase.pairs import as_threads, canonical_pairs, empty_pairs
-from engine.broadphase.sphere_cells import CellLayout, cell_layout, cell_words, place_in_cells, sweep_cells
+from engine.broadphase.sphere_cells import (
+    CellLayout,
+    cell_ends,
+    cell_layout,
+    cell_words,
+    place_in_cells,
+    scatter_spheres,
+    sort_into_cells,
+    sweep_cells,
+)
 from engine.broadphase.sphere_columns import column_layout, home_columns, sort_into_columns, sweep_columns
 from engine.broadphase.thread_pool import run_parts
 
@@ -137,23 +146,38 @@ def _cell_grid(c: np.ndarray, r: np.ndarray, large: np.ndarray, equal_radii: boo
     split_work: m, as they are of about equal work)."""
     n = c.shape[0]
     chunks = pair_buffer.split_even(n, threads, MIN_SPHERES_PER_THREAD)
+    if len(chunks) == 1:  # one thread: one radix sort, then the table (fewer passes than the two counting ones)
+        return _cell_grid_one_thread(c, r, large, equal_radii, layout)
     shift, n_buckets = (int(v) for v in radix_split(layout.n_cells))
-    words, grouped, order = (pair_buffer.work_array(name, n, np.int64) for name in ("cell_words", "cell_grouped",
-                                                                                    "cell_order"))
+    words, order = (pair_buffer.work_array(name, n, np.int64) for name in ("cell_words", "cell_order"))
+    grouped = pair_buffer.work_array("cell_grouped", 4 * n, np.float64)[: 4 * n].reshape(n, 4)
+    grouped_radii = pair_buffer.work_array("cell_grouped_radii", n, np.float64)
     sorted_arrays = [pair_buffer.work_array(name, n, np.float64) for name in ("sx", "sy", "sz", "sr")]
     hist = np.zeros((len(chunks), n_buckets), dtype=np.int64)
     counts = run_parts(lambda t: cell_words(c, large, layout, *chunks[t], words, shift + 32, hist[t]),
                        range(len(chunks)))
     offsets, bucket_start = bucket_offsets(hist)
-    run_parts(lambda t: scatter_to_buckets(words, chunks[t][0], counts[t], shift + 32, offsets[t], grouped),
-              range(len(chunks)))
+    run_parts(lambda t: scatter_spheres(words, chunks[t][0], counts[t], shift + 32, offsets[t], c, r, equal_radii,
+                                        grouped, grouped_radii), range(len(chunks)))
     ends = pair_buffer.work_array("cell_ends", layout.n_cells, np.int32)
     # the second pass costs about one unit per sphere and one per 4 cells of its buckets
     work = bucket_start + (np.minimum(np.arange(n_buckets + 1) << shift, layout.n_cells) >> 2)
-    run_parts(lambda part: place_in_cells(grouped, bucket_start, *part, shift, layout.n_cells, c, r, equal_radii,
-                                          order, ends, *sorted_arrays),
+    run_parts(lambda part: place_in_cells(grouped, grouped_radii, bucket_start, *part, shift, layout.n_cells, r,
+                                          equal_radii, order, ends, *sorted_arrays),
               pair_buffer.split_work(work, threads, MIN_SPHERES_PER_THREAD))
     m = int(bucket_start[-1])
+    return (layout, order, ends, *sorted_arrays), m, m
+
+
+def _cell_grid_one_thread(c: np.ndarray, r: np.ndarray, large: np.ndarray, equal_radii: bool,
+                          layout: CellLayout) -> tuple:
+    """``_cell_grid`` on this thread alone: the radix sort of sphere_cells.sort_into_cells, then cell_ends."""
+    n = c.shape[0]
+    order, order_tmp = (pair_buffer.work_array(name, n, np.int64) for name in ("cell_order", "cell_order_tmp"))
+    sorted_arrays = [pair_buffer.work_array(name, n, np.float64) for name in ("sx", "sy", "sz", "sr")]
+    m, order = sort_into_cells(c, r, large, equal_radii, layout, order, order_tmp, *sorted_arrays)
+    ends = pair_buffer.work_array("cell_ends", layout.n_cells, np.int32)
+    cell_ends(order, m, layout.n_cells, ends)
     return (layout, order, ends, *sorted_arrays), m, m
 
 
