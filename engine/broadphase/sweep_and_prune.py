@@ -532,13 +532,14 @@ MIN_ENTRIES_PER_THREAD = 4096
 
 def _column_entries(order: np.ndarray, lo: np.ndarray, hi: np.ndarray, axis: int, threads: int = 1,
                     ) -> tuple[np.ndarray, np.ndarray]:
-    """The swept columns of the boxes in sweep order: (start, entry records), the dense columns filled by
-    ``threads`` threads; the records live in this thread's work arrays (reused by the next sweep on this
-    thread)."""
+    """The swept columns of the boxes in sweep order: (start, entry records), the records gathered and the dense
+    columns filled by ``threads`` threads; the records live in this thread's work arrays (reused by the next sweep
+    on this thread)."""
     m = order.shape[0]
     box = pair_buffer.work_array("sap_boxes", m * ENTRY_WIDTH, np.float64)[: m * ENTRY_WIDTH]
     box = box.reshape(m, ENTRY_WIDTH)
-    sorted_records(order, lo, hi, axis, box)
+    chunks = pair_buffer.split_work(m, threads, MIN_ENTRIES_PER_THREAD)  # the gather, by chunks of the order
+    run_parts(lambda chunk: sorted_records(order[chunk[0]:chunk[1]], lo, hi, axis, box[chunk[0]:chunk[1]]), chunks)
     ranges = pair_buffer.work_array("sap_ranges", 4 * m, np.int64)[: 4 * m].reshape(4, m)
     grid, entries, sparse = _choose_columns(box, _box_bounds(box), ranges)
     slots = 2 * entries if sparse else entries + grid.k1 * grid.k2
