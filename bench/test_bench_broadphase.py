@@ -12,7 +12,9 @@
 - Big levels: ``find_pairs`` (every method but brute) and ``sphere_pairs`` on the scenes of
   ``engine.workloads.big_level_boxes`` (two dense clusters 1e6 apart, 8 huge boxes among small ones, everything
   on one plane), N = 1e3 .. 1e5: the report fits each method's slope (it must stay <= 1.2: no quadratic cliff).
-- Threads: ``find_pairs`` (sap, grid) on W1 100k and ``sphere_pairs`` on W2 1e5 / 1e6 with threads = 1 and 2;
+- Threads: every function of the broad phase that takes ``threads`` — ``find_pairs`` (sap, grid, octree, tree on W1
+  100k, brute on W1 5k), ``IncrementalSAP.update`` and ``DynamicAABBTree.pairs`` on W1 100k, ``sphere_pairs`` on W2
+  1e5 / 1e6 — with threads = 1 and 2;
   ``extra_info["wall_min"]`` is the least wall-clock time of the rounds (the benchmark's own timer may count CPU
   time, which sums the threads), so the report can give the 2-core scaling.
 
@@ -37,7 +39,7 @@ if __name__ == "__main__":  # script mode: make `engine` importable from a check
     sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from bench.peers import ckdtree_pairs, coal_pairs, cpu_mhz, fcl_pairs  # noqa: E402
-from engine.broadphase import BROAD_PHASES, find_pairs, sphere_pairs  # noqa: E402
+from engine.broadphase import BROAD_PHASES, DynamicAABBTree, IncrementalSAP, find_pairs, sphere_pairs  # noqa: E402
 from engine.workloads import (  # noqa: E402
     BIG_LEVEL_SCENES,
     big_level_boxes,
@@ -190,21 +192,39 @@ def _wall_min(func, *args, rounds=3, **kwargs):
     return best
 
 
+def _threads_case(case: str, threads: int):
+    """(function, args, kwargs, n) of a "threads" case: "<method> W1 <n>" (find_pairs), "spheres W2 <n>",
+    "IncrementalSAP.update W1 <n>" (one frame: the boxes moved by a tenth of a box), "DynamicAABBTree.pairs W1 <n>"."""
+    what, workload, size = case.split()
+    n = int(float(size.replace("k", "e3")))
+    if workload == "W2":
+        centres, radius = w2_spheres(n, 0.05)
+        return sphere_pairs, (centres, radius), {"threads": threads}, n
+    lo, hi = w1_boxes(n)
+    if what == "IncrementalSAP.update":
+        sap = IncrementalSAP(lo, hi)
+        frames = [(lo + 1.0, hi + 1.0), (lo, hi)]  # back and forth: each call repairs a nearly sorted order
+        state = {"frame": 0}
+
+        def update(**kwargs):
+            state["frame"] ^= 1
+            return sap.update(*frames[state["frame"]], **kwargs)
+        return update, (), {"threads": threads}, n
+    if what == "DynamicAABBTree.pairs":
+        tree = DynamicAABBTree.from_boxes(lo, hi)
+        return tree.pairs, (), {"threads": threads}, n
+    return find_pairs, (lo, hi, what), {"threads": threads}, n
+
+
 @pytest.mark.benchmark(group="threads")
 @pytest.mark.parametrize("threads", [1, 2])
-@pytest.mark.parametrize("case", ["sap W1 100k", "grid W1 100k", "spheres W2 1e5",
-                                  pytest.param("spheres W2 1e6", marks=pytest.mark.large)])
+@pytest.mark.parametrize("case", ["sap W1 100k", "grid W1 100k", "octree W1 100k", "tree W1 100k", "brute W1 5k",
+                                  "IncrementalSAP.update W1 100k", "DynamicAABBTree.pairs W1 100k",
+                                  "spheres W2 1e5", pytest.param("spheres W2 1e6", marks=pytest.mark.large)])
 def test_bench_threads(benchmark, quick, case, threads):
     if quick:
         pytest.skip("quick mode")
-    if case.startswith("spheres"):
-        n = 100_000 if case.endswith("1e5") else 1_000_000
-        centres, radius = w2_spheres(n, 0.05)
-        func, args, kwargs = sphere_pairs, (centres, radius), {"threads": threads}
-    else:
-        n = 100_000
-        lo, hi = w1_boxes(n)
-        func, args, kwargs = find_pairs, (lo, hi, case.split()[0]), {"threads": threads}
+    func, args, kwargs, n = _threads_case(case, threads)
     func(*args, **kwargs)
     pairs = benchmark.pedantic(func, args=args, kwargs=kwargs, rounds=3, iterations=1)
     benchmark.extra_info.update(work=n, unit="objects", pairs=int(len(pairs)), threads=threads, case=case,

@@ -732,12 +732,18 @@ class DynamicAABBTree(IncrementalBroadPhase):
                 self._remove_node(obj_id)
                 self._insert_node(obj_id)
 
-    def pairs(self) -> np.ndarray:
-        # each object descends the nodes its box overlaps; at a leaf the exact boxes are compared
+    def pairs(self, *, threads: int = 1) -> np.ndarray:
+        # each object descends the nodes its box overlaps; at a leaf the exact boxes are compared (the threads
+        # share the node slots, as tree_pairs does)
+        threads = as_threads(threads)
         if self._root == -1:
             return empty_pairs()
-        return tree_leaf_pairs(self._root, self._node_lo, self._node_hi, self._child1, self._child2,
-                                  self._obj_of, self._obj_lo, self._obj_hi, self._obj_node, self._n_ids)[0]
+        tree = (self._root, self._node_lo, self._node_hi, self._child1, self._child2, self._obj_of, self._obj_lo,
+                self._obj_hi, self._obj_node, self._n_ids)
+        ranges = pair_buffer.split_work(self._node_lo.shape[0], threads, MIN_NODES_PER_THREAD)
+        return pair_buffer.run_split(
+            lambda first, last: _leaf_range_pairs(*tree, first, last, pair_buffer.new_pair_buffer(self._n_ids)),
+            ranges, self._n_ids)[0]
 
     def query(self, lo_q: ArrayLike, hi_q: ArrayLike) -> np.ndarray:
         """The objects whose box overlaps a query box (Ericson 6.5: descend the nodes the query box overlaps).
@@ -949,7 +955,7 @@ def tree_pairs(lo: ArrayLike, hi: ArrayLike, *, return_tests: bool = False,
     obj_of = np.full(capacity, -1, dtype=np.int64)
     _build_kernel(lo3, hi3, node_lo, node_hi, parent, child1, child2, height, leaf_of, obj_of)
     tree = (0, node_lo, node_hi, child1, child2, obj_of, lo3, hi3, leaf_of, n)
-    ranges = pair_buffer.split_work(np.arange(capacity + 1), threads, MIN_NODES_PER_THREAD)
+    ranges = pair_buffer.split_work(capacity, threads, MIN_NODES_PER_THREAD)
     pairs, tests = pair_buffer.run_split(
         lambda first, last: _leaf_range_pairs(*tree, first, last, pair_buffer.new_pair_buffer(n)), ranges, n)
     return with_tests(pairs, tests, return_tests)

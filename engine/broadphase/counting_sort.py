@@ -6,6 +6,10 @@ sort runs in two passes whose counters both stay in cache: first on the high bit
 2048 buckets, ``radix_split``), the payload moved bucket by bucket by the caller, then each bucket on its low
 bits (``sort_within_buckets``), which gives every entry its final slot. ``cell_of`` gives the cell column of a
 coordinate and ``grid_dims`` the cells per axis under a cap on their number, the same way for every grid.
+The first pass can be shared among threads: each counts the buckets of its chunk of the input, ``bucket_offsets``
+gives each chunk its slots in every bucket (after the lower buckets and the earlier chunks' entries), and each
+chunk moves its own entries (``sphere_cells.scatter_spheres``) — the order is that of the one-thread pass, for
+any split.
 """
 from __future__ import annotations
 
@@ -176,3 +180,24 @@ def radix_sort_packed(a, tmp, n, low_bit, bits, max_digit_bits):
             dst[p] = x
         src, dst = dst, src
     return src
+
+
+@njit
+def bucket_offsets(hist):
+    """The slots of a parallel counting sort by bucket (Ericson 7.1.6's counting sort, one histogram per
+    thread): hist (T, B) int64 counts the entries of bucket b in chunk t of the input; returns (offsets (T, B),
+    bucket_start (B + 1,)) with offsets[t, b] the first slot of chunk t's entries of bucket b — after every
+    entry of a lower bucket and after the entries of bucket b of the chunks before t, so that the scatter
+    (e.g. ``sphere_cells.scatter_spheres``) is stable whatever the number of chunks."""
+    chunks, buckets = hist.shape
+    offsets = np.empty((chunks, buckets), dtype=np.int64)
+    bucket_start = np.empty(buckets + 1, dtype=np.int64)
+    total = 0
+    for b in range(buckets):
+        bucket_start[b] = total
+        for t in range(chunks):
+            offsets[t, b] = total
+            total += hist[t, b]
+    bucket_start[buckets] = total
+    return offsets, bucket_start
+

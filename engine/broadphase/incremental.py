@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
-from engine.broadphase.pairs import as_boxes, as_live_id
+from engine.broadphase.pairs import as_boxes, as_live_id, as_threads
 
 __all__ = ["IncrementalBroadPhase"]
 
@@ -46,8 +46,13 @@ class IncrementalBroadPhase:
         """
         raise NotImplementedError
 
-    def pairs(self) -> np.ndarray:
+    def pairs(self, *, threads: int = 1) -> np.ndarray:
         """The pairs of live objects whose closed boxes overlap.
+
+        Parameters
+        ----------
+        threads : int, optional
+            How many threads may share the work, 1 to 256 (the same answer, bit for bit).
 
         Returns
         -------
@@ -80,7 +85,7 @@ class IncrementalBroadPhase:
         obj_id = self._check_id(obj_id)
         self._remove_object(obj_id)
 
-    def update(self, lo: ArrayLike, hi: ArrayLike) -> np.ndarray:
+    def update(self, lo: ArrayLike, hi: ArrayLike, *, threads: int = 1) -> np.ndarray:
         """New boxes for every live object, then the pairs: one frame of a simulation.
 
         Parameters
@@ -88,16 +93,19 @@ class IncrementalBroadPhase:
         lo, hi : array_like, shape (m, d)
             One row per live object, in ascending id order (the order of ``ids()``); the boxes as in
             :ref:`broadphase-boxes`. Another shape is a ValueError, and nothing is moved then.
+        threads : int, optional
+            As for ``pairs``.
 
         Returns
         -------
         numpy.ndarray, shape (k, 2), int64
             ``pairs()`` after the moves.
         """
+        threads = as_threads(threads)
         lo_d, hi_d = as_boxes(lo, hi)
         ids = self.ids()
         if lo_d.shape != (ids.shape[0], self._d):
             raise ValueError(f"lo and hi must have shape ({ids.shape[0]}, {self._d}) (one row per live object), "
                              f"got {lo_d.shape}")
         self._set_boxes(ids, lo_d, hi_d)
-        return self.pairs()
+        return self.pairs(threads=threads)

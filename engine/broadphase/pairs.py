@@ -25,7 +25,6 @@ from __future__ import annotations
 
 import threading
 from collections.abc import Callable
-from concurrent.futures import ThreadPoolExecutor
 from typing import Any
 
 import numpy as np
@@ -34,12 +33,14 @@ from numpy.typing import ArrayLike, DTypeLike
 from engine._config import MAX_THREADS, njit
 from engine._validate import as_count, as_float_array
 from engine.broadphase.counting_sort import radix_sort_pairs
+from engine.broadphase.pair_merge import merge_pair_parts
+from engine.broadphase.thread_pool import run_parts
 
 __all__ = ["canonical_pairs", "empty_pairs", "as_boxes", "as_boxes_3d", "as_one_box", "as_live_id", "boxes_overlap",
            "with_tests",
            "new_pair_buffer", "grow_pair_buffer", "push_pair", "canonicalise_pairs", "canonicalise_pairs_with",
            "canonicalise_buffer", "pair_key_shift", "canonicalise_pair_keys_with", "canonicalise_key_buffer",
-           "as_threads", "split_work", "run_split", "work_pair_buffer", "work_array"]
+           "as_threads", "split_work", "split_even", "run_split", "work_pair_buffer", "work_array", "keep_work_array"]
 
 
 def empty_pairs() -> np.ndarray:
@@ -335,10 +336,12 @@ def as_threads(threads: Any) -> int:
     return as_count(threads, "threads", minimum=1, maximum=MAX_THREADS)
 
 
-def split_work(work: np.ndarray, threads: int, min_work: int) -> list[tuple[int, int]]:
+def split_work(work: np.ndarray | int, threads: int, min_work: int) -> list[tuple[int, int]]:
     """Cut the items 0..m−1, whose cumulative work is ``work`` ((m + 1,) non-decreasing, work[0] = 0), into at
     most ``threads`` contiguous ranges (first, last) of about equal work, each of at least ``min_work`` (one
-    range when there is too little work to share)."""
+    range when there is too little work to share). ``work`` an int m: m items of equal work (:func:`split_even`)."""
+    if isinstance(work, int | np.integer):
+        return split_even(int(work), threads, min_work)
     m = len(work) - 1
     parts = min(threads, max(1, int(work[-1]) // max(min_work, 1)))
     if parts <= 1 or m <= 1:
@@ -348,29 +351,60 @@ def split_work(work: np.ndarray, threads: int, min_work: int) -> list[tuple[int,
     return list(zip(bounds[:-1], bounds[1:]))
 
 
+def split_even(m: int, threads: int, min_work: int) -> list[tuple[int, int]]:
+    """:func:`split_work` of m items of equal work (cumulative work 0, 1, .., m) without making that array: the
+    cut targets m · t / parts rounded up, as the binary search of split_work finds them."""
+    parts = min(threads, max(1, m // max(min_work, 1)))
+    if parts <= 1 or m <= 1:
+        return [(0, m)]
+    bounds = sorted({0, m, *(-(-m * t // parts) for t in range(1, parts))})
+    return list(zip(bounds[:-1], bounds[1:]))
+
+
 def run_split(sweep: Callable[[int, int], tuple[np.ndarray, int, int]], ranges: list[tuple[int, int]], n: int,
               extra: tuple[np.ndarray, int, int] | None = None,
               canonicalise: Callable[[np.ndarray, int, int], np.ndarray] = canonicalise_buffer,
               ) -> tuple[np.ndarray, int]:
     """Run ``sweep(first, last) -> (buffer, count, tests)`` over the item ranges, one thread per range (the
     kernels release the GIL), and merge them (and ``extra``, one more (buffer, count, tests) if given):
-    ``(canonical pairs of the n objects, total tests)``. The parts hold disjoint sets of pairs, so the result is
-    the same, bit for bit, as one call over all the items. ``canonicalise(buffer, count, n)`` puts the merged
-    buffer in canonical form: :func:`canonicalise_buffer` for pair buffers ((capacity, 2) rows, the default),
-    :func:`canonicalise_key_buffer` for buffers of pair keys."""
+    ``(canonical pairs of the n objects, total tests)``. The result is the same, bit for bit, as one call over
+    all the items: one range is put in canonical form by ``canonicalise(buffer, count, n)``
+    (:func:`canonicalise_buffer` for pair buffers, (capacity, 2) rows, the default; :func:`canonicalise_key_buffer`
+    for buffers of pair keys), several by the parallel canonical merge of ``engine.broadphase.pair_merge`` (each
+    thread sorts its own buffer, then the threads merge disjoint key ranges)."""
     if extra is not None and extra[1] == 0:
         tests_extra = int(extra[2])
         pairs, tests = run_split(sweep, ranges, n, canonicalise=canonicalise)  # nothing to merge but the tests
         return pairs, tests + tests_extra
-    if len(ranges) == 1 and extra is None:
-        buf, count, tests = sweep(*ranges[0])
-        return canonicalise(buf, count, n), int(tests)
     if len(ranges) == 1:
-        parts = [sweep(*ranges[0])]
-    else:
-        with ThreadPoolExecutor(max_workers=len(ranges)) as pool:
-            parts = list(pool.map(lambda r: sweep(*r), ranges))
+        buf, count, tests = sweep(*ranges[0])
+        if extra is None:
+            return canonicalise(buf, count, n), int(tests)
+        merged = np.concatenate([_as_rows(buf[:count], n), extra[0][: extra[1]]])
+        return canonicalise_buffer(merged, merged.shape[0], n), int(tests) + int(extra[2])
+    parts = run_parts(lambda r: sweep(*r), ranges)
+    tests = sum(int(t) for _, _, t in parts)
+    buffers = [(buf, int(count)) for buf, count, _ in parts]
     if extra is not None:
-        parts.append(extra)
-    merged = np.concatenate([buf[:count] for buf, count, _ in parts])
-    return canonicalise(merged, merged.shape[0], n), int(sum(t for _, _, t in parts))
+        buffers.append((extra[0], int(extra[1])))
+        tests += int(extra[2])
+    total = sum(count for _, count in buffers)
+    keys = work_array("merge_keys", total, np.int64)
+    keys_tmp = work_array("merge_keys_tmp", total, np.int64)
+    return merge_pair_parts(buffers, n, int(pair_key_shift(n)), keys, keys_tmp, len(ranges)), tests
+
+
+def _as_rows(buf: np.ndarray, n: int) -> np.ndarray:
+    """A pair buffer's rows: ``buf`` itself when it holds rows ((k, 2)), else its pair keys decoded."""
+    if buf.ndim == 2:
+        return buf
+    shift = int(pair_key_shift(n))
+    return np.stack([buf >> shift, buf & ((1 << shift) - 1)], axis=1)
+
+
+def keep_work_array(name: str, arr: np.ndarray) -> None:
+    """Make ``arr`` this thread's work array ``name`` (see :func:`work_array`) when it is larger than the one
+    held: a part that outgrew the buffer it was given hands the larger one back for the next call."""
+    held = getattr(_WORK, name, None)
+    if held is None or held.shape[0] < arr.shape[0]:
+        setattr(_WORK, name, arr)

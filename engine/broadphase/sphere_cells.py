@@ -16,10 +16,16 @@ comparison:
 - the three cells (iy, ix + 1, iz − 1 .. iz + 1);
 - for dx = −1, 0, 1 the three cells (iy + 1, ix + dx, iz − 1 .. iz + 1).
 
-Data-oriented passes: one 64-bit word per sphere, its cell · 2^32 + its id, one stable radix sort of the words
-by cell (``counting_sort.radix_sort_packed``: the key and the id move as one word), one gather of the
-coordinates into sorted float arrays (structure of arrays), the table of cell ends (a histogram of the sorted
-cells and its prefix sum), the sweep.
+Data-oriented passes: one 64-bit word per sphere, its cell · 2^32 + its id (the key and the id move as one
+word), sorted by cell, the coordinates gathered into sorted float arrays (structure of arrays), the table of cell
+ends, then the sweep. On one thread: one stable radix sort of the words (``sort_into_cells``,
+``counting_sort.radix_sort_packed``), then the table (``cell_ends``: a histogram of the sorted cells and its
+running sum). On several, the same order by ``counting_sort``'s two counting passes (Ericson 7.1.6), each split
+among the threads: the words scattered by bucket (a high part of the cell number) by chunks of spheres, each with
+its own histogram of buckets (``cell_words``, ``counting_sort.bucket_offsets``, ``scatter_spheres``: the order
+is the same for any split; the centres travel with their words, read in index order), then each range of buckets
+sorted by cell with its counters in cache, writing its cell ends (``place_in_cells``). The sweep is split by
+ranges of sorted spheres.
 The table has one entry per cell, so the grid is used only when there are at most ``MAX_CELLS_PER_SPHERE`` cells
 per sphere (``cell_layout`` says so); sparser scenes use the sorted columns of ``sphere_columns``.
 """
@@ -34,7 +40,7 @@ from engine.broadphase.counting_sort import cell_of, radix_sort_packed
 from engine.broadphase.sphere_columns import pair_hit
 
 __all__ = ["MAX_CELLS_PER_SPHERE", "ID_MASK", "CellLayout", "cell_layout", "sort_into_cells", "cell_ends",
-           "sweep_cells"]
+           "cell_words", "scatter_spheres", "place_in_cells", "sweep_cells"]
 
 #: the most cells (padding included) per sphere for which the padded grid is used (its table of cell ends is
 #: one int32 per cell)
@@ -94,13 +100,16 @@ def sort_into_cells(c, r, large, equal, layout, order, order_tmp, sx, sy, sz, sr
     while ((layout.n_cells - 1) >> bits) > 0:
         bits += 1
     order = radix_sort_packed(order, order_tmp, m, 32, bits, 8 if m >= _SMALL_DIGITS_FROM else 11)
-    r0 = r[0]
     for p in range(m):  # the one random-access pass: each sphere's centre read once, written in cell order
         i = order[p] & ID_MASK
         sx[p] = c[i, 0]
         sy[p] = c[i, 1]
         sz[p] = c[i, 2]
-        sr[p] = r0 if equal else r[i]
+    if equal:  # r may then be r[0] alone (a select would load r[i] all the same)
+        sr[:m] = r[0]
+    else:
+        for p in range(m):
+            sr[p] = r[order[p] & ID_MASK]
     return m, order
 
 
@@ -116,6 +125,90 @@ def cell_ends(order, m, n_cells, ends):
     for k in range(n_cells):
         total += ends[k]
         ends[k] = total
+
+
+@njit
+def cell_words(c, large, layout, first, last, words, bucket_shift, hist):
+    """The words of the spheres first .. last − 1 outside ``large``: words[first + k] = (padded cell number of
+    the k-th of them) · 2^32 + its index, and hist[b] += 1 (hist (B,) int64) for its bucket b = word >>
+    bucket_shift; returns k (one chunk of the first pass of ``place_in_cells``' sort)."""
+    k = first
+    for i in range(first, last):
+        if large[i]:
+            continue
+        iy = cell_of(c[i, 1], layout.y0, layout.inv_h, layout.ny)
+        ix = cell_of(c[i, 0], layout.x0, layout.inv_h, layout.nx) + 1
+        iz = cell_of(c[i, 2], layout.z0, layout.inv_h, layout.nz) + 1
+        word = (np.int64((iy * layout.row_x + ix) * layout.row_z + iz) << 32) | i
+        words[k] = word
+        hist[word >> bucket_shift] += 1
+        k += 1
+    return k - first
+
+
+@njit
+def scatter_spheres(words, first, count, shift, offsets, c, r, equal, grouped, gr):
+    """The first pass's scatter, for the words words[first:first + count] of one chunk (``cell_words``): each
+    word to its slot q in its bucket (word >> shift), offsets (B,) being this chunk's row of
+    ``counting_sort.bucket_offsets`` (advanced), stable. The sphere's centre goes with it: grouped[q] (float64
+    (n, 4)) is the record (word, as int64 bits; x; y; z), one stream of writes per bucket, and gr[q] its radius
+    (only when not ``equal``). The centres are read in index order here, so that no later pass reads them at
+    random."""
+    bits = grouped.reshape(grouped.size).view(np.int64)
+    for t in range(first, first + count):
+        word = words[t]
+        b = word >> shift
+        q = offsets[b]
+        offsets[b] = q + 1
+        i = word & ID_MASK
+        bits[4 * q] = word
+        grouped[q, 1] = c[i, 0]
+        grouped[q, 2] = c[i, 1]
+        grouped[q, 3] = c[i, 2]
+        if not equal:
+            gr[q] = r[i]
+
+
+@njit
+def place_in_cells(grouped, gr, bucket_start, first, last, shift, n_cells, r, equal, order, ends, sx, sy, sz, sr):
+    """The second pass of the sort by cell, for the buckets first .. last − 1 (bucket b: the cells b · 2^shift ..
+    (b + 1) · 2^shift − 1, its records grouped[bucket_start[b]:bucket_start[b + 1]] (word, x, y, z) in index
+    order and their radii gr at the same slots — ``scatter_spheres`` put them there).
+
+    A counting sort of each bucket by cell (its counters in cache): writes ends[k] (int32) = the number of
+    sorted spheres in cells <= k for each of the buckets' cells, each word at its sorted slot p of ``order``
+    (int64; in a cell, by index) and its sphere's centre and radius at sx, sy, sz, sr[p] (float64; ``equal``:
+    every radius is r[0]). Every access is in sequence or within one bucket's slots.
+    """
+    bits = grouped.reshape(grouped.size).view(np.int64)
+    width = 1 << shift
+    local = np.zeros(width, dtype=np.int32)  # slots relative to the bucket's first: 4 bytes, in the L1 cache
+    for b in range(first, last):
+        first_cell = b << shift
+        cells = min(n_cells, first_cell + width) - first_cell
+        lo, hi = bucket_start[b], bucket_start[b + 1]
+        local[:cells] = 0
+        for t in range(lo, hi):
+            local[(bits[4 * t] >> 32) - first_cell] += 1
+        total = 0
+        for u in range(cells):  # local[u]: the first slot of cell u (a running sum held in a register)
+            count = local[u]
+            local[u] = total
+            total += count
+            ends[first_cell + u] = lo + total
+        for t in range(lo, hi):
+            word = bits[4 * t]
+            u = (word >> 32) - first_cell
+            p = lo + local[u]
+            local[u] += 1
+            order[p] = word
+            sx[p] = grouped[t, 1]
+            sy[p] = grouped[t, 2]
+            sz[p] = grouped[t, 3]
+            if not equal:
+                sr[p] = gr[t]
+        if equal:
+            sr[lo:hi] = r[0]
 
 
 @njit

@@ -24,8 +24,6 @@ round-off margin so no touching pair is lost) and then applies the same exact te
 """
 from __future__ import annotations
 
-from concurrent.futures import ThreadPoolExecutor
-
 import numpy as np
 from numpy.typing import ArrayLike
 
@@ -33,9 +31,20 @@ import engine.broadphase.pairs as pair_buffer
 from engine._config import njit
 from engine._validate import MAX_MAGNITUDE, as_choice, as_float_array, as_radii
 from engine.bounding.sphere import spheres_touch
+from engine.broadphase.counting_sort import bucket_offsets, radix_split
 from engine.broadphase.pairs import as_threads, canonical_pairs, empty_pairs
-from engine.broadphase.sphere_cells import CellLayout, cell_ends, cell_layout, sort_into_cells, sweep_cells
+from engine.broadphase.sphere_cells import (
+    CellLayout,
+    cell_ends,
+    cell_layout,
+    cell_words,
+    place_in_cells,
+    scatter_spheres,
+    sort_into_cells,
+    sweep_cells,
+)
 from engine.broadphase.sphere_columns import column_layout, home_columns, sort_into_columns, sweep_columns
+from engine.broadphase.thread_pool import run_parts
 
 __all__ = ["sphere_pairs", "spheres_overlap_pairs"]
 
@@ -88,48 +97,96 @@ def _sphere_grid_pairs(c: np.ndarray, r: np.ndarray, large: np.ndarray, bounds: 
                        equal_radii: bool, threads: int) -> np.ndarray:
     """Grid broad phase + exact test of spheres (n, 3), radii (n,), centres within bounds = (lo, hi): the
     padded cells of engine.broadphase.sphere_cells when there are few enough cells, the sorted columns of
-    engine.broadphase.sphere_columns otherwise; canonical pairs. ``threads`` > 1 sweeps disjoint ranges of
-    spheres (cells) or of columns on that many threads."""
+    engine.broadphase.sphere_columns otherwise; canonical pairs. ``threads`` > 1 shares the sort by cell, then
+    the sweep (disjoint ranges of spheres or of columns), then the canonical merge of the threads' pairs."""
     n = c.shape[0]
     cells = cell_layout(*bounds, cell_size, n)
     if cells.n_cells > 0:
-        grid, items, cumulative = _cell_grid(c, r, large, equal_radii, cells)
+        grid, items, work = _cell_grid(c, r, large, equal_radii, cells, threads)
         sweep = sweep_cells
     else:
-        grid, items, cumulative = _column_grid(c, r, large, bounds, cell_size)
+        grid, items, work = _column_grid(c, r, large, bounds, cell_size)
         sweep = sweep_columns
-    # the cumulative work of the sweep items (spheres or home columns), made only when it is to be shared
-    chunks = pair_buffer.split_work(cumulative(), threads, MIN_SPHERES_PER_THREAD) if threads > 1 else [(0, items)]
+    chunks = pair_buffer.split_work(work, threads, MIN_SPHERES_PER_THREAD)
+    extra = None
+    if not equal_radii:
+        buf, count = _large_sphere_pairs(c, r, large, pair_buffer.new_pair_buffer(16), 0)
+        extra = (buf, count, 0)
     if len(chunks) == 1:
         buf, count = _sweep_chunk(sweep, grid, chunks[0], pair_buffer.work_pair_buffer(max(16, n)))
-    else:
-        with ThreadPoolExecutor(max_workers=len(chunks)) as pool:
-            rows = n // len(chunks)
-            parts = list(pool.map(lambda chunk: _sweep_chunk(sweep, grid, chunk, pair_buffer.new_pair_buffer(rows)),
-                                  chunks))
-        buf = np.concatenate([b[:k] for b, k in parts])
-        count = buf.shape[0]
-    if not equal_radii:
-        buf, count = _large_sphere_pairs(c, r, large, buf, count)
-    return pair_buffer.canonicalise_buffer(buf, count, n)
+        if extra is not None and extra[1] > 0:
+            buf = np.concatenate([buf[:count], extra[0][: extra[1]]])
+            count = buf.shape[0]
+        return pair_buffer.canonicalise_buffer(buf, count, n)
+    # each chunk records into a buffer of its own, held by this thread between calls (see sap's _sweep_sorted)
+    names = [f"sphere_pairs_{t}" for t in range(len(chunks))]
+    buffers = {chunk: _rows(pair_buffer.work_array(name, 2 * (n // len(chunks) + 16), np.int64))
+               for name, chunk in zip(names, chunks)}
+
+    def sweep_part(first: int, last: int) -> tuple[np.ndarray, int, int]:
+        buf, count = _sweep_chunk(sweep, grid, (first, last), buffers[first, last])
+        buffers[first, last] = buf
+        return buf, count, 0
+
+    pairs, _ = pair_buffer.run_split(sweep_part, chunks, n, extra=extra)
+    for name, chunk in zip(names, chunks):  # the grown buffers serve the next call
+        pair_buffer.keep_work_array(name, buffers[chunk].reshape(-1))
+    return pairs
 
 
-def _cell_grid(c: np.ndarray, r: np.ndarray, large: np.ndarray, equal_radii: bool, layout: CellLayout) -> tuple:
-    """The sorted spheres of the padded cell grid and its table of cell ends: (grid arguments of sweep_cells,
-    its number of sweep items (spheres), a function giving their cumulative work for split_work)."""
+def _rows(flat: np.ndarray) -> np.ndarray:
+    """A pair buffer (int64 (k, 2)) over the even-length start of the flat work array ``flat``."""
+    return flat[: flat.shape[0] // 2 * 2].reshape(-1, 2)
+
+
+def _cell_grid(c: np.ndarray, r: np.ndarray, large: np.ndarray, equal_radii: bool, layout: CellLayout,
+               threads: int) -> tuple:
+    """The spheres sorted by cell and the table of cell ends (engine.broadphase.sphere_cells), the passes shared
+    by ``threads`` threads: (grid arguments of sweep_cells, its number m of sweep items (spheres), their work for
+    split_work: m, as they are of about equal work)."""
+    n = c.shape[0]
+    chunks = pair_buffer.split_even(n, threads, MIN_SPHERES_PER_THREAD)
+    if len(chunks) == 1:  # one thread: one radix sort, then the table (fewer passes than the two counting ones)
+        return _cell_grid_one_thread(c, r, large, equal_radii, layout)
+    shift, n_buckets = (int(v) for v in radix_split(layout.n_cells))
+    words, order = (pair_buffer.work_array(name, n, np.int64) for name in ("cell_words", "cell_order"))
+    grouped = pair_buffer.work_array("cell_grouped", 4 * n, np.float64)[: 4 * n].reshape(n, 4)
+    grouped_radii = pair_buffer.work_array("cell_grouped_radii", n, np.float64)
+    sorted_arrays = [pair_buffer.work_array(name, n, np.float64) for name in ("sx", "sy", "sz", "sr")]
+    hist = np.zeros((len(chunks), n_buckets), dtype=np.int64)
+    counts = run_parts(lambda t: cell_words(c, large, layout, *chunks[t], words, shift + 32, hist[t]),
+                       range(len(chunks)))
+    offsets, bucket_start = bucket_offsets(hist)
+    run_parts(lambda t: scatter_spheres(words, chunks[t][0], counts[t], shift + 32, offsets[t], c, r, equal_radii,
+                                        grouped, grouped_radii), range(len(chunks)))
+    ends = pair_buffer.work_array("cell_ends", layout.n_cells, np.int32)
+    # the second pass costs about one unit per sphere and one per 4 cells of its buckets
+    work = bucket_start + (np.minimum(np.arange(n_buckets + 1) << shift, layout.n_cells) >> 2)
+    run_parts(lambda part: place_in_cells(grouped, grouped_radii, bucket_start, *part, shift, layout.n_cells, r,
+                                          equal_radii, order, ends, *sorted_arrays),
+              pair_buffer.split_work(work, threads, MIN_SPHERES_PER_THREAD))
+    m = int(bucket_start[-1])
+    return (layout, order, ends, *sorted_arrays), m, m
+
+
+def _cell_grid_one_thread(c: np.ndarray, r: np.ndarray, large: np.ndarray, equal_radii: bool,
+                          layout: CellLayout) -> tuple:
+    """``_cell_grid`` on this thread alone: the radix sort of sphere_cells.sort_into_cells, then cell_ends."""
     n = c.shape[0]
     order, order_tmp = (pair_buffer.work_array(name, n, np.int64) for name in ("cell_order", "cell_order_tmp"))
     sorted_arrays = [pair_buffer.work_array(name, n, np.float64) for name in ("sx", "sy", "sz", "sr")]
     m, order = sort_into_cells(c, r, large, equal_radii, layout, order, order_tmp, *sorted_arrays)
     ends = pair_buffer.work_array("cell_ends", layout.n_cells, np.int32)
     cell_ends(order, m, layout.n_cells, ends)
-    return (layout, order, ends, *sorted_arrays), m, lambda: np.arange(m + 1)
+    return (layout, order, ends, *sorted_arrays), m, m
 
 
 def _column_grid(c: np.ndarray, r: np.ndarray, large: np.ndarray, bounds: tuple, cell_size: float) -> tuple:
     """The sorted columns of engine.broadphase.sphere_columns: (grid arguments of sweep_columns, its number of
-    sweep items (home columns), a function giving their cumulative work (spheres) for split_work)."""
+    sweep items (home columns), their cumulative work (spheres) for split_work)."""
     n = c.shape[0]
+    if r.shape[0] != n:  # one radius for all (sphere_pairs' compact form): the columns gather n of them
+        r = np.full(n, r[0])
     layout = column_layout(*bounds, cell_size, n)
     key_type = np.int32 if layout.dense else np.int64
     keys, keys_tmp = (pair_buffer.work_array(f"{name}_{key_type.__name__}", n + 1, key_type)
@@ -139,7 +196,7 @@ def _column_grid(c: np.ndarray, r: np.ndarray, large: np.ndarray, bounds: tuple,
     m, skeys, sid = sort_into_columns(c, r, large, layout, keys, index, keys_tmp, index_tmp, *sorted_arrays,
                                       np.iinfo(key_type).max)
     col_ids, col_start = home_columns(skeys, m, layout)
-    return (layout, skeys, m, *sorted_arrays, sid, col_ids, col_start), col_ids.shape[0], lambda: col_start
+    return (layout, skeys, m, *sorted_arrays, sid, col_ids, col_start), col_ids.shape[0], col_start
 
 
 def _sweep_chunk(sweep, grid: tuple, chunk: tuple[int, int], buf: np.ndarray) -> tuple[np.ndarray, int]:
@@ -192,14 +249,16 @@ def _as_centres(centers: ArrayLike) -> tuple[np.ndarray, tuple | None]:
     return as_float_array(centers, "centers", ndim=2), None
 
 
-def _as_spheres(centers: ArrayLike, radii: ArrayLike) -> tuple[np.ndarray, np.ndarray, bool, tuple]:
-    """(centres (n, 3), radii (n,), whether the radii were one scalar, the centres' bounds (lo, hi))."""
+def _as_spheres(centers: ArrayLike, radii: ArrayLike, compact: bool = False,
+                ) -> tuple[np.ndarray, np.ndarray, bool, tuple]:
+    """(centres (n, 3), radii (n,), whether the radii were one scalar, the centres' bounds (lo, hi)); with
+    ``compact``, one scalar radius is returned as a (1,) array rather than n copies of it."""
     c, bounds = _as_centres(centers)
     if c.shape[1] not in (1, 2, 3):
         raise ValueError(f"centers must have shape (n, d) with d = 1, 2 or 3, got {c.shape}")
     n = c.shape[0]
-    r = as_radii(radii, "radii", n)
     equal = np.ndim(radii) == 0
+    r = as_radii(radii, "radii", 1 if equal and compact else n)
     if c.shape[1] < 3:
         c3 = np.zeros((n, 3))
         c3[:, : c.shape[1]] = c
@@ -208,13 +267,13 @@ def _as_spheres(centers: ArrayLike, radii: ArrayLike) -> tuple[np.ndarray, np.nd
 
 
 @njit
-def _scene_stats(r, large, lo, hi):
+def _scene_stats(n, r, large, lo, hi):
     """(largest |coordinate| + largest radius, largest radius outside ``large``, mean spacing (V/n)^(1/k)) of
-    the n spheres of radii r whose centres lie within the bounds lo, hi ((3,) each)."""
-    n = r.shape[0]
+    the n spheres of radii r (or of the one radius r[0] of them all, r (1,)) whose centres lie within the bounds
+    lo, hi ((3,) each)."""
     r_all = 0.0
     r_small = 0.0
-    for i in range(n):
+    for i in range(r.shape[0]):
         r_all = max(r_all, r[i])
         if not large[i]:
             r_small = max(r_small, r[i])
@@ -278,7 +337,7 @@ def sphere_pairs(centers: ArrayLike, radii: ArrayLike, method: str = "grid", *, 
 
     method = as_choice(method, "method", BROAD_PHASES)
     threads = as_threads(threads)
-    c, r, equal, (lo, hi) = _as_spheres(centers, radii)
+    c, r, equal, (lo, hi) = _as_spheres(centers, radii, compact=method == "grid")
     n = c.shape[0]
     if n < 2:
         return empty_pairs()
@@ -288,7 +347,7 @@ def sphere_pairs(centers: ArrayLike, radii: ArrayLike, method: str = "grid", *, 
         large = r > 4.0 * float(np.median(r))
         if large.all():
             large[:] = False
-    scale, r_cell, spacing = _scene_stats(r, large, lo, hi)
+    scale, r_cell, spacing = _scene_stats(n, r, large, lo, hi)
     margin = 16.0 * _EPS * scale  # covers the rounding of coordinate differences and radius sums
     if method == "grid":
         cell = max(2.0 * r_cell * (1.0 + 1e-9) + margin, SPACING_FACTOR * spacing)

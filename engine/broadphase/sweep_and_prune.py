@@ -28,9 +28,10 @@ from numpy.typing import ArrayLike
 import engine.broadphase.pairs as pair_buffer
 from engine._config import njit
 from engine._validate import as_float_array
-from engine.broadphase.counting_sort import cell_of, radix_sort_pairs
+from engine.broadphase.counting_sort import bucket_offsets, cell_of, radix_sort_pairs
 from engine.broadphase.incremental import IncrementalBroadPhase
 from engine.broadphase.pairs import as_boxes, as_boxes_3d, as_one_box, as_threads, empty_pairs, with_tests
+from engine.broadphase.thread_pool import run_parts
 
 __all__ = ["sweep_intervals", "sap_pairs", "sap_example_trace", "IncrementalSAP", "SLIDE_EXAMPLE"]
 
@@ -344,29 +345,23 @@ def _write_entry(rec_bits, t, w0, w1, w2, w3, w4, w5, tag, home):
 
 
 @njit
-def _fill_columns(box, grid, ranges, rec):
-    """Counting sort of the (box, column) entries by column, keeping the sweep order inside each column.
-
-    Writes the entry records ``rec`` ((entries + columns, ENTRY_WIDTH) float64; one record per entry, a cache
-    line, so the scatter writes one line per entry and the sweep reads one per candidate) and returns start:
-    column c holds entries start[c] .. start[c + 1] − 2 and a sentinel at start[c + 1] − 1 (b = +inf: it ends
-    every sweep of the column without a bounds check).
-    """
-    m = box.shape[0]
-    n_cells = grid.k1 * grid.k2
-    start = np.ones(n_cells + 1, dtype=np.int64)  # one sentinel per column
-    start[0] = 0
-    for p in range(m):
+def _column_counts(ranges, k2, first, last, counts):
+    """counts[c] += the number of boxes first .. last − 1 entering column c = c1 · k2 + c2 (``ranges``: each
+    box's first and last column on a1 and a2, as ``_choose_columns`` fills them)."""
+    for p in range(first, last):
         for c1 in range(ranges[0, p], ranges[1, p] + 1):
             for c2 in range(ranges[2, p], ranges[3, p] + 1):
-                start[c1 * grid.k2 + c2 + 1] += 1
-    for c in range(n_cells):
-        start[c + 1] += start[c]
-    fill = start[:n_cells].copy()
-    k2 = grid.k2
+                counts[c1 * k2 + c2] += 1
+
+
+@njit
+def _scatter_columns(box, ranges, k2, first, last, fill, rec):
+    """Write the entry records of the boxes first .. last − 1 into their columns: the entry of a box in column c
+    at slot fill[c] (advanced), one record per entry, a cache line, so the scatter writes one line per entry
+    and the sweep reads one per candidate."""
     box_bits = box.reshape(box.size).view(np.int64)
     rec_bits = rec.reshape(rec.size).view(np.int64)
-    for p in range(m):
+    for p in range(first, last):
         r = p * ENTRY_WIDTH  # the record read once, then written to each of the box's columns
         w0, w1, w2, w3, w4, w5 = box_bits[r], box_bits[r + 1], box_bits[r + 2], box_bits[r + 3], box_bits[r + 4], \
             box_bits[r + 5]
@@ -378,8 +373,29 @@ def _fill_columns(box, grid, ranges, rec):
                 t = fill[c]
                 fill[c] = t + 1
                 _write_entry(rec_bits, t, w0, w1, w2, w3, w4, w5, tag, (c1 == first1) + 2 * (c2 == first2))
-    for c in range(n_cells):
-        rec[start[c + 1] - 1, B0] = np.inf
+
+
+def _fill_columns(box: np.ndarray, grid: ColumnGrid, ranges: np.ndarray, rec: np.ndarray, threads: int
+                  ) -> np.ndarray:
+    """Counting sort of the (box, column) entries by column, keeping the sweep order inside each column (Ericson
+    7.1.6), shared by ``threads`` threads: each counts the entries of its chunk of boxes per column, and
+    ``counting_sort.bucket_offsets`` gives each chunk its slots (after the earlier chunks' entries of the column),
+    so the records are those of one thread.
+
+    Writes the entry records ``rec`` ((entries + columns, ENTRY_WIDTH) float64) and returns start: column c
+    holds entries start[c] .. start[c + 1] − 2 and a sentinel at start[c + 1] − 1 (b = +inf: it ends every
+    sweep of the column without a bounds check).
+    """
+    n_cells = grid.k1 * grid.k2
+    chunks = pair_buffer.split_work(box.shape[0], threads, MIN_ENTRIES_PER_THREAD)
+    counts = np.zeros((len(chunks), n_cells), dtype=np.int64)
+    run_parts(lambda t: _column_counts(ranges, grid.k2, *chunks[t], counts[t]), range(len(chunks)))
+    fill, column_start = bucket_offsets(counts)
+    sentinels_before = np.arange(n_cells + 1)  # one sentinel closes each column
+    fill += sentinels_before[:n_cells]
+    run_parts(lambda t: _scatter_columns(box, ranges, grid.k2, *chunks[t], fill[t], rec), range(len(chunks)))
+    start = column_start + sentinels_before
+    rec[start[1:] - 1, B0] = np.inf
     return start
 
 
@@ -514,13 +530,16 @@ def sweep_order(lo, hi, axis):
 MIN_ENTRIES_PER_THREAD = 4096
 
 
-def _column_entries(order: np.ndarray, lo: np.ndarray, hi: np.ndarray, axis: int) -> tuple[np.ndarray, np.ndarray]:
-    """The swept columns of the boxes in sweep order: (start, entry records); the records live in this thread's
-    work arrays (reused by the next sweep on this thread)."""
+def _column_entries(order: np.ndarray, lo: np.ndarray, hi: np.ndarray, axis: int, threads: int = 1,
+                    ) -> tuple[np.ndarray, np.ndarray]:
+    """The swept columns of the boxes in sweep order: (start, entry records), the records gathered and the dense
+    columns filled by ``threads`` threads; the records live in this thread's work arrays (reused by the next sweep
+    on this thread)."""
     m = order.shape[0]
     box = pair_buffer.work_array("sap_boxes", m * ENTRY_WIDTH, np.float64)[: m * ENTRY_WIDTH]
     box = box.reshape(m, ENTRY_WIDTH)
-    sorted_records(order, lo, hi, axis, box)
+    chunks = pair_buffer.split_work(m, threads, MIN_ENTRIES_PER_THREAD)  # the gather, by chunks of the order
+    run_parts(lambda chunk: sorted_records(order[chunk[0]:chunk[1]], lo, hi, axis, box[chunk[0]:chunk[1]]), chunks)
     ranges = pair_buffer.work_array("sap_ranges", 4 * m, np.int64)[: 4 * m].reshape(4, m)
     grid, entries, sparse = _choose_columns(box, _box_bounds(box), ranges)
     slots = 2 * entries if sparse else entries + grid.k1 * grid.k2
@@ -528,7 +547,7 @@ def _column_entries(order: np.ndarray, lo: np.ndarray, hi: np.ndarray, axis: int
     rec = rec.reshape(slots, ENTRY_WIDTH)
     if sparse:
         return _fill_columns_sparse(box, grid, ranges, entries, rec), rec
-    return _fill_columns(box, grid, ranges, rec), rec
+    return _fill_columns(box, grid, ranges, rec, threads), rec
 
 
 def _sweep_sorted(order: np.ndarray, lo: np.ndarray, hi: np.ndarray, axis: int, n_objects: int,
@@ -536,26 +555,27 @@ def _sweep_sorted(order: np.ndarray, lo: np.ndarray, hi: np.ndarray, axis: int, 
     """Sweep-and-prune of the boxes (n, 3) lo, hi in the order ``order`` of lo[:, axis] (exactly sorted) along
     ``axis``: (canonical pairs, tests); ``threads`` > 1 sweeps disjoint ranges of columns on that many
     threads."""
-    start, rec = _column_entries(order, lo, hi, axis)
+    start, rec = _column_entries(order, lo, hi, axis, threads)
     ranges = pair_buffer.split_work(start, threads, MIN_ENTRIES_PER_THREAD)
     shift = int(pair_buffer.pair_key_shift(n_objects))
 
-    # one range: this thread's reusable key buffer; several: a buffer of its own per range (a pool thread may
-    # run two ranges one after the other, and the merge reads every range's buffer at the end)
-    def buffer(size: int) -> np.ndarray:
-        if len(ranges) == 1:
-            return pair_buffer.work_array("sap_pair_keys", size, np.int64)
-        return np.empty(max(size, 16), dtype=np.int64)
+    # each range records into a key buffer of its own, held by this (the calling) thread between calls: a range
+    # run by a pool thread cannot use that thread's work arrays (it may run two ranges, one after the other)
+    names = {r: f"sap_pair_keys_{t}" for t, r in enumerate(ranges)}
+    buffers = {r: pair_buffer.work_array(names[r], start[r[1]] - start[r[0]], np.int64) for r in ranges}
 
     def sweep(first, last):
-        out = buffer(start[last] - start[first])
+        out = buffers[first, last]
         count, tests = _sweep_columns(start, rec, first, last, out, shift)
         if count > out.shape[0]:  # too many pairs for the buffer: again, with room for all of them
-            out = buffer(count)
+            out = buffers[first, last] = np.empty(count + count // 4, dtype=np.int64)
             count, tests = _sweep_columns(start, rec, first, last, out, shift)
         return out, count, tests
 
-    return pair_buffer.run_split(sweep, ranges, n_objects, canonicalise=pair_buffer.canonicalise_key_buffer)
+    result = pair_buffer.run_split(sweep, ranges, n_objects, canonicalise=pair_buffer.canonicalise_key_buffer)
+    for r, buf in buffers.items():  # the grown buffers serve the next call
+        pair_buffer.keep_work_array(names[r], buf)
+    return result
 
 
 def _widest_axis(lo: np.ndarray, hi: np.ndarray) -> int:
@@ -793,9 +813,10 @@ class IncrementalSAP(IncrementalBroadPhase):
         self._lo[ids, : self._d] = lo
         self._hi[ids, : self._d] = hi
 
-    def pairs(self) -> np.ndarray:
-        # repair the sorted order by insertion sort, then sweep
+    def pairs(self, *, threads: int = 1) -> np.ndarray:
+        # repair the sorted order by insertion sort, then sweep (the threads share the columns)
+        threads = as_threads(threads)
         if self._order.shape[0] < 2:
             return empty_pairs()
         self.last_swaps = int(_insertion_sort_order(self._order, self._lo, self.axis))
-        return _sweep_sorted(self._order, self._lo, self._hi, self.axis, self._size)[0]
+        return _sweep_sorted(self._order, self._lo, self._hi, self.axis, self._size, threads)[0]

@@ -208,6 +208,13 @@ DESELECT: dict[str, str] = {
     "properties/test_broadphase_threads.py::test_threads_with_the_default_minimums_on_w1":
         "W1 at the default thread minimums (thousands of boxes, every method): 56 s for brute alone interpreted; "
         "the threads are checked bit for bit on small inputs by the file's other properties",
+    "properties/test_broadphase_threads.py::test_every_threaded_box_function_on_w1_with_the_default_minimums":
+        "12,000 W1 boxes, every threaded function, four thread counts: minutes interpreted; the small inputs of "
+        "the file's other properties split every stage",
+    "properties/test_broadphase_threads.py::test_brute_force_threads_at_the_default_minimum":
+        "3,000 W1 boxes by brute force, four thread counts: 4.5e6 interpreted box tests each",
+    "properties/test_broadphase_threads.py::test_sphere_pairs_every_thread_count_on_large_scenes":
+        "40,000 to 60,000 spheres, four thread counts: minutes interpreted",
     "properties/test_gas_simulation.py::test_events_energy_drift_after_1e5_collisions":
         "N = 256, 1e5 collisions twice (walls, periodic): > 10 min interpreted (a run stayed on it 10 min)",
     "properties/test_gas_simulation.py::test_methods_agree_on_z_after_dt_extrapolation":
