@@ -101,7 +101,7 @@ def canonicalise_pairs_with(candidates, count, n, keys, keys_tmp):
     """:func:`canonicalise_pairs` with the keys sorted in the given work arrays (int64, at least ``count``
     each; overwritten)."""
     shift = pair_key_shift(n)
-    k = 0
+    k = np.int64(0)  # typed int64 from the start: radix_sort_pairs is compiled for one count type
     for t in range(count):
         a = candidates[t, 0]
         b = candidates[t, 1]
