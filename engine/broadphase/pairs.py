@@ -65,7 +65,9 @@ def grow_pair_buffer(buffer, needed):
     (the capacity at least doubles, so n pushes cost O(n) copies in all)."""
     capacity = max(2 * buffer.shape[0], needed, 16)
     out = np.empty((capacity, 2), dtype=np.int64)
-    out[: buffer.shape[0]] = buffer
+    for r in range(buffer.shape[0]):  # row by row: no shape check (and no compiled error message) to make
+        out[r, 0] = buffer[r, 0]
+        out[r, 1] = buffer[r, 1]
     return out
 
 
