@@ -6,7 +6,7 @@
     colldet bound POINTS.csv | colldet hull POINTS.csv | colldet decompose POLYGON.csv
     colldet gas --n 2000 --eta 0.2 --method events
     colldet demo [--png demo.png] [--no-gif]
-    colldet warmup                  (compile every kernel once, e.g. after installing)
+    colldet warmup [--jobs N]       (compile every kernel once, e.g. after installing)
     colldet --version               (also: python -m engine ...)
 
 Every file argument is checked before the work starts; an error is one line on stderr and a non-zero exit
@@ -28,6 +28,16 @@ def _float(text: str) -> float:
         value = float(text)
     except ValueError:
         raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
+    return value
+
+
+def _jobs(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not an integer: {text!r}") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"must be at least 1, got {value}")
     return value
 
 
@@ -207,7 +217,7 @@ def cmd_warmup(args) -> int:
     """Compile (or load from the cache) every kernel of the engine, with a progress bar."""
     from .warmup import warm_up
 
-    seconds = warm_up(progress=not args.no_progress)
+    seconds = warm_up(progress=not args.no_progress, jobs=args.jobs)
     print(f"every kernel is compiled and cached ({seconds:.1f} s)")
     return 0
 
@@ -299,6 +309,9 @@ def _add_warmup(sub) -> None:
                                         "all); the machine code is then cached on disk. This runs every kernel "
                                         "once on small inputs so that later calls start at once.")
     warmup.add_argument("--no-progress", action="store_true", help="no progress bar")
+    warmup.add_argument("--jobs", type=_jobs, default=os.cpu_count() or 1, metavar="N",
+                        help="processes compiling at once, each a share of the kernels of about equal cost "
+                             "(default: one per CPU core)")
     warmup.set_defaults(func=cmd_warmup)
 
 

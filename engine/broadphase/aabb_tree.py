@@ -236,10 +236,11 @@ def _split_items_sah(items, s, e, box_lo, box_hi, node_lo, node_hi, node):
     return split
 
 
-@njit
-def _build_kernel(box_lo, box_hi, node_lo, node_hi, parent, child1, child2, height, leaf_of, obj_of, sah=False):
+@njit(inline="always")
+def _build_nodes(box_lo, box_hi, node_lo, node_hi, parent, child1, child2, height, leaf_of, obj_of, split_items):
     # Ericson 6.2.1, top-down: split the objects at the midpoint of their centres along the widest axis
-    # (at half the count if every centre coincides), or (sah) by the binned surface-area heuristic. Nodes
+    # (at half the count if every centre coincides: split_items = _split_items), or by the binned surface-area
+    # heuristic (_split_items_sah); inlined into each kernel below, which compiles only its own split. Nodes
     # 0..2m-2, root 0; leaf_of[t] is object t's leaf.
     m = box_lo.shape[0]
     items = np.arange(m)
@@ -263,10 +264,7 @@ def _build_kernel(box_lo, box_hi, node_lo, node_hi, parent, child1, child2, heig
             leaf_of[items[s]] = node
             obj_of[node] = items[s]
             continue
-        if sah:
-            split = _split_items_sah(items, s, e, box_lo, box_hi, node_lo, node_hi, node)
-        else:
-            split = _split_items(items, s, e, box_lo, box_hi, node_lo, node_hi, node)
+        split = split_items(items, s, e, box_lo, box_hi, node_lo, node_hi, node)
         a = n_nodes
         b = n_nodes + 1
         n_nodes += 2
@@ -283,6 +281,20 @@ def _build_kernel(box_lo, box_hi, node_lo, node_hi, parent, child1, child2, heig
         if child1[node] != -1:
             height[node] = 1 + max(height[child1[node]], height[child2[node]])
     return n_nodes
+
+
+@njit
+def _build_kernel(box_lo, box_hi, node_lo, node_hi, parent, child1, child2, height, leaf_of, obj_of):
+    # the top-down build, split at the midpoint of the centres
+    return _build_nodes(box_lo, box_hi, node_lo, node_hi, parent, child1, child2, height, leaf_of, obj_of,
+                        _split_items)
+
+
+@njit
+def _build_sah_kernel(box_lo, box_hi, node_lo, node_hi, parent, child1, child2, height, leaf_of, obj_of):
+    # the top-down build, split by the binned surface-area heuristic
+    return _build_nodes(box_lo, box_hi, node_lo, node_hi, parent, child1, child2, height, leaf_of, obj_of,
+                        _split_items_sah)
 
 
 @njit
@@ -332,9 +344,10 @@ def tree_leaf_pairs(root, node_lo, node_hi, child1, child2, obj_of, obj_lo, obj_
     (int64 (k, 2)) and the number of box tests of the traversal.
     """
     if root == -1:
-        return pair_buffer.new_pair_buffer(0)[:0].copy(), 0
+        return pair_buffer.new_pair_buffer(np.int64(0))[:0].copy(), 0
     out, count, tests = _leaf_range_pairs(root, node_lo, node_hi, child1, child2, obj_of, obj_lo, obj_hi, obj_node,
-                                          n_objects, 0, node_lo.shape[0], pair_buffer.new_pair_buffer(n_objects))
+                                          n_objects, np.int64(0), node_lo.shape[0],
+                                          pair_buffer.new_pair_buffer(n_objects))
     return pair_buffer.canonicalise_pairs(out, count, n_objects), tests
 
 
@@ -374,8 +387,9 @@ def _query_box_kernel(root, node_lo, node_hi, child1, child2, obj_of, obj_lo, ob
     if root == -1:
         return np.empty(0, dtype=np.int64)
     stack = np.empty(node_lo.shape[0] + 1, dtype=np.int64)
-    out, count = _descend_query(root, node_lo, node_hi, child1, child2, obj_of, obj_lo, obj_hi, q_lo, q_hi, 0,
-                                stack, pair_buffer.new_pair_buffer(16), 0)
+    zero = np.int64(0)  # an int64, not a literal: one specialisation of the callees for every caller
+    out, count = _descend_query(root, node_lo, node_hi, child1, child2, obj_of, obj_lo, obj_hi, q_lo, q_hi, zero,
+                                stack, pair_buffer.new_pair_buffer(np.int64(16)), zero)
     return np.sort(out[:count, 1])
 
 
@@ -385,7 +399,7 @@ def tree_query_boxes(root, node_lo, node_hi, child1, child2, obj_of, obj_lo, obj
     in the order of the rows (objects unordered within a row): int64 (k, 2). The tree as in
     ``tree_leaf_pairs``."""
     out = pair_buffer.new_pair_buffer(q_lo.shape[0])
-    count = 0
+    count = np.int64(0)  # an int64 from the start: _descend_query is compiled for one count type
     if root == -1:
         return out[:0].copy()
     stack = np.empty(node_lo.shape[0] + 1, dtype=np.int64)
@@ -825,8 +839,9 @@ class DynamicAABBTree(IncrementalBroadPhase):
         self._alloc_nodes(max(16, 2 * m))
         leaf_of = np.empty(m, dtype=np.int64)
         obj_of = np.full(self._node_lo.shape[0], -1, dtype=np.int64)
-        n_nodes = _build_kernel(fat_lo, fat_hi, self._node_lo, self._node_hi, self._parent, self._child1,
-                                self._child2, self._height, leaf_of, obj_of, sah)
+        build = _build_sah_kernel if sah else _build_kernel
+        n_nodes = build(fat_lo, fat_hi, self._node_lo, self._node_hi, self._parent, self._child1,
+                        self._child2, self._height, leaf_of, obj_of)
         self._obj_of = ids[np.maximum(obj_of, 0)]
         self._obj_of[obj_of < 0] = -1
         self._obj_node[:] = -1

@@ -66,7 +66,9 @@ def grow_pair_buffer(buffer, needed):
     (the capacity at least doubles, so n pushes cost O(n) copies in all)."""
     capacity = max(2 * buffer.shape[0], needed, 16)
     out = np.empty((capacity, 2), dtype=np.int64)
-    out[: buffer.shape[0]] = buffer
+    for r in range(buffer.shape[0]):  # row by row: no shape check (and no compiled error message) to make
+        out[r, 0] = buffer[r, 0]
+        out[r, 1] = buffer[r, 1]
     return out
 
 
@@ -102,7 +104,7 @@ def canonicalise_pairs_with(candidates, count, n, keys, keys_tmp):
     """:func:`canonicalise_pairs` with the keys sorted in the given work arrays (int64, at least ``count``
     each; overwritten)."""
     shift = pair_key_shift(n)
-    k = 0
+    k = np.int64(0)  # typed int64 from the start: radix_sort_pairs is compiled for one count type
     for t in range(count):
         a = candidates[t, 0]
         b = candidates[t, 1]

@@ -312,7 +312,7 @@ def _face_contact(cr, Rr, er, i, nrx, nry, nrz, ci, Ri, ei, ref_is_a, rows, p, f
     # below the reference face up to the round-off of the points' depths, relative to the coordinates' magnitude
     slop = FACE_SLOP * (max(abs(cr[0]), abs(cr[1]), abs(cr[2])) + max(abs(ci[0]), abs(ci[1]), abs(ci[2]))
                         + er[0] + er[1] + er[2] + ei[0] + ei[1] + ei[2])
-    count = 0
+    count = np.int64(0)  # typed int64 from the start: reduce_manifold is compiled for one count type
     for v in range(n):  # the points below the reference face, each once
         if poly[v, 5] >= -slop and not (count > 0 and _within(pts, count - 1, poly[v, 2], poly[v, 3], poly[v, 4],
                                                               slop)):

@@ -104,7 +104,7 @@ def feature_point_ids(cores, pairs, rows_of, separation, normal, feature_a, feat
             for c in range(3):
                 size = max(size, cores.hi[b, c] - cores.lo[b, c])
         tol = ftol * max(size, 1e-300)
-        n = 0
+        n = np.int64(0)  # typed int64 from the start: reduce_manifold is compiled for one count type
         scratch_d[:] = 0.0  # the points lie on one plane: the reduction keeps the first as the deepest
         for x in range(offsets[q], offsets[q + 1]):
             va = _support_vertex(cores.points[i], cores.count[i], nx, ny, nz, 1.0, tol, points[x])

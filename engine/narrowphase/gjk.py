@@ -315,8 +315,8 @@ def gjk_pairs_kernel(PA, PB, pairs, offsets, max_iter, scratch, dist, closest_a,
         else:
             sa, sb, a0, na, b0, nb = p, p, 0, PA.shape[1], 0, PB.shape[1]
         # both shapes as x, y, z rows (unit-stride support scans), their values checked and centroids summed
-        ok_a, cax, cay, caz, big_a = copy_shape(FA, 3 * (sa * PA.shape[1] + a0), na, S, 0)
-        ok_b, cbx, cby, cbz, big_b = copy_shape(FB, 3 * (sb * PB.shape[1] + b0), nb, S, 3)
+        ok_a, cax, cay, caz, big_a = copy_shape(FA, 3 * (sa * PA.shape[1] + a0), na, S, np.int64(0))
+        ok_b, cbx, cby, cbz, big_b = copy_shape(FB, 3 * (sb * PB.shape[1] + b0), nb, S, np.int64(3))
         if not (ok_a and ok_b):  # NaN, ±inf or a magnitude above MAX_MAGNITUDE: the caller raises
             dist[p], status[p], n = np.nan, INVALID_INPUT, 0
             continue

@@ -43,7 +43,7 @@ def contact_points_plane(points, counts, radii, i, origin, up, rows, p, flip, sc
     radius = radii[i]
     pts, deep, ids = scratch.pts, scratch.deep, scratch.ids
     depth = -np.inf
-    n = 0
+    n = np.int64(0)  # typed int64 from the start: reduce_manifold is compiled for one count type
     for v in range(counts[i]):
         h = ((origin[0] - points[i, v, 0]) * up[0] + (origin[1] - points[i, v, 1]) * up[1]
              + (origin[2] - points[i, v, 2]) * up[2]) + radius

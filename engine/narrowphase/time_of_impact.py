@@ -93,7 +93,7 @@ def toi_pairs_kernel(points, offsets, centers, velocities, spins, radii, pairs, 
     """``toi_kernel`` over k pairs of packed shapes (``points`` (N, 3), ``offsets`` (S + 1,); per shape ``centers``,
     ``velocities``, ``spins`` (S, 3) and ``radii`` (S,); ``pairs`` (k, 2)) in one compiled loop: times (k,) (inf for
     no contact before t_max) and status (k,) int64."""
-    n_max = 1
+    n_max = np.int64(1)  # typed int64 from the start: gjk_scratch is compiled for one size type
     for s in range(offsets.shape[0] - 1):
         n_max = max(n_max, offsets[s + 1] - offsets[s])
     scratch = gjk_scratch(n_max)

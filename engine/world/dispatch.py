@@ -18,7 +18,8 @@ rows (engine/world/rows.py), never a branch here.
 ``DispatchTable(rows)`` turns the rows into one (kinds × kinds) index array per question (what the compiled
 classification reads) and one list of kernels; ``answer(table, question, ctx, pairs)`` runs a question over
 candidate pairs: parts first, then the AABB test (boxes grown by ``margin`` for "distance"), the filter and the
-grouping by kernel (``classify_pairs``, ``group_by_code``), then one batched call per kernel.
+grouping by kernel (``classify_pairs``, or ``classify_unfiltered_pairs`` for a world without a filter;
+``group_by_code``), then one batched call per kernel.
 """
 from __future__ import annotations
 
@@ -36,7 +37,8 @@ from .filters import pair_passes
 from .kinds import KINDS, ShapeKind
 
 __all__ = ["QUESTIONS", "Kernel", "UnsupportedQuery", "unsupported", "PARTS", "DispatchTable", "NarrowContext",
-           "classify_pairs", "group_by_code", "expand_parts", "answer", "answer_rows", "Answer"]
+           "classify_pairs", "classify_unfiltered_pairs", "group_by_code", "expand_parts", "answer", "answer_rows",
+           "Answer"]
 
 #: the questions the table answers: do they overlap (touching counts), where do they touch, when do they touch,
 #: how far apart (or how deep) are they
@@ -120,14 +122,16 @@ def boxes_within(lo, hi, i, j, margin):
     return True
 
 
-@njit
-def classify_pairs(bodies, pairs, index, counts, test_boxes, filtering, keys, no_sensors, margin=0.0):
-    """Which candidate pairs of rows (k, 2) go to the narrow phase — their AABBs overlap (closed; grown by
-    ``margin``: ``boxes_within``; a pair with an unbounded shape is kept: its own candidate test allowed for
-    round-off; every pair when not ``test_boxes``) and,
-    when ``filtering``, the filter lets their bodies through (engine.world.filters.pair_passes, with ``keys`` and
-    ``no_sensors``) —: their rows (k',) in order, each one's kernel index ``index[kind_i, kind_j]`` (k',), and how
-    many the filter dropped; ``counts`` ((kinds, kinds) int64) += the pairs per (kind, kind), lower kind first."""
+@njit(inline="always")
+def _every_pair_passes(sensor, category, mask, group, i, j, keys, no_sensors):
+    """The filter of a world that has none (no filter, group, sensor or exclusion): every pair is tested."""
+    return True
+
+
+@njit(inline="always")
+def _classify(bodies, pairs, index, counts, test_boxes, keys, no_sensors, margin, passes):
+    """``classify_pairs`` with the filter ``passes`` (``pair_passes`` or ``_every_pair_passes``), inlined into each
+    kernel below: a world without a filter compiles none."""
     kept = np.empty(pairs.shape[0], np.int64)
     codes = np.empty(pairs.shape[0], np.int64)
     lo, hi, bounded, owner, kind = bodies.lo, bodies.hi, bodies.bounded, bodies.owner, bodies.kind
@@ -137,17 +141,34 @@ def classify_pairs(bodies, pairs, index, counts, test_boxes, filtering, keys, no
         i, j = pairs[p, 0], pairs[p, 1]
         if test_boxes and bounded[i] and bounded[j] and not boxes_within(lo, hi, i, j, margin):
             continue
-        if filtering:
-            bi = owner[i] if owner[i] >= 0 else i  # the bodies the rows answer for (a part: its compound)
-            bj = owner[j] if owner[j] >= 0 else j
-            if not pair_passes(sensor, category, mask, group, bi, bj, keys, no_sensors):
-                filtered += 1
-                continue
+        bi = owner[i] if owner[i] >= 0 else i  # the bodies the rows answer for (a part: its compound)
+        bj = owner[j] if owner[j] >= 0 else j
+        if not passes(sensor, category, mask, group, bi, bj, keys, no_sensors):
+            filtered += 1
+            continue
         ki, kj = kind[i], kind[j]
         kept[m], codes[m] = p, index[ki, kj]
         counts[min(ki, kj), max(ki, kj)] += 1
         m += 1
     return kept[:m], codes[:m], filtered
+
+
+@njit
+def classify_pairs(bodies, pairs, index, counts, test_boxes, keys, no_sensors, margin):
+    """Which candidate pairs of rows (k, 2) go to the narrow phase — their AABBs overlap (closed; grown by
+    ``margin``: ``boxes_within``; a pair with an unbounded shape is kept: its own candidate test allowed for
+    round-off; every pair when not ``test_boxes``) and the filter lets their bodies through
+    (engine.world.filters.pair_passes, with ``keys`` and ``no_sensors``) —: their rows (k',) in order, each one's
+    kernel index ``index[kind_i, kind_j]`` (k',), and how many the filter dropped; ``counts`` ((kinds, kinds)
+    int64) += the pairs per (kind, kind), lower kind first."""
+    return _classify(bodies, pairs, index, counts, test_boxes, keys, no_sensors, margin, pair_passes)
+
+
+@njit
+def classify_unfiltered_pairs(bodies, pairs, index, counts, test_boxes, margin):
+    """``classify_pairs`` for a world without a filter: only the AABB test (the filter dropped 0 pairs)."""
+    return _classify(bodies, pairs, index, counts, test_boxes, np.empty(0, np.int64), False, margin,
+                     _every_pair_passes)
 
 
 @njit
@@ -212,9 +233,6 @@ def expand_parts(bodies, pairs, test_boxes, margin=0.0):
 #: (kind, kind), ``filtered`` the pairs the filter dropped
 Answer = namedtuple("Answer", "pairs origin out counts filtered")
 
-_NO_EXCLUSIONS = np.empty(0, np.int64)
-
-
 def answer_rows(question: str, k: int):
     """The answers of ``question`` for k pairs, before any kernel writes them: ContactRows ("overlap", "contact"),
     times (k,) all inf ("impact"), DistanceRows ("distance")."""
@@ -240,9 +258,12 @@ def answer(table: DispatchTable, question: str, ctx: NarrowContext, pairs: np.nd
     else:
         rows_pairs, origin = pairs, None
     counts = np.zeros((len(KINDS), len(KINDS)), np.int64)
-    filtering = keys is not None
-    kept, codes, filtered = classify_pairs(view, rows_pairs, table.index[question], counts, test_boxes, filtering,
-                                           _NO_EXCLUSIONS if keys is None else keys, no_sensors, margin)
+    if keys is None:
+        kept, codes, filtered = classify_unfiltered_pairs(view, rows_pairs, table.index[question], counts,
+                                                          test_boxes, margin)
+    else:
+        kept, codes, filtered = classify_pairs(view, rows_pairs, table.index[question], counts, test_boxes, keys,
+                                               no_sensors, margin)
     tested = np.ascontiguousarray(rows_pairs[kept])
     out = answer_rows(question, tested.shape[0])
     order, bounds = group_by_code(codes, len(table.kernels[question]))
