@@ -30,7 +30,8 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from engine._validate import as_choice, as_float_array, as_nonnegative
+from engine._validate import MAX_MAGNITUDE, as_choice, as_float_array, as_nonnegative
+from engine.bounding.aabb import ROTATION_TOL
 from engine.broadphase import BROAD_PHASES, DynamicAABBTree, cull_separating_box_pairs, find_pairs
 from engine.broadphase.ray_grid import build_ray_grid
 from engine.narrowphase.contacts import (
@@ -42,7 +43,7 @@ from engine.narrowphase.contacts import (
     mark_persisting,
 )
 
-from .bodies import BodyArrays, BodyStore, refresh_bodies
+from .bodies import BAD_CENTERS, BAD_IDS, BAD_ROTATIONS, UPLOAD_OK, BodyArrays, BodyStore, refresh_bodies, upload_bodies
 from .broad import StaticPairs, fatten, make_broad_phase
 from .dispatch import NarrowContext, answer
 from .filters import ALL, Exclusions, as_bits, as_group
@@ -162,6 +163,50 @@ class WorldStats:
             A shallow copy of the fields.
         """
         return dict(self.__dict__)
+
+
+def _as_ids(ids) -> np.ndarray:
+    """ids as a 1-D int64 array (TypeError naming ``ids`` otherwise); the upload kernel checks the values."""
+    idx = np.asarray(ids)
+    if idx.dtype.kind not in "iu" or idx.ndim != 1:
+        raise TypeError(f"ids must be a 1-D integer array, got dtype {idx.dtype} and shape {idx.shape}")
+    return idx if idx.dtype == np.int64 else idx.astype(np.int64)
+
+
+def _as_rows(value, name: str, shape: tuple) -> np.ndarray:
+    """A float64 array of the given shape for the upload kernel, which checks its values: a float64 array of that
+    shape is read as it is (no copy when contiguous); anything else goes through ``as_float_array`` (a checked
+    copy)."""
+    if isinstance(value, np.ndarray) and value.dtype == np.float64 and value.shape == shape:
+        return np.ascontiguousarray(value)
+    return as_float_array(value, name, shape=shape)
+
+
+def _as_rotations(rotations, k: int):
+    """(mode, array) for the upload kernel: float64 (k, 4) quaternions (mode 2) or (k, 3, 3) matrices (mode 1)
+    as they are (the kernel checks them); anything else through ``as_rotation_batch``."""
+    if isinstance(rotations, np.ndarray) and rotations.dtype == np.float64:
+        if rotations.shape == (k, 4):
+            return 2, np.ascontiguousarray(rotations)
+        if rotations.shape == (k, 3, 3):
+            return 1, np.ascontiguousarray(rotations)
+    return as_rotation_batch(rotations, k)
+
+
+def _upload_error(store, verdict: int, at: int, ids, centers, rotations, velocities):
+    """Raise the error of a batch the upload kernel refused: the argument's own check gives the message (the
+    argument and its first bad index); a value the kernel refused that the check would pass still raises."""
+    k = int(np.asarray(ids).shape[0])
+    if verdict == BAD_IDS:
+        store.check_ids(ids)
+        raise ValueError(f"ids[{at}] is not a distinct live moving body of this world")
+    if verdict == BAD_ROTATIONS:
+        as_rotation_batch(rotations, k)
+        raise ValueError(f"rotations[{at}] must be a proper rotation (a unit quaternion or an orthonormal matrix "
+                         f"of determinant +1)")
+    name, value = ("centers", centers) if verdict == BAD_CENTERS else ("velocities", velocities)
+    as_float_array(value, name, shape=(k, 3))
+    raise ValueError(f"{name}[{at}] must be finite, of magnitude <= {MAX_MAGNITUDE:g}")
 
 
 def _flag(value, name: str) -> bool:
@@ -435,14 +480,16 @@ class World:
         """
         t0 = time.perf_counter()
         st = self._store
-        idx = st.check_ids(ids)
+        idx = _as_ids(ids)
         k = idx.shape[0]
-        c = as_float_array(centers, "centers", shape=(k, 3))
-        mode, rot = (0, None) if rotations is None else as_rotation_batch(rotations, k)
-        v = _NO_VECTORS if velocities is None else as_float_array(velocities, "velocities", shape=(k, 3))
+        c = _as_rows(centers, "centers", (k, 3))
+        mode, rot = (0, None) if rotations is None else _as_rotations(rotations, k)
+        v = _NO_VECTORS if velocities is None else _as_rows(velocities, "velocities", (k, 3))
+        verdict, at = upload_bodies(st.view(), st.n_ids, idx, c, mode, rot if mode == 1 else _NO_MATRICES,
+                                    rot if mode == 2 else _NO_QUATERNIONS, v, MAX_MAGNITUDE, ROTATION_TOL)
+        if verdict != UPLOAD_OK:  # nothing was written: say why, naming the argument and the first bad index
+            _upload_error(st, verdict, at, ids, centers, rotations, velocities)
         self._version += 1
-        refresh_bodies(st.view(), idx, c, mode, rot if mode == 1 else _NO_MATRICES,
-                       rot if mode == 2 else _NO_QUATERNIONS, v)
         self._upload_seconds += time.perf_counter() - t0
 
     # -- filters -------------------------------------------------------------------------------------------
