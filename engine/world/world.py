@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import itertools
 import time
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -38,9 +38,7 @@ from engine.narrowphase.contacts import (
     FEATURE_NAMES,
     TOUCHING,
     ContactSet,
-    contact_set_from_rows,
     kernel_scratch,
-    mark_persisting,
 )
 
 from .bodies import BAD_CENTERS, BAD_IDS, BAD_ROTATIONS, UPLOAD_OK, BodyArrays, BodyStore, refresh_bodies, upload_bodies
@@ -61,6 +59,7 @@ from .ray_cast import (
     forest_of,
 )
 from .ray_rows import RAY_ROWS, ray_bodies
+from .record import contact_record
 from .rows import TABLE
 from .shape_queries import ShapeHit, as_box, as_query_shape, bodies_in_box, cast, overlapping_bodies
 from .shapes import Shape, as_rotation, as_rotation_batch
@@ -75,8 +74,6 @@ _NO_PAIRS = np.empty((0, 2), np.int64)
 #: the rays' tree is built again when its summed node sides, over the root's, grow past this factor of the value
 #: it had when built (the bodies moved far from where it was built)
 RAY_TREE_DECAY = 1.5
-#: bits of a part number in the keys that tell the parts of one compound apart (contact persistence)
-_PART_BITS = 20
 
 
 def _canonical_order(pairs: np.ndarray) -> np.ndarray:
@@ -1099,37 +1096,18 @@ class World:
         cand, result, stats = self._answer("contact", "contacts")
         t0 = time.perf_counter()
         st = self._store
-        pairs, rows = cand[result.origin], result.out
-        touching = np.flatnonzero(rows.status == TOUCHING)
-        order = [pairs[touching, 1], pairs[touching, 0]]
-        if self._compounds:  # a compound: its rows in part order
-            part_a, part_b = st.part[result.pairs[:, 0]], st.part[result.pairs[:, 1]]
-            order = [part_b[touching], part_a[touching], *order]
-        else:
-            part_a = part_b = np.zeros(result.pairs.shape[0], np.int64)
-        keep = touching[np.lexsort(order)]
-        radius = st.radius[result.pairs]
-        out = contact_set_from_rows(rows, pairs, radius[:, 0], radius[:, 1], keep=keep)
-        out = replace(out, part_a=part_a[keep], part_b=part_b[keep])
-        persists = self._mark_persisting(out, part_a[keep], part_b[keep])
+        (pairs, separation, depth, normal, feature_a, feature_b, points, offsets, radius_a, radius_b, point_ids,
+         persists, part_a, part_b, *previous) = contact_record(result.out, cand, result.origin, result.pairs,
+                                                               st.part, st.radius, *self._previous)
+        self._previous = tuple(previous)
+        out = ContactSet(pairs=pairs, separation=separation, depth=depth, normal=normal, feature_a=feature_a,
+                         feature_b=feature_b, points=points, point_offsets=offsets, radius_a=radius_a,
+                         radius_b=radius_b, point_ids=point_ids, persists=persists, part_a=part_a, part_b=part_b)
         stats.seconds["contacts"] = time.perf_counter() - t0
-        stats.overlapping = len(out)
-        stats.contacts, stats.persisting = int(out.points.shape[0]), int(persists.sum())
+        stats.overlapping = int(pairs.shape[0])
+        stats.contacts, stats.persisting = int(points.shape[0]), int(np.count_nonzero(persists))
         self.stats = stats
         return out
-
-    def _mark_persisting(self, out: ContactSet, part_a, part_b) -> np.ndarray:
-        """Set ``out.persists`` against the previous ``contacts()`` (and return it), and keep this one's points for
-        the next: a point is keyed by its pair of (body, part) and its id."""
-        keyed = np.stack([out.pairs[:, 0] << _PART_BITS | part_a, out.pairs[:, 1] << _PART_BITS | part_b], axis=1)
-        prev_pairs, prev_ids = self._previous
-        point_ids, persists = out.point_ids, out.persists
-        assert point_ids is not None and persists is not None  # contact_set_from_rows always sets both
-        mark_persisting(prev_pairs, prev_ids, keyed, out.point_offsets, point_ids, persists)
-        owner = np.repeat(keyed, np.diff(out.point_offsets), axis=0)
-        order = np.lexsort((point_ids, owner[:, 1], owner[:, 0]))
-        self._previous = (np.ascontiguousarray(owner[order]), point_ids[order])
-        return persists
 
     def time_of_impact(self, dt) -> ImpactSet:
         """The pairs that touch within ``dt`` while the bodies move with their velocities, and when (sensors
