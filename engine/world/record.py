@@ -18,6 +18,8 @@ import numpy as np
 from engine._config import njit
 from engine.narrowphase.contacts import TOUCHING, mark_persisting
 
+from . import split
+
 __all__ = ["PART_BITS", "contact_record"]
 
 #: bits of a part number in the keys that tell the parts of one compound apart (contact persistence)
@@ -49,17 +51,29 @@ def _touching_order(status, cand, origin, tested, part):
 
 
 @njit
-def _copy_rows(rows, keep, cand, origin, tested, part, radius):
-    """The per-pair arrays of the record, for the rows ``keep`` in order: pairs (k, 2), separation, depth,
-    normal (k, 3), feature_a, feature_b, radius_a, radius_b, part_a, part_b, and the point offsets (k + 1,)."""
+def _start(rows, cand, origin, tested, part):
+    """The touching rows in order (``_touching_order``), their point offsets (k + 1,) and the record's arrays,
+    unwritten: pairs, separation, depth, normal, feature_a, feature_b, points, point_ids, persists, radius_a,
+    radius_b, part_a, part_b and the rows' keys (k, 2)."""
+    keep = _touching_order(rows.status, cand, origin, tested, part)
     k = keep.shape[0]
-    pairs = np.empty((k, 2), np.int64)
-    separation, depth, normal = np.empty(k), np.empty(k), np.empty((k, 3))
-    feature_a, feature_b = np.empty(k, np.int8), np.empty(k, np.int8)
-    radius_a, radius_b = np.empty(k), np.empty(k)
-    part_a, part_b = np.empty(k, np.int64), np.empty(k, np.int64)
     offsets = np.zeros(k + 1, np.int64)
     for t in range(k):
+        offsets[t + 1] = offsets[t] + rows.count[keep[t]]
+    m = offsets[-1]
+    out = (np.empty((k, 2), np.int64), np.empty(k), np.empty(k), np.empty((k, 3)), np.empty(k, np.int8),
+           np.empty(k, np.int8), np.empty((m, 3)), np.empty(m, np.int64), np.zeros(m, np.bool_), np.empty(k),
+           np.empty(k), np.empty(k, np.int64), np.empty(k, np.int64), np.empty((k, 2), np.int64))
+    return keep, offsets, out
+
+
+@njit
+def _fill(rows, keep, offsets, cand, origin, tested, part, radius, prev_keys, prev_ids, out, first, last):
+    """Rows first .. last − 1 of the record ``out`` (``_start``'s arrays): each row's fields, its points and ids,
+    its key, and whether each point persists (``mark_persisting`` against the previous frame's keys and ids)."""
+    pairs, separation, depth, normal, feature_a, feature_b, points, ids, persists, radius_a, radius_b, part_a, \
+        part_b, keyed = out
+    for t in range(first, last):
         r = keep[t]
         a, b = tested[r, 0], tested[r, 1]
         pairs[t, 0], pairs[t, 1] = cand[origin[r], 0], cand[origin[r], 1]
@@ -71,24 +85,14 @@ def _copy_rows(rows, keep, cand, origin, tested, part, radius):
         feature_a[t], feature_b[t] = rows.feature_a[r], rows.feature_b[r]
         radius_a[t], radius_b[t] = radius[a], radius[b]
         part_a[t], part_b[t] = part[a], part[b]
-        offsets[t + 1] = offsets[t] + rows.count[r]
-    return pairs, separation, depth, normal, feature_a, feature_b, radius_a, radius_b, part_a, part_b, offsets
-
-
-@njit
-def _copy_points(rows, keep, offsets):
-    """The points (M, 3) and point ids (M,) of the rows ``keep``, packed in order."""
-    points = np.empty((offsets[-1], 3))
-    ids = np.empty(offsets[-1], np.int64)
-    for t in range(keep.shape[0]):
-        r = keep[t]
-        for s in range(offsets[t + 1] - offsets[t]):
-            q = offsets[t] + s
+        keyed[t, 0] = pairs[t, 0] << PART_BITS | part_a[t]
+        keyed[t, 1] = pairs[t, 1] << PART_BITS | part_b[t]
+        for slot in range(offsets[t + 1] - offsets[t]):
+            q = offsets[t] + slot
             for c in range(3):
-                points[q, c] = rows.points[r, s, c]
-            ids[q] = rows.ids[r, s]
-    return points, ids
-
+                points[q, c] = rows.points[r, slot, c]
+            ids[q] = rows.ids[r, slot]
+    mark_persisting(prev_keys, prev_ids, keyed[first:last], offsets[first:last + 1], ids, persists)
 
 @njit
 def _next_previous(keyed, offsets, ids):
@@ -112,22 +116,32 @@ def _next_previous(keyed, offsets, ids):
     return owners, sorted_ids
 
 
+def _fields(offsets, out, previous) -> tuple:
+    pairs, separation, depth, normal, feature_a, feature_b, points, ids, persists, radius_a, radius_b, part_a, \
+        part_b, _ = out
+    return (pairs, separation, depth, normal, feature_a, feature_b, points, offsets, radius_a, radius_b, ids,
+            persists, part_a, part_b, *previous)
+
+
 @njit
-def contact_record(rows, cand, origin, tested, part, radius, prev_keys, prev_ids):
+def _record_one_thread(rows, cand, origin, tested, part, radius, prev_keys, prev_ids):
+    keep, offsets, out = _start(rows, cand, origin, tested, part)
+    _fill(rows, keep, offsets, cand, origin, tested, part, radius, prev_keys, prev_ids, out, 0, keep.shape[0])
+    return offsets, out, _next_previous(out[-1], offsets, out[7])
+
+
+def contact_record(rows, cand, origin, tested, part, radius, prev_keys, prev_ids, threads: int = 1) -> tuple:
     """The record of a frame (see the module docstring). ``rows``: the ContactRows of the tested pairs of store
     rows ``tested`` (m, 2), each from the candidate pair ``cand[origin[r]]`` of bodies (i < j); ``part``,
     ``radius``: the store's. Returns (pairs, separation, depth, normal, feature_a, feature_b, points, offsets,
-    radius_a, radius_b, point_ids, persists, part_a, part_b) and the keys and ids for the next frame."""
-    keep = _touching_order(rows.status, cand, origin, tested, part)
-    pairs, separation, depth, normal, feature_a, feature_b, radius_a, radius_b, part_a, part_b, offsets = \
-        _copy_rows(rows, keep, cand, origin, tested, part, radius)
-    points, ids = _copy_points(rows, keep, offsets)
-    keyed = np.empty((keep.shape[0], 2), np.int64)
-    for t in range(keep.shape[0]):
-        keyed[t, 0] = pairs[t, 0] << PART_BITS | part_a[t]
-        keyed[t, 1] = pairs[t, 1] << PART_BITS | part_b[t]
-    persists = np.zeros(ids.shape[0], np.bool_)
-    mark_persisting(prev_keys, prev_ids, keyed, offsets, ids, persists)
-    next_keys, next_ids = _next_previous(keyed, offsets, ids)
-    return (pairs, separation, depth, normal, feature_a, feature_b, points, offsets, radius_a, radius_b, ids,
-            persists, part_a, part_b, next_keys, next_ids)
+    radius_a, radius_b, point_ids, persists, part_a, part_b, keys, ids): the record's arrays, then its points'
+    keys and ids for the next frame. ``threads``: the rows are filled in contiguous ranges on that many threads
+    when there are enough of them (``split.MIN_RECORD_ROWS_PER_THREAD`` each); the order and the keys of the
+    next frame are one thread's work."""
+    spans = split.ranges(int(np.count_nonzero(rows.status == TOUCHING)), threads, split.MIN_RECORD_ROWS_PER_THREAD)
+    if len(spans) == 1:
+        return _fields(*_record_one_thread(rows, cand, origin, tested, part, radius, prev_keys, prev_ids))
+    keep, offsets, out = _start(rows, cand, origin, tested, part)
+    split.run_ranges(threads, lambda first, last: _fill(rows, keep, offsets, cand, origin, tested, part, radius,
+                                                        prev_keys, prev_ids, out, first, last), spans)
+    return _fields(offsets, out, _next_previous(out[-1], offsets, out[7]))

@@ -42,7 +42,7 @@ from engine.narrowphase.contacts import (
 )
 
 from .bodies import BAD_CENTERS, BAD_IDS, BAD_ROTATIONS, UPLOAD_OK, BodyArrays, BodyStore, refresh_bodies, upload_bodies
-from .broad import StaticPairs, fatten, make_broad_phase
+from .broad import RebuildBroadPhase, StaticPairs, fatten, make_broad_phase
 from .dispatch import NarrowContext, answer
 from .filters import ALL, Exclusions, as_bits, as_group
 from .kinds import KINDS
@@ -212,8 +212,13 @@ def _flag(value, name: str) -> bool:
     return bool(value)
 
 
+#: "sphere-box", ... for each cell of the (kind, kind) counts
+_GROUP_NAMES = [[f"{a.name}-{b.name}" for b in KINDS] for a in KINDS]
+
+
 def _groups(counts) -> dict:
-    return {f"{KINDS[a].name}-{KINDS[b].name}": int(counts[a, b]) for a, b in zip(*counts.nonzero())}
+    a, b = counts.nonzero()
+    return {_GROUP_NAMES[i][j]: int(counts[i, j]) for i, j in zip(a.tolist(), b.tolist())}
 
 
 class World:
@@ -277,6 +282,8 @@ class World:
         self.broad_phase = as_choice(broad_phase, "broad_phase", BROAD_PHASES)
         self.threads = check_threads(threads)
         self._version = 0  # bumped by every change of a body: what the ray scene was built for
+        self._moving_ids: np.ndarray | None = None  # the moving bodies, until the next add or remove
+        self._scratch: tuple | None = None  # (points per body, the kernels' scratch for that many)
         self._ray_scene: tuple[int, RayScene] | None = None
         self._ray_tree_state: tuple | None = None  # (bodies, tree, quality when built) of the rays' tree
         self._store = BodyStore()
@@ -351,6 +358,7 @@ class World:
             raise ValueError(f"velocity must be zero for a static body, got {vel.tolist()}")
         body = self._new_body(shape)
         self._version += 1
+        self._moving_ids = None
         st = self._store
         st.static[body], st.sensor[body] = static, sensor
         st.category[body], st.mask[body], st.group[body] = bits
@@ -404,6 +412,7 @@ class World:
         """
         body = self._check_id(body_id)
         self._version += 1
+        self._moving_ids = None
         st = self._store
         if body in self._grounds:
             del self._grounds[body]
@@ -981,10 +990,15 @@ class World:
 
     # -- the frame -----------------------------------------------------------------------------------------
     def _moving(self) -> np.ndarray:
-        """The live moving bodies (not static, not grounds, not parts), ascending."""
-        st = self._store
-        n = st.n_ids
-        return np.flatnonzero((st.kind[:n] >= 0) & (st.owner[:n] < 0) & ~st.static[:n])
+        """The live moving bodies (not static, not grounds, not parts), ascending; read-only, found again only
+        after an ``add`` or a ``remove``."""
+        if self._moving_ids is None:
+            st = self._store
+            n = st.n_ids
+            ids = np.flatnonzero((st.kind[:n] >= 0) & (st.owner[:n] < 0) & ~st.static[:n])
+            ids.flags.writeable = False
+            self._moving_ids = ids
+        return self._moving_ids
 
     def _ground_candidates(self, bodies, lo, hi) -> list:
         out = []
@@ -1007,8 +1021,16 @@ class World:
             fatten(st, escaped)
         static = [self._static.candidates(st, bodies, escaped),
                   *self._ground_candidates(bodies, st.lo[bodies], st.hi[bodies])]
-        cand = np.concatenate([self._broad.candidates(st, bodies, escaped), *static])
+        cand = np.concatenate([self._moving_pairs(bodies, escaped), *static])
         return np.ascontiguousarray(cand), bodies, sum(s.shape[0] for s in static)
+
+    def _moving_pairs(self, bodies, escaped) -> np.ndarray:
+        """The broad phase's pairs of moving bodies; a method that keeps no state ("grid", "octree", "brute") runs
+        ``find_pairs`` on this world's threads (the pairs ``RebuildBroadPhase`` finds, bit for bit)."""
+        st = self._store
+        if self.threads > 1 and isinstance(self._broad, RebuildBroadPhase) and bodies.shape[0] > 1:
+            return bodies[find_pairs(st.lo[bodies], st.hi[bodies], self.broad_phase, threads=self.threads)]
+        return self._broad.candidates(st, bodies, escaped)
 
     def _filter_keys(self):
         """The excluded keys for the filter, or None while no body has had a filter, a group or the sensor flag
@@ -1016,8 +1038,13 @@ class World:
         return self._exclusions.keys() if self._filtering or self._exclusions.pairs else None
 
     def _context(self, dt: float = 0.0) -> NarrowContext:
+        """What the kernels read: the store, the grounds, scratch for the store's points per body (kept while
+        that count holds), ``dt``, whether a compound is present, and this world's threads."""
         view = self._store.view()
-        return NarrowContext(view, self._grounds, kernel_scratch(view.points.shape[1]), dt, self._compounds > 0)
+        m = view.points.shape[1]
+        if self._scratch is None or self._scratch[0] != m:
+            self._scratch = (m, kernel_scratch(m))
+        return NarrowContext(view, self._grounds, self._scratch[1], dt, self._compounds > 0, self.threads)
 
     def _answer(self, question: str, query: str):
         """Broad phase, then ``question`` for every candidate the AABB test and the filter keep: (candidate pairs of
@@ -1098,7 +1125,7 @@ class World:
         st = self._store
         (pairs, separation, depth, normal, feature_a, feature_b, points, offsets, radius_a, radius_b, point_ids,
          persists, part_a, part_b, *previous) = contact_record(result.out, cand, result.origin, result.pairs,
-                                                               st.part, st.radius, *self._previous)
+                                                               st.part, st.radius, *self._previous, self.threads)
         self._previous = tuple(previous)
         out = ContactSet(pairs=pairs, separation=separation, depth=depth, normal=normal, feature_a=feature_a,
                          feature_b=feature_b, points=points, point_offsets=offsets, radius_a=radius_a,
@@ -1282,7 +1309,7 @@ class World:
         bodies = self._moving()
         grow = 2.0 * margin  # a superset of the boxes at most margin apart, whatever the round-off
         lo, hi = st.lo[bodies] - grow, st.hi[bodies] + grow
-        rows = find_pairs(lo, hi, self.broad_phase) if bodies.shape[0] > 1 else _NO_PAIRS
+        rows = find_pairs(lo, hi, self.broad_phase, threads=self.threads) if bodies.shape[0] > 1 else _NO_PAIRS
         static = [self._static.query(st, bodies, lo, hi), *self._ground_candidates(bodies, lo, hi)]
         cand = np.ascontiguousarray(np.concatenate([bodies[rows], *static]))
         stats = WorldStats(query="pairs_within", bodies=int(bodies.shape[0]), candidate_pairs=int(cand.shape[0]),
