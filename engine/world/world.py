@@ -212,11 +212,14 @@ def _flag(value, name: str) -> bool:
     return bool(value)
 
 
-#: "sphere-box", ... for each cell of the (kind, kind) counts
-_GROUP_NAMES = [[f"{a.name}-{b.name}" for b in KINDS] for a in KINDS]
+#: "sphere-box", ... for each cell of the (kind, kind) counts, made again when a kind is registered
+_GROUP_NAMES: list = []
 
 
 def _groups(counts) -> dict:
+    global _GROUP_NAMES
+    if len(_GROUP_NAMES) != len(KINDS):
+        _GROUP_NAMES = [[f"{a.name}-{b.name}" for b in KINDS] for a in KINDS]
     a, b = counts.nonzero()
     return {_GROUP_NAMES[i][j]: int(counts[i, j]) for i, j in zip(a.tolist(), b.tolist())}
 
