@@ -52,7 +52,8 @@ import numpy as np
 
 from engine._config import njit
 
-__all__ = ["BodyArrays", "BodyStore", "refresh_bodies", "place_bodies"]
+__all__ = ["BodyArrays", "BodyStore", "refresh_bodies", "place_bodies", "upload_bodies", "UPLOAD_OK", "BAD_IDS",
+           "BAD_CENTERS", "BAD_ROTATIONS", "BAD_VELOCITIES"]
 
 #: the compiled kernels' view of the store (one namedtuple of arrays)
 BodyArrays = namedtuple("BodyArrays", "kind center rotation velocity radius half count local points lo hi "
@@ -113,6 +114,7 @@ class BodyStore:
         self._alloc(capacity, max_points, 1)
 
     def _alloc(self, cap, m, f, old=None):
+        self._view: BodyArrays | None = None
         for name, (shape, dtype, fill) in _FIELDS.items():
             arr = np.full((cap, *shape), fill, dtype)
             if old is not None:
@@ -137,7 +139,11 @@ class BodyStore:
         return int(self.kind.shape[0])
 
     def view(self) -> BodyArrays:
-        return BodyArrays(*(getattr(self, name) for name in BodyArrays._fields))
+        """The arrays as one ``BodyArrays`` (no copy), kept until the arrays are replaced (``_alloc``, the end of
+        ``scratch``)."""
+        if self._view is None:
+            self._view = BodyArrays(*(getattr(self, name) for name in BodyArrays._fields))
+        return self._view
 
     def new_id(self, m: int, f: int = 0) -> int:
         """The smallest free id, for a body of m core points and f face planes (growing the arrays when
@@ -198,6 +204,7 @@ class BodyStore:
             else:  # the arrays grew for the query: the old ones, untouched, come back (views of them stay live)
                 for name, arr in arrays.items():
                     setattr(self, name, arr)
+                self._view = None
 
     def _wipe(self, first: int, k: int) -> None:
         """Rows first to first + k - 1 back to fresh rows (as ``_alloc`` makes them)."""
@@ -275,6 +282,87 @@ class BodyStore:
         return idx
 
 
+#: what ``upload_bodies`` says of a batch: accepted, or the argument that failed (the index comes with it)
+UPLOAD_OK, BAD_IDS, BAD_CENTERS, BAD_ROTATIONS, BAD_VELOCITIES = 0, 1, 2, 3, 4
+
+
+@njit(inline="always")
+def _bad_ids(bodies, n_ids, ids):
+    """The first index r whose id is not a live moving body (a part, static, a ground, out of range) or repeats
+    an earlier one; -1 when every id passes."""
+    seen = np.zeros(n_ids, np.bool_)
+    for r in range(ids.shape[0]):
+        b = ids[r]
+        if b < 0 or b >= n_ids or bodies.kind[b] < 0 or bodies.owner[b] >= 0 or bodies.static[b] or seen[b]:
+            return r
+        seen[b] = True
+    return -1
+
+
+@njit(inline="always")
+def _bad_row(values, limit):
+    """The first row of values (k, m) holding a NaN, an infinity or a magnitude above ``limit``; -1 if none."""
+    for r in range(values.shape[0]):
+        for c in range(values.shape[1]):
+            if not abs(values[r, c]) <= limit:  # a NaN fails every comparison
+                return r
+    return -1
+
+
+@njit(inline="always")
+def _bad_quaternion(quaternions, tol):
+    """The first quaternion whose norm is not within ``tol`` of 1 (NaN included); -1 if none."""
+    for r in range(quaternions.shape[0]):
+        w, x, y, z = quaternions[r, 0], quaternions[r, 1], quaternions[r, 2], quaternions[r, 3]
+        if not abs(np.sqrt(w * w + x * x + y * y + z * z) - 1.0) <= tol:
+            return r
+    return -1
+
+
+@njit(inline="always")
+def _bad_matrix(rotations, tol):
+    """The first matrix that is not a proper rotation: some entry of RᵀR − I beyond ``tol`` (NaN included), or a
+    negative determinant (a reflection); -1 if none."""
+    for r in range(rotations.shape[0]):
+        R = rotations[r]
+        for i in range(3):
+            for j in range(3):
+                dot = R[0, i] * R[0, j] + R[1, i] * R[1, j] + R[2, i] * R[2, j]
+                if not abs(dot - (1.0 if i == j else 0.0)) <= tol:
+                    return r
+        det = (R[0, 0] * (R[1, 1] * R[2, 2] - R[1, 2] * R[2, 1]) - R[0, 1] * (R[1, 0] * R[2, 2] - R[1, 2] * R[2, 0])
+               + R[0, 2] * (R[1, 0] * R[2, 1] - R[1, 1] * R[2, 0]))
+        if det < 0.0:
+            return r
+    return -1
+
+
+@njit
+def upload_bodies(bodies, n_ids, ids, centers, mode, rotations, quaternions, velocities, limit, tol):
+    """The checked pose upload: (verdict, index). Every argument is checked first, in order — ids (live moving
+    bodies among the first ``n_ids`` rows, distinct), centres and velocities (finite, magnitude <= ``limit``),
+    rotations (mode 1: proper rotation matrices to ``tol``; mode 2: quaternions of norm 1 to ``tol``) —; the
+    first failure is returned as (BAD_..., its row) and nothing is written. Else ``refresh_bodies`` runs and
+    (UPLOAD_OK, -1) is returned."""
+    at = _bad_ids(bodies, n_ids, ids)
+    if at >= 0:
+        return BAD_IDS, at
+    at = _bad_row(centers, limit)
+    if at >= 0:
+        return BAD_CENTERS, at
+    if mode == 1:
+        at = _bad_matrix(rotations, tol)
+    elif mode == 2:
+        at = _bad_quaternion(quaternions, tol)
+    if at >= 0:
+        return BAD_ROTATIONS, at
+    at = _bad_row(velocities, limit)
+    if at >= 0:
+        return BAD_VELOCITIES, at
+    refresh_bodies(bodies, ids, centers, mode, rotations, quaternions, velocities)
+    return UPLOAD_OK, -1
+
+
 @njit
 def refresh_bodies(bodies, ids, centers, mode, rotations, quaternions, velocities):
     """The pose upload: for each body ids[r], centre centers[r]; rotation rotations[r] (mode 1), from the unit
@@ -287,7 +375,9 @@ def refresh_bodies(bodies, ids, centers, mode, rotations, quaternions, velocitie
             bodies.center[b, c] = centers[r, c]
         R = bodies.rotation[b]
         if mode == 1:
-            R[:, :] = rotations[r]
+            for i in range(3):  # element by element: a slice assignment would compile numba's shape-error path
+                for j in range(3):
+                    R[i, j] = rotations[r, i, j]
         elif mode == 2:
             w, x, y, z = quaternions[r, 0], quaternions[r, 1], quaternions[r, 2], quaternions[r, 3]
             R[0, 0], R[0, 1], R[0, 2] = 1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)

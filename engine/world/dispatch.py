@@ -30,9 +30,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from engine._config import njit
-from engine.narrowphase.contacts import contact_rows
+from engine.narrowphase.contacts import contact_rows, kernel_scratch
 from engine.narrowphase.signed_distance import distance_rows
 
+from . import split
 from .filters import pair_passes
 from .kinds import KINDS, ShapeKind
 
@@ -52,6 +53,7 @@ class Kernel:
 
     name: str
     run: Callable
+    threaded: bool = True  # may run on several threads at once (compiled kernels); False: one thread only
 
     def __repr__(self) -> str:
         return f"Kernel({self.name!r})"
@@ -78,8 +80,9 @@ PARTS = Kernel("answered part by part", _split_first)
 #: what every kernel reads: ``bodies`` (engine.world.bodies.BodyArrays), ``shapes`` ({row: Shape}, for kernels
 #: that need the shape object: a HeightCurve's f), ``scratch`` (engine.narrowphase.contacts.kernel_scratch for
 #: the store's points per body), ``dt`` (the time window of "impact"), ``has_parts`` (whether the store holds a
-#: compound: only then are the pairs split into parts)
-NarrowContext = namedtuple("NarrowContext", "bodies shapes scratch dt has_parts")
+#: compound: only then are the pairs split into parts), ``threads`` (how many threads ``answer`` may use; 1 when
+#: not given)
+NarrowContext = namedtuple("NarrowContext", "bodies shapes scratch dt has_parts threads", defaults=(1,))
 
 
 class DispatchTable:
@@ -243,13 +246,48 @@ def answer_rows(question: str, k: int):
     return contact_rows(k)
 
 
+def _classify_ranges(view, rows_pairs, index, test_boxes, keys, no_sensors, margin, threads):
+    """``classify_pairs`` (``classify_unfiltered_pairs`` when ``keys`` is None: no filter) over contiguous ranges
+    of the candidates (``split.ranges``), put back in range order: (kept (k',), codes (k',), counts, filtered) as
+    one call over all of them gives."""
+
+    def work(first, last):
+        counts = np.zeros((len(KINDS), len(KINDS)), np.int64)
+        rows = rows_pairs[first:last]
+        if keys is None:
+            kept, codes, filtered = classify_unfiltered_pairs(view, rows, index, counts, test_boxes, margin)
+        else:
+            kept, codes, filtered = classify_pairs(view, rows, index, counts, test_boxes, keys, no_sensors, margin)
+        return kept + first if first else kept, codes, counts, filtered
+    spans = split.ranges(rows_pairs.shape[0], threads, split.MIN_CANDIDATES_PER_THREAD)
+    if len(spans) == 1:
+        return work(0, rows_pairs.shape[0])
+    kept, codes, counts, filtered = zip(*split.run_ranges(threads, work, spans))
+    return np.concatenate(kept), np.concatenate(codes), sum(counts), sum(filtered)
+
+
+def _run_kernel(kernel: Kernel, ctx: NarrowContext, tested, sel, out) -> None:
+    """One kernel over the rows ``sel`` (its rows of ``out``, disjoint from every other kernel's): on
+    ``ctx.threads`` threads when the kernel allows it and there are enough rows, each contiguous range of ``sel``
+    with scratch of its own."""
+    spans = split.ranges(sel.shape[0], ctx.threads if kernel.threaded else 1, split.MIN_PAIRS_PER_THREAD)
+    if len(spans) == 1:
+        kernel.run(ctx, tested, sel, out)
+        return
+    m = ctx.bodies.points.shape[1]
+    split.run_ranges(ctx.threads, lambda first, last: kernel.run(ctx._replace(scratch=kernel_scratch(m)), tested,
+                                                                 sel[first:last], out), spans)
+
+
 def answer(table: DispatchTable, question: str, ctx: NarrowContext, pairs: np.ndarray, keys=None,
            no_sensors: bool = False, margin: float = 0.0) -> Answer:
     """Run ``question`` over candidate pairs of bodies (k, 2): split compounds into parts, keep the pairs whose
     AABBs overlap (all of them for "impact": the bodies move; for "distance", boxes at most ``margin`` apart:
     ``margin`` = inf keeps every pair, every part of a compound) and, unless ``keys`` is None (a world with no
     filter, exclusion or sensor: nothing to drop), that the filter lets through (the sorted excluded ``keys``
-    of engine.world.filters.Exclusions, ``no_sensors``), then one batched call per kernel of the table."""
+    of engine.world.filters.Exclusions, ``no_sensors``), then one batched call per kernel of the table, each on
+    ``ctx.threads`` threads when its batch is large enough (engine/world/split.py: the same answer, bit for
+    bit)."""
     view = ctx.bodies
     test_boxes = question != "impact"
     margin = float(margin) if question == "distance" else 0.0
@@ -257,17 +295,12 @@ def answer(table: DispatchTable, question: str, ctx: NarrowContext, pairs: np.nd
         rows_pairs, origin = expand_parts(view, pairs, test_boxes, margin)
     else:
         rows_pairs, origin = pairs, None
-    counts = np.zeros((len(KINDS), len(KINDS)), np.int64)
-    if keys is None:
-        kept, codes, filtered = classify_unfiltered_pairs(view, rows_pairs, table.index[question], counts,
-                                                          test_boxes, margin)
-    else:
-        kept, codes, filtered = classify_pairs(view, rows_pairs, table.index[question], counts, test_boxes, keys,
-                                               no_sensors, margin)
+    kept, codes, counts, filtered = _classify_ranges(view, rows_pairs, table.index[question], test_boxes, keys,
+                                                     no_sensors, margin, ctx.threads)
     tested = np.ascontiguousarray(rows_pairs[kept])
     out = answer_rows(question, tested.shape[0])
     order, bounds = group_by_code(codes, len(table.kernels[question]))
     for code, kernel in enumerate(table.kernels[question]):
         if bounds[code + 1] > bounds[code]:
-            kernel.run(ctx, tested, order[bounds[code]:bounds[code + 1]], out)
+            _run_kernel(kernel, ctx, tested, order[bounds[code]:bounds[code + 1]], out)
     return Answer(tested, kept if origin is None else origin[kept], out, counts, filtered)

@@ -231,16 +231,17 @@ GJK_DISTANCE = Kernel("GJK distance", lambda ctx, pairs, sel, out:
                       gjk_overlap_rows(_cores(ctx.bodies), pairs, sel, out))
 GJK_EPA = Kernel("GJK/EPA + contact features", lambda ctx, pairs, sel, out:
                  gjk_contact_rows(_cores(ctx.bodies), pairs, sel, out))
+# the curve's rows call its Python function f: one thread (f need not be thread-safe)
 CURVE_OVERLAP = Kernel("lower boundary (a sphere: its disc) against the curve", lambda ctx, pairs, sel, out:
-                       _curve_rows(ctx, pairs, sel, out, False))
+                       _curve_rows(ctx, pairs, sel, out, False), threaded=False)
 CURVE_CONTACT = Kernel("deepest point under the curve", lambda ctx, pairs, sel, out:
-                       _curve_rows(ctx, pairs, sel, out, True))
+                       _curve_rows(ctx, pairs, sel, out, True), threaded=False)
 SPHERE_SWEEP = Kernel("sphere sweep (quadratic)", lambda ctx, pairs, sel, out:
                       _sphere_sweep_times(ctx.bodies, pairs, sel, ctx.dt, out))
 PLANE_SWEEP = Kernel("lowest point sweep (linear)", lambda ctx, pairs, sel, out:
                      _plane_sweep_times(ctx.bodies, pairs, sel, ctx.dt, out))
 ADVANCEMENT = Kernel("conservative advancement", _advancement_times)
-CURVE_SWEEP = Kernel("bisection on the curve gap", _curve_times)
+CURVE_SWEEP = Kernel("bisection on the curve gap", _curve_times, threaded=False)
 
 ROUND_CORES_DISTANCE = Kernel("closest points of segments, witnesses", _witness_rows(ROUND_CORES.run))
 SPHERE_BOX_DISTANCE = Kernel("closest point of an OBB, witnesses", _witness_rows(SPHERE_BOX.run))
@@ -248,7 +249,7 @@ BOX_BOX_DISTANCE = Kernel("GJK/EPA on the corners, sign of the SAT", _box_box_di
 PLANE_DISTANCE = Kernel("lowest core point against a plane", lambda ctx, pairs, sel, out:
                         _plane_distances(ctx.bodies, pairs, sel, out))
 GJK_EPA_DISTANCE = Kernel("GJK distance / EPA depth", _gjk_distances)
-CURVE_DISTANCE = Kernel("distance to the sampled curve / depth under it", _curve_distances)
+CURVE_DISTANCE = Kernel("distance to the sampled curve / depth under it", _curve_distances, threaded=False)
 
 _GJK = {"overlap": GJK_DISTANCE, "contact": GJK_EPA, "impact": ADVANCEMENT, "distance": GJK_EPA_DISTANCE}
 _ROUND = {"overlap": ROUND_CORES, "contact": ROUND_CORES, "impact": ADVANCEMENT, "distance": ROUND_CORES_DISTANCE}

@@ -26,24 +26,23 @@ from __future__ import annotations
 
 import itertools
 import time
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 
 import numpy as np
 
-from engine._validate import as_choice, as_float_array, as_nonnegative
+from engine._validate import MAX_MAGNITUDE, as_choice, as_float_array, as_nonnegative
+from engine.bounding.aabb import ROTATION_TOL
 from engine.broadphase import BROAD_PHASES, DynamicAABBTree, cull_separating_box_pairs, find_pairs
 from engine.broadphase.ray_grid import build_ray_grid
 from engine.narrowphase.contacts import (
     FEATURE_NAMES,
     TOUCHING,
     ContactSet,
-    contact_set_from_rows,
     kernel_scratch,
-    mark_persisting,
 )
 
-from .bodies import BodyArrays, BodyStore, refresh_bodies
-from .broad import StaticPairs, fatten, fatten_around, make_broad_phase
+from .bodies import BAD_CENTERS, BAD_IDS, BAD_ROTATIONS, UPLOAD_OK, BodyArrays, BodyStore, refresh_bodies, upload_bodies
+from .broad import RebuildBroadPhase, StaticPairs, fatten, fatten_around, make_broad_phase
 from .dispatch import NarrowContext, answer
 from .filters import ALL, Exclusions, as_bits, as_group
 from .kinds import KINDS
@@ -60,6 +59,7 @@ from .ray_cast import (
     forest_of,
 )
 from .ray_rows import RAY_ROWS, ray_bodies
+from .record import contact_record
 from .rows import TABLE
 from .shape_queries import ShapeHit, as_box, as_query_shape, bodies_in_box, cast, overlapping_bodies
 from .shapes import Shape, as_rotation, as_rotation_batch
@@ -74,8 +74,6 @@ _NO_PAIRS = np.empty((0, 2), np.int64)
 #: the rays' tree is built again when its summed node sides, over the root's, grow past this factor of the value
 #: it had when built (the bodies moved far from where it was built)
 RAY_TREE_DECAY = 1.5
-#: bits of a part number in the keys that tell the parts of one compound apart (contact persistence)
-_PART_BITS = 20
 
 
 def _canonical_order(pairs: np.ndarray) -> np.ndarray:
@@ -165,14 +163,66 @@ class WorldStats:
         return dict(self.__dict__)
 
 
+def _as_ids(ids) -> np.ndarray:
+    """ids as a 1-D int64 array (TypeError naming ``ids`` otherwise); the upload kernel checks the values."""
+    idx = np.asarray(ids)
+    if idx.dtype.kind not in "iu" or idx.ndim != 1:
+        raise TypeError(f"ids must be a 1-D integer array, got dtype {idx.dtype} and shape {idx.shape}")
+    return idx if idx.dtype == np.int64 else idx.astype(np.int64)
+
+
+def _as_rows(value, name: str, shape: tuple) -> np.ndarray:
+    """A float64 array of the given shape for the upload kernel, which checks its values: a float64 array of that
+    shape is read as it is (no copy when contiguous); anything else goes through ``as_float_array`` (a checked
+    copy)."""
+    if isinstance(value, np.ndarray) and value.dtype == np.float64 and value.shape == shape:
+        return np.ascontiguousarray(value)
+    return as_float_array(value, name, shape=shape)
+
+
+def _as_rotations(rotations, k: int):
+    """(mode, array) for the upload kernel: float64 (k, 4) quaternions (mode 2) or (k, 3, 3) matrices (mode 1)
+    as they are (the kernel checks them); anything else through ``as_rotation_batch``."""
+    if isinstance(rotations, np.ndarray) and rotations.dtype == np.float64:
+        if rotations.shape == (k, 4):
+            return 2, np.ascontiguousarray(rotations)
+        if rotations.shape == (k, 3, 3):
+            return 1, np.ascontiguousarray(rotations)
+    return as_rotation_batch(rotations, k)
+
+
+def _upload_error(store, verdict: int, at: int, ids, centers, rotations, velocities):
+    """Raise the error of a batch the upload kernel refused: the argument's own check gives the message (the
+    argument and its first bad index); a value the kernel refused that the check would pass still raises."""
+    k = int(np.asarray(ids).shape[0])
+    if verdict == BAD_IDS:
+        store.check_ids(ids)
+        raise ValueError(f"ids[{at}] is not a distinct live moving body of this world")
+    if verdict == BAD_ROTATIONS:
+        as_rotation_batch(rotations, k)
+        raise ValueError(f"rotations[{at}] must be a proper rotation (a unit quaternion or an orthonormal matrix "
+                         f"of determinant +1)")
+    name, value = ("centers", centers) if verdict == BAD_CENTERS else ("velocities", velocities)
+    as_float_array(value, name, shape=(k, 3))
+    raise ValueError(f"{name}[{at}] must be finite, of magnitude <= {MAX_MAGNITUDE:g}")
+
+
 def _flag(value, name: str) -> bool:
     if not isinstance(value, bool | np.bool_):
         raise TypeError(f"{name} must be a bool, got {type(value).__name__}")
     return bool(value)
 
 
+#: "sphere-box", ... for each cell of the (kind, kind) counts, made again when a kind is registered
+_GROUP_NAMES: list = []
+
+
 def _groups(counts) -> dict:
-    return {f"{KINDS[a].name}-{KINDS[b].name}": int(counts[a, b]) for a, b in zip(*counts.nonzero())}
+    global _GROUP_NAMES
+    if len(_GROUP_NAMES) != len(KINDS):
+        _GROUP_NAMES = [[f"{a.name}-{b.name}" for b in KINDS] for a in KINDS]
+    a, b = counts.nonzero()
+    return {_GROUP_NAMES[i][j]: int(counts[i, j]) for i, j in zip(a.tolist(), b.tolist())}
 
 
 class World:
@@ -236,6 +286,8 @@ class World:
         self.broad_phase = as_choice(broad_phase, "broad_phase", BROAD_PHASES)
         self.threads = check_threads(threads)
         self._version = 0  # bumped by every change of a body: what the ray scene was built for
+        self._moving_ids: np.ndarray | None = None  # the moving bodies, until the next add or remove
+        self._scratch: tuple | None = None  # (points per body, the kernels' scratch for that many)
         self._ray_scene: tuple[int, RayScene] | None = None
         self._ray_tree_state: tuple | None = None  # (bodies, tree, quality when built) of the rays' tree
         self._store = BodyStore()
@@ -310,6 +362,7 @@ class World:
             raise ValueError(f"velocity must be zero for a static body, got {vel.tolist()}")
         body = self._new_body(shape)
         self._version += 1
+        self._moving_ids = None
         st = self._store
         st.static[body], st.sensor[body] = static, sensor
         st.category[body], st.mask[body], st.group[body] = bits
@@ -363,6 +416,7 @@ class World:
         """
         body = self._check_id(body_id)
         self._version += 1
+        self._moving_ids = None
         st = self._store
         if body in self._grounds:
             del self._grounds[body]
@@ -436,14 +490,16 @@ class World:
         """
         t0 = time.perf_counter()
         st = self._store
-        idx = st.check_ids(ids)
+        idx = _as_ids(ids)
         k = idx.shape[0]
-        c = as_float_array(centers, "centers", shape=(k, 3))
-        mode, rot = (0, None) if rotations is None else as_rotation_batch(rotations, k)
-        v = _NO_VECTORS if velocities is None else as_float_array(velocities, "velocities", shape=(k, 3))
+        c = _as_rows(centers, "centers", (k, 3))
+        mode, rot = (0, None) if rotations is None else _as_rotations(rotations, k)
+        v = _NO_VECTORS if velocities is None else _as_rows(velocities, "velocities", (k, 3))
+        verdict, at = upload_bodies(st.view(), st.n_ids, idx, c, mode, rot if mode == 1 else _NO_MATRICES,
+                                    rot if mode == 2 else _NO_QUATERNIONS, v, MAX_MAGNITUDE, ROTATION_TOL)
+        if verdict != UPLOAD_OK:  # nothing was written: say why, naming the argument and the first bad index
+            _upload_error(st, verdict, at, ids, centers, rotations, velocities)
         self._version += 1
-        refresh_bodies(st.view(), idx, c, mode, rot if mode == 1 else _NO_MATRICES,
-                       rot if mode == 2 else _NO_QUATERNIONS, v)
         self._upload_seconds += time.perf_counter() - t0
 
     # -- filters -------------------------------------------------------------------------------------------
@@ -938,10 +994,15 @@ class World:
 
     # -- the frame -----------------------------------------------------------------------------------------
     def _moving(self) -> np.ndarray:
-        """The live moving bodies (not static, not grounds, not parts), ascending."""
-        st = self._store
-        n = st.n_ids
-        return np.flatnonzero((st.kind[:n] >= 0) & (st.owner[:n] < 0) & ~st.static[:n])
+        """The live moving bodies (not static, not grounds, not parts), ascending; read-only, found again only
+        after an ``add`` or a ``remove``."""
+        if self._moving_ids is None:
+            st = self._store
+            n = st.n_ids
+            ids = np.flatnonzero((st.kind[:n] >= 0) & (st.owner[:n] < 0) & ~st.static[:n])
+            ids.flags.writeable = False
+            self._moving_ids = ids
+        return self._moving_ids
 
     def _ground_candidates(self, bodies, lo, hi) -> list:
         out = []
@@ -964,8 +1025,16 @@ class World:
             fatten(st, escaped)
         static = [self._static.candidates(st, bodies, escaped),
                   *self._ground_candidates(bodies, st.lo[bodies], st.hi[bodies])]
-        cand = np.concatenate([self._broad.candidates(st, bodies, escaped), *static])
+        cand = np.concatenate([self._moving_pairs(bodies, escaped), *static])
         return np.ascontiguousarray(cand), bodies, sum(s.shape[0] for s in static)
+
+    def _moving_pairs(self, bodies, escaped) -> np.ndarray:
+        """The broad phase's pairs of moving bodies; a method that keeps no state ("grid", "octree", "brute") runs
+        ``find_pairs`` on this world's threads (the pairs ``RebuildBroadPhase`` finds, bit for bit)."""
+        st = self._store
+        if self.threads > 1 and isinstance(self._broad, RebuildBroadPhase) and bodies.shape[0] > 1:
+            return bodies[find_pairs(st.lo[bodies], st.hi[bodies], self.broad_phase, threads=self.threads)]
+        return self._broad.candidates(st, bodies, escaped)
 
     def _filter_keys(self):
         """The excluded keys for the filter, or None while no body has had a filter, a group or the sensor flag
@@ -973,8 +1042,13 @@ class World:
         return self._exclusions.keys() if self._filtering or self._exclusions.pairs else None
 
     def _context(self, dt: float = 0.0) -> NarrowContext:
+        """What the kernels read: the store, the grounds, scratch for the store's points per body (kept while
+        that count holds), ``dt``, whether a compound is present, and this world's threads."""
         view = self._store.view()
-        return NarrowContext(view, self._grounds, kernel_scratch(view.points.shape[1]), dt, self._compounds > 0)
+        m = view.points.shape[1]
+        if self._scratch is None or self._scratch[0] != m:
+            self._scratch = (m, kernel_scratch(m))
+        return NarrowContext(view, self._grounds, self._scratch[1], dt, self._compounds > 0, self.threads)
 
     def _answer(self, question: str, query: str):
         """Broad phase, then ``question`` for every candidate the AABB test and the filter keep: (candidate pairs of
@@ -1053,37 +1127,18 @@ class World:
         cand, result, stats = self._answer("contact", "contacts")
         t0 = time.perf_counter()
         st = self._store
-        pairs, rows = cand[result.origin], result.out
-        touching = np.flatnonzero(rows.status == TOUCHING)
-        order = [pairs[touching, 1], pairs[touching, 0]]
-        if self._compounds:  # a compound: its rows in part order
-            part_a, part_b = st.part[result.pairs[:, 0]], st.part[result.pairs[:, 1]]
-            order = [part_b[touching], part_a[touching], *order]
-        else:
-            part_a = part_b = np.zeros(result.pairs.shape[0], np.int64)
-        keep = touching[np.lexsort(order)]
-        radius = st.radius[result.pairs]
-        out = contact_set_from_rows(rows, pairs, radius[:, 0], radius[:, 1], keep=keep)
-        out = replace(out, part_a=part_a[keep], part_b=part_b[keep])
-        persists = self._mark_persisting(out, part_a[keep], part_b[keep])
+        (pairs, separation, depth, normal, feature_a, feature_b, points, offsets, radius_a, radius_b, point_ids,
+         persists, part_a, part_b, *previous) = contact_record(result.out, cand, result.origin, result.pairs,
+                                                               st.part, st.radius, *self._previous, self.threads)
+        self._previous = tuple(previous)
+        out = ContactSet(pairs=pairs, separation=separation, depth=depth, normal=normal, feature_a=feature_a,
+                         feature_b=feature_b, points=points, point_offsets=offsets, radius_a=radius_a,
+                         radius_b=radius_b, point_ids=point_ids, persists=persists, part_a=part_a, part_b=part_b)
         stats.seconds["contacts"] = time.perf_counter() - t0
-        stats.overlapping = len(out)
-        stats.contacts, stats.persisting = int(out.points.shape[0]), int(persists.sum())
+        stats.overlapping = int(pairs.shape[0])
+        stats.contacts, stats.persisting = int(points.shape[0]), int(np.count_nonzero(persists))
         self.stats = stats
         return out
-
-    def _mark_persisting(self, out: ContactSet, part_a, part_b) -> np.ndarray:
-        """Set ``out.persists`` against the previous ``contacts()`` (and return it), and keep this one's points for
-        the next: a point is keyed by its pair of (body, part) and its id."""
-        keyed = np.stack([out.pairs[:, 0] << _PART_BITS | part_a, out.pairs[:, 1] << _PART_BITS | part_b], axis=1)
-        prev_pairs, prev_ids = self._previous
-        point_ids, persists = out.point_ids, out.persists
-        assert point_ids is not None and persists is not None  # contact_set_from_rows always sets both
-        mark_persisting(prev_pairs, prev_ids, keyed, out.point_offsets, point_ids, persists)
-        owner = np.repeat(keyed, np.diff(out.point_offsets), axis=0)
-        order = np.lexsort((point_ids, owner[:, 1], owner[:, 0]))
-        self._previous = (np.ascontiguousarray(owner[order]), point_ids[order])
-        return persists
 
     def _swept_candidates(self, dt: float):
         """The kept broad phase asked for the pairs whose swept boxes (each body's AABB swept over ``dt`` with its
@@ -1278,7 +1333,7 @@ class World:
         bodies = self._moving()
         grow = 2.0 * margin  # a superset of the boxes at most margin apart, whatever the round-off
         lo, hi = st.lo[bodies] - grow, st.hi[bodies] + grow
-        rows = find_pairs(lo, hi, self.broad_phase) if bodies.shape[0] > 1 else _NO_PAIRS
+        rows = find_pairs(lo, hi, self.broad_phase, threads=self.threads) if bodies.shape[0] > 1 else _NO_PAIRS
         static = [self._static.query(st, bodies, lo, hi), *self._ground_candidates(bodies, lo, hi)]
         cand = np.ascontiguousarray(np.concatenate([bodies[rows], *static]))
         stats = WorldStats(query="pairs_within", bodies=int(bodies.shape[0]), candidate_pairs=int(cand.shape[0]),
