@@ -86,8 +86,9 @@ def _sort_keys_into(src, count, dst, tmp, in_place):
         for t in range(count):
             k = a[t]
             v = (k >> shift) & mask
-            b[hist[d, v]] = k
-            hist[d, v] += 1
+            p = hist[d, v]  # read once: b and hist could alias for the compiler
+            hist[d, v] = p + 1
+            b[p] = k
         a = b
 
 
