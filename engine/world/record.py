@@ -57,7 +57,13 @@ def _order_by_two(first, second):
 @njit(inline="always")
 def _touching_order(status, cand, origin, tested, part):
     """The touching rows (status TOUCHING) in the order of (i, j, part_a, part_b)."""
-    rows = np.flatnonzero(status == TOUCHING)
+    rows = np.empty(status.shape[0], np.int64)
+    k = 0
+    for r in range(status.shape[0]):
+        if status[r] == TOUCHING:
+            rows[k] = r
+            k += 1
+    rows = rows[:k]
     span = np.int64(1)
     for p in range(cand.shape[0]):
         span = max(span, cand[p, 1] + 1)
