@@ -3,7 +3,7 @@
 Scenes (engine.workloads.frame_scene): "mixed" — half spheres (r = 0.5), half boxes (half extents 0.4) with
 random rotations, uniform in a cube at solid fraction 0.06, every body moving by a small random step and turn
 each frame; "pile" — boxes and spheres resting on a Plane, most contacts persisting; "hulls" — capsules and
-12-vertex convex hulls. N = 1e3, 1e4 and 1e5 (``large``; MuJoCo is left out there: its broad phase reserves
+12-vertex convex hulls. N = 1e2, 1e3, 1e4 and 1e5 (``large``; MuJoCo is left out there: its broad phase reserves
 4 N² bytes, 40 GB). A frame is pose upload + detection + reading the contacts (bench/world_peers.py): World
 ``update(ids, centers, rotations=quaternions)`` + ``contacts()`` (broad phases "tree" — the default — "sap" and
 "grid"); MuJoCo ``qpos`` + ``mj_kinematics`` + ``mj_collision`` + ``d.contact``; pybullet
@@ -40,7 +40,7 @@ Two more benchmarks, each in its own group:
 Both add, for each peer, the pairs only one side finds deeper than ``AGREEMENT_BAND`` (``vs_world_beyond_band``)
 and the depth of the deepest pair only one side finds (``vs_world_one_sided_max_depth``).
 
-Run: ``python -m pytest bench/test_bench_world.py --benchmark-only -q`` (``--quick``: N = 1e3 only;
+Run: ``python -m pytest bench/test_bench_world.py --benchmark-only -q`` (``--quick``: N = 1e2 and 1e3 only;
 ``-m large`` for N = 1e5).
 """
 from __future__ import annotations
@@ -75,7 +75,7 @@ _reference: dict = {}
 
 
 def _sizes():
-    return [pytest.param(1_000, id="1e3"), pytest.param(10_000, id="1e4"),
+    return [pytest.param(100, id="1e2"), pytest.param(1_000, id="1e3"), pytest.param(10_000, id="1e4"),
             pytest.param(100_000, id="1e5", marks=pytest.mark.large)]
 
 
@@ -199,7 +199,7 @@ def _world_counts(frame) -> dict:
 @pytest.mark.parametrize("peer", PEERS)
 def test_bench_frame(benchmark, request, quick, peer, scene_name, n):
     if quick and n > 1_000:
-        pytest.skip("--quick: N = 1e3 only")
+        pytest.skip("--quick: N = 1e2 and 1e3 only")
     if peer == "MuJoCo" and n > MUJOCO_MAX_BODIES:
         pytest.skip(f"MuJoCo's broad phase needs 4 n^2 bytes of arena ({4 * n * n / 1e9:.0f} GB at n = {n})")
     scene, poses = _scene(scene_name, n)

@@ -57,7 +57,7 @@ def box_feature_key(region, sx, sy, sz):
     return feature_key(EDGE, 8 + 2 * (sx > 0) + (sy > 0))
 
 
-@njit
+@njit(inline="always")
 def contact_sphere_box(centers, radii, rotations, halves, i, j, rows, p_row, flip, scratch):
     """Sphere i (centre centers[i], radius radii[i]) against box j (centre centers[j], rotation rotations[j]
     whose columns are its axes, half extents halves[j]) into row ``p_row`` of ``rows``; ``flip``: the pair's

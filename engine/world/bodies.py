@@ -1,5 +1,5 @@
 """The body store of a ``World``: every body's state as structure-of-arrays, indexed by id, and the batch pose
-upload (one validation pass over the whole batch, then one compiled kernel).
+upload (one compiled kernel: the whole batch checked, then written — ``upload_bodies``).
 
 ``BodyStore`` arrays (capacity ``cap`` rows; row ``id`` is body ``id``; rows of removed ids have kind −1):
 

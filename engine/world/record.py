@@ -26,17 +26,44 @@ __all__ = ["PART_BITS", "contact_record"]
 PART_BITS = 20
 
 
-@njit(inline="always")
-def _stable_order(primary, secondary):
-    """Indices sorting by (primary, secondary): a stable sort by the secondary key, then by the primary."""
-    order = np.argsort(secondary, kind="mergesort")
-    return order[np.argsort(primary[order], kind="mergesort")]
-
-
 @njit
+def _order_by_two(first, second):
+    """Indices sorting the rows by (first, second), ties kept in row order: a bottom-up merge sort of the
+    indices (merging runs of width 1, 2, 4, ...), O(n log n)."""
+    n = first.shape[0]
+    order = np.arange(n)
+    work = np.empty(n, np.int64)
+    width = 1
+    while width < n:
+        for lo in range(0, n, 2 * width):
+            mid, hi = min(lo + width, n), min(lo + 2 * width, n)
+            a, b = lo, mid
+            for out in range(lo, hi):
+                take_b = a >= mid
+                if a < mid and b < hi:
+                    x, y = order[a], order[b]
+                    take_b = first[y] < first[x] or (first[y] == first[x] and second[y] < second[x])
+                if take_b:
+                    work[out] = order[b]
+                    b += 1
+                else:
+                    work[out] = order[a]
+                    a += 1
+        order, work = work, order
+        width *= 2
+    return order
+
+
+@njit(inline="always")
 def _touching_order(status, cand, origin, tested, part):
     """The touching rows (status TOUCHING) in the order of (i, j, part_a, part_b)."""
-    rows = np.flatnonzero(status == TOUCHING)
+    rows = np.empty(status.shape[0], np.int64)
+    k = 0
+    for r in range(status.shape[0]):
+        if status[r] == TOUCHING:
+            rows[k] = r
+            k += 1
+    rows = rows[:k]
     span = np.int64(1)
     for p in range(cand.shape[0]):
         span = max(span, cand[p, 1] + 1)
@@ -47,7 +74,7 @@ def _touching_order(status, cand, origin, tested, part):
         c = origin[r]
         pair_key[t] = cand[c, 0] * span + cand[c, 1]  # ids < span: (i, j) as one number, in the same order
         part_key[t] = part[tested[r, 0]] << PART_BITS | part[tested[r, 1]]
-    return rows[_stable_order(pair_key, part_key)]
+    return rows[_order_by_two(pair_key, part_key)]
 
 
 @njit
@@ -98,7 +125,7 @@ def _fill(rows, keep, offsets, cand, origin, tested, part, radius, prev_keys, pr
 def _next_previous(keyed, offsets, ids):
     """This record's points for the next frame's ``mark_persisting``: their keys (M, 2) and ids (M,), sorted by
     (first key, second key, id) — rows by their keys, then the at most 4 points of a row by id."""
-    order = _stable_order(keyed[:, 0], keyed[:, 1])
+    order = _order_by_two(keyed[:, 0].copy(), keyed[:, 1].copy())  # contiguous: one compiled sort
     owners = np.empty((ids.shape[0], 2), np.int64)
     sorted_ids = np.empty(ids.shape[0], np.int64)
     q = 0

@@ -13,12 +13,13 @@ engine/world/shape_queries.py), distances (``closest_points``, ``pairs_within``:
 
 A frame::
 
-    world.update(ids, centers, rotations=quaternions)   # one validation pass, one compiled kernel
+    world.update(ids, centers, rotations=quaternions)   # one compiled kernel: checks, then writes
     contacts = world.contacts()                         # broad phase (kept across frames), compiled narrow phase
 
-``update`` validates the whole batch (ids live, movable and distinct; finite centres; unit quaternions
-(w, x, y, z), proper rotation matrices or a scipy Rotation; finite velocities) before it writes anything, then
-refreshes the world points and AABBs of the batch in one compiled kernel (engine/world/bodies.py). The body
+``update`` checks the whole batch (ids live, movable and distinct; finite centres; unit quaternions
+(w, x, y, z), proper rotation matrices or a scipy Rotation; finite velocities) inside its compiled kernel before it
+writes anything — a refused batch raises from Python, naming the argument and its first bad index —, then
+refreshes the world points and AABBs of the batch in the same kernel (engine/world/bodies.py). The body
 store is readable without copies (``bodies()``). Each query refreshes ``stats`` (the work and the time of each
 stage). Contacts carry per-point feature ids and whether each point persists from the previous ``contacts()``.
 """
@@ -247,8 +248,11 @@ class World:
     broad_phase : str, default "tree"
         A name of ``engine.BROAD_PHASES``: the broad phase of the moving bodies.
     threads : int, default 1
-        Threads of the batched queries (``cast_rays`` splits its rays into that many chunks); every answer is the
-        same bit for bit whatever the count.
+        Threads of the batched work (engine/world/split.py): the narrow phase of every query (each kernel's pairs
+        in contiguous ranges), the AABB test and filter of the candidates, the contact record's rows, the broad
+        phases that keep no state ("grid", "octree", "brute") and ``pairs_within``'s, ``cast_rays``' rays; a
+        batch too small to repay the hand-over stays on the calling thread. Every answer is the same bit for
+        bit whatever the count.
 
     Attributes
     ----------
@@ -463,7 +467,7 @@ class World:
                        _NO_QUATERNIONS, v)
 
     def update(self, ids, centers, rotations=None, velocities=None) -> None:
-        """Move many bodies at once, in one validation pass and one compiled kernel.
+        """Move many bodies at once, in one compiled kernel that checks the batch, then writes it.
 
         Everything is checked before anything is written: on an error the world is unchanged. The caller's arrays
         are never modified.
