@@ -79,10 +79,11 @@ def _local_rows(pairs: np.ndarray, bodies: np.ndarray, capacity: int) -> np.ndar
 
 
 class RebuildBroadPhase:
-    """``find_pairs(lo, hi, method)`` over the live bodies' AABBs at each query."""
+    """``find_pairs(lo, hi, method)`` over the live bodies' AABBs at each query, on ``threads`` threads."""
 
-    def __init__(self, method: str):
+    def __init__(self, method: str, threads: int = 1):
         self.method = method
+        self.threads = threads
 
     def add(self, store, body: int) -> None:
         pass
@@ -93,20 +94,23 @@ class RebuildBroadPhase:
     def candidates(self, store, bodies: np.ndarray, escaped: np.ndarray) -> np.ndarray:
         if bodies.shape[0] < 2:
             return np.empty((0, 2), np.int64)
-        rows = find_pairs(store.lo[bodies], store.hi[bodies], self.method)
+        rows = find_pairs(store.lo[bodies], store.hi[bodies], self.method, threads=self.threads)
         return bodies[rows]  # bodies ascending: rows i < j stay canonical
 
     def swept(self, store, bodies, moved, lo, hi) -> np.ndarray:
         """Rows of ``bodies`` (k, 2) whose swept boxes ``lo``, ``hi`` (m, 3) overlap."""
-        return find_pairs(lo, hi, self.method) if bodies.shape[0] > 1 else np.empty((0, 2), np.int64)
+        if bodies.shape[0] < 2:
+            return np.empty((0, 2), np.int64)
+        return find_pairs(lo, hi, self.method, threads=self.threads)
 
 
 class SAPBroadPhase:
     """An ``IncrementalSAP`` whose object ids map to body ids; its sorted order survives from frame to frame.
     Bodies added since the last query are inserted then — one by one if they are few, else by building the
-    SAP again over every body at once."""
+    SAP again over every body at once. Its sweep runs on ``threads`` threads."""
 
-    def __init__(self, rebuild_threshold: int = REBUILD_THRESHOLD):
+    def __init__(self, rebuild_threshold: int = REBUILD_THRESHOLD, threads: int = 1):
+        self.threads = threads
         self.sap = IncrementalSAP(dim=3)
         self.body_of = np.full(16, -1, np.int64)
         self.slot_of: dict[int, int] = {}
@@ -143,7 +147,7 @@ class SAPBroadPhase:
         if slots.shape[0] < 2:
             return np.empty((0, 2), np.int64)
         owner = self.body_of[slots]
-        return _canonical(self.body_of[self.sap.update(store.lo[owner], store.hi[owner])])
+        return _canonical(self.body_of[self.sap.update(store.lo[owner], store.hi[owner], threads=self.threads)])
 
     def swept(self, store, bodies, moved, lo, hi) -> np.ndarray:
         """Rows of ``bodies`` (k, 2) whose swept boxes ``lo``, ``hi`` (m, 3) overlap: the kept order sorted again
@@ -155,7 +159,7 @@ class SAPBroadPhase:
             return np.empty((0, 2), np.int64)
         row = _local_rows(self.body_of, bodies, store.capacity)  # slot -> row of bodies (free slots: unread)
         live = row[slots]
-        return _canonical(row[self.sap.update(lo[live], hi[live])])
+        return _canonical(row[self.sap.update(lo[live], hi[live], threads=self.threads)])
 
 
 class TreeBroadPhase:
@@ -163,7 +167,8 @@ class TreeBroadPhase:
     moved (or inserted: a body added since the last query has no leaf yet and counts as escaped) one by one per
     query."""
 
-    def __init__(self, rebuild_threshold: int = REBUILD_THRESHOLD):
+    def __init__(self, rebuild_threshold: int = REBUILD_THRESHOLD, threads: int = 1):
+        self.threads = threads
         self.tree = DynamicAABBTree(dim=3, margin=0.0)
         self.leaf_of: dict[int, int] = {}
         self.body_of = np.full(16, -1, np.int64)
@@ -232,7 +237,7 @@ class TreeBroadPhase:
             else:
                 self._requery(store, escaped)
         if self.cached is None:
-            self.cached = _canonical(self.body_of[self.tree.pairs()]) if bodies.shape[0] > 1 else \
+            self.cached = _canonical(self.body_of[self.tree.pairs(threads=self.threads)]) if bodies.shape[0] > 1 else \
                 np.empty((0, 2), np.int64)
         return self.cached
 
@@ -321,10 +326,10 @@ class StaticPairs:
         return pairs[meet]
 
 
-def make_broad_phase(method: str):
-    """The broad-phase state for ``World(broad_phase=method)``."""
+def make_broad_phase(method: str, threads: int = 1):
+    """The broad-phase state for ``World(broad_phase=method, threads=threads)``."""
     if method == "tree":
-        return TreeBroadPhase()
+        return TreeBroadPhase(threads=threads)
     if method == "sap":
-        return SAPBroadPhase()
-    return RebuildBroadPhase(method)
+        return SAPBroadPhase(threads=threads)
+    return RebuildBroadPhase(method, threads)

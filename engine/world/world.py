@@ -43,7 +43,7 @@ from engine.narrowphase.contacts import (
 )
 
 from .bodies import BAD_CENTERS, BAD_IDS, BAD_ROTATIONS, UPLOAD_OK, BodyArrays, BodyStore, refresh_bodies, upload_bodies
-from .broad import RebuildBroadPhase, StaticPairs, fatten, fatten_around, make_broad_phase
+from .broad import StaticPairs, fatten, fatten_around, make_broad_phase
 from .dispatch import NarrowContext, answer
 from .filters import ALL, Exclusions, as_bits, as_group
 from .kinds import KINDS
@@ -297,7 +297,7 @@ class World:
         self._store = BodyStore()
         self._shapes: dict[int, Shape] = {}
         self._grounds: dict[int, Shape] = {}  # the unbounded static shapes, found by their own candidate test
-        self._broad = make_broad_phase(self.broad_phase)
+        self._broad = make_broad_phase(self.broad_phase, self.threads)
         self._static = StaticPairs()
         self._exclusions = Exclusions()
         self._filtering = False  # a body was given a filter, a group or the sensor flag (never reset)
@@ -1029,16 +1029,8 @@ class World:
             fatten(st, escaped)
         static = [self._static.candidates(st, bodies, escaped),
                   *self._ground_candidates(bodies, st.lo[bodies], st.hi[bodies])]
-        cand = np.concatenate([self._moving_pairs(bodies, escaped), *static])
+        cand = np.concatenate([self._broad.candidates(st, bodies, escaped), *static])
         return np.ascontiguousarray(cand), bodies, sum(s.shape[0] for s in static)
-
-    def _moving_pairs(self, bodies, escaped) -> np.ndarray:
-        """The broad phase's pairs of moving bodies; a method that keeps no state ("grid", "octree", "brute") runs
-        ``find_pairs`` on this world's threads (the pairs ``RebuildBroadPhase`` finds, bit for bit)."""
-        st = self._store
-        if self.threads > 1 and isinstance(self._broad, RebuildBroadPhase) and bodies.shape[0] > 1:
-            return bodies[find_pairs(st.lo[bodies], st.hi[bodies], self.broad_phase, threads=self.threads)]
-        return self._broad.candidates(st, bodies, escaped)
 
     def _filter_keys(self):
         """The excluded keys for the filter, or None while no body has had a filter, a group or the sensor flag
