@@ -208,10 +208,10 @@ def _gas(method: str) -> Callable[[], None]:
 
 
 #: (area, task, step, cost): the independent tasks of the warm-up, in the order ``warm_up`` runs them in one
-#: process; ``cost`` weighs the CPU seconds the task adds to a cold warm-up (only the ratios matter: they balance
-#: the groups of ``task_groups``): each ray walk (a tree or the grid, the nearest hit or every hit) compiles a
-#: kernel of its own, about 60 s (bench/compile_times.py); every other task shares most of its kernels with the
-#: others, and weighs its cost alone on an empty cache scaled by what two-process warm-ups measured it to add (1/4)
+#: process; ``cost`` weighs the CPU time the task adds to a cold warm-up (only the ratios matter: they balance the
+#: groups of ``task_groups``): each ray walk (a tree or the grid, the nearest hit or every hit) compiles a large
+#: kernel of its own (bench/compile_times.py); every other task shares most of its kernels with the others and
+#: weighs its cost alone on an empty cache, scaled down to what two-process warm-ups measured it to add
 WARMUP_TASKS: list[tuple[str, str, Callable[[], None], float]] = [
     ("falling bodies", "falling bodies", _dynamics, 1.1),
     ("bounding volumes", "volumes", _volumes, 1.5),
