@@ -13,6 +13,8 @@ Writes, in the output folder:
 - eos.csv/.md/.png, the hard-sphere equation of state, and broadphase_matrix.csv/.md, a timing matrix of the
   broad phases, both computed by distributed sweeps (bench/sweep.py): on the Dask scheduler given by
   ``--scheduler`` or $COLLIDE_SCHEDULER, else on an embedded LocalCluster of this machine;
+- first_use.md/.csv: README's blocks cold and warm and ``colldet warmup`` with 1 and 2 processes, before (a
+  baseline commit) and after (bench/report_first_use.py);
 - README.md, the index that says how to read them.
 """
 from __future__ import annotations
@@ -31,6 +33,7 @@ from pathlib import Path
 import pandas as pd
 
 from bench.report_broadphase import broadphase_section
+from bench.report_first_use import first_use_section
 from bench.report_narrowphase import narrowphase_section
 from bench.report_queries import queries_section
 from bench.report_world import world_section
@@ -229,6 +232,8 @@ def main(quick: bool = False, out: Path | str = "reports", scheduler: str | None
     sections += narrowphase_section(json_path, out, info, quick)
     sections += world_section(json_path, out, info, quick)
     sections += queries_section(json_path, out, info, quick)
+    print("[report] first use (README's blocks cold and warm, the warm-up)", flush=True)
+    sections += first_use_section(out, info, quick)
     write_index(out, sections, info)
     print(f"[report] wrote {out}", flush=True)
     return 0

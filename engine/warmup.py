@@ -208,31 +208,33 @@ def _gas(method: str) -> Callable[[], None]:
 
 
 #: (area, task, step, cost): the independent tasks of the warm-up, in the order ``warm_up`` runs them in one
-#: process; ``cost`` is the CPU seconds the task spends compiling when it runs alone on an empty cache (measured;
-#: only the ratios matter: they balance the groups of ``task_groups``)
+#: process; ``cost`` weighs the CPU time the task adds to a cold warm-up (only the ratios matter: they balance the
+#: groups of ``task_groups``): each ray walk (a tree or the grid, the nearest hit or every hit) compiles a large
+#: kernel of its own (bench/compile_times.py); every other task shares most of its kernels with the others and
+#: weighs its cost alone on an empty cache, scaled down to what two-process warm-ups measured it to add
 WARMUP_TASKS: list[tuple[str, str, Callable[[], None], float]] = [
-    ("falling bodies", "falling bodies", _dynamics, 4.3),
-    ("bounding volumes", "volumes", _volumes, 5.8),
-    ("bounding volumes", "hulls", _hulls, 16.7),
-    ("broad phase", "sap, brute", _boxes("sap", "brute"), 8.3),
-    ("broad phase", "grid, octree", _boxes("grid", "octree"), 9.9),
-    ("broad phase", "tree", _boxes("tree"), 3.1),
-    ("broad phase", "spheres", _spheres, 15.5),
-    ("broad phase", "incremental", _incremental, 8.7),
-    ("narrow phase", "SAT", _separating_axes, 17.4),
-    ("narrow phase", "GJK, EPA", _gjk_epa, 30.2),
-    ("narrow phase", "time of impact", _time_of_impact, 9.3),
-    ("pipeline (World)", "pairs, events", _world(_frame), 47.8),
-    ("pipeline (World)", "contacts", _world(_contacts), 83.5),
-    ("pipeline (World)", "impacts", _world(_impacts), 40.9),
-    ("pipeline (World)", "distances", _world(_distances), 62.8),
-    ("pipeline (World)", "rays through the tree", _world(_nearest_rays, ("tree", "sap")), 75.0),
-    ("pipeline (World)", "every hit through the tree", _world(_every_hit, ("tree", "sap")), 75.0),
-    ("pipeline (World)", "rays through the grid", _world(_nearest_rays, ("grid",)), 75.0),
-    ("pipeline (World)", "every hit through the grid", _world(_every_hit, ("grid",)), 75.0),
-    ("pipeline (World)", "shape queries", _world(_shape_queries), 40.0),
-    ("gas", "events", _gas("events"), 10.0),
-    ("gas", "stepped", _gas("stepped"), 10.0),
+    ("falling bodies", "falling bodies", _dynamics, 1.1),
+    ("bounding volumes", "volumes", _volumes, 1.5),
+    ("bounding volumes", "hulls", _hulls, 4.2),
+    ("broad phase", "sap, brute", _boxes("sap", "brute"), 2.1),
+    ("broad phase", "grid, octree", _boxes("grid", "octree"), 2.5),
+    ("broad phase", "tree", _boxes("tree"), 0.8),
+    ("broad phase", "spheres", _spheres, 3.9),
+    ("broad phase", "incremental", _incremental, 2.2),
+    ("narrow phase", "SAT", _separating_axes, 4.4),
+    ("narrow phase", "GJK, EPA", _gjk_epa, 7.6),
+    ("narrow phase", "time of impact", _time_of_impact, 2.3),
+    ("pipeline (World)", "pairs, events", _world(_frame), 12.0),
+    ("pipeline (World)", "contacts", _world(_contacts), 20.9),
+    ("pipeline (World)", "impacts", _world(_impacts), 10.2),
+    ("pipeline (World)", "distances", _world(_distances), 15.7),
+    ("pipeline (World)", "rays through the tree", _world(_nearest_rays, ("tree", "sap")), 60.0),
+    ("pipeline (World)", "every hit through the tree", _world(_every_hit, ("tree", "sap")), 60.0),
+    ("pipeline (World)", "rays through the grid", _world(_nearest_rays, ("grid",)), 60.0),
+    ("pipeline (World)", "every hit through the grid", _world(_every_hit, ("grid",)), 60.0),
+    ("pipeline (World)", "shape queries", _world(_shape_queries), 10.0),
+    ("gas", "events", _gas("events"), 2.5),
+    ("gas", "stepped", _gas("stepped"), 2.5),
 ]
 
 

@@ -300,7 +300,7 @@ def _face_contact(cr, Rr, er, i, nrx, nry, nrz, ci, Ri, ei, ref_is_a, rows, p, f
     inc_face = _incident_quad(cr, Rr, er, i, nrx, nry, nrz, ci, Ri, ei, poly, tags)
     j, k = min((i + 1) % 3, (i + 2) % 3), max((i + 1) % 3, (i + 2) % 3)
     face_sign = 1 if Rr[0, i] * nrx + Rr[1, i] * nry + Rr[2, i] * nrz > 0.0 else -1
-    n = 4
+    n = np.int64(4)  # the incident quad's corners, an int64 from the start: _clip_side is compiled once
     for side in range(4):
         bound = er[j] if side < 2 else er[k]
         n = _clip_side(poly, tags, n, side, bound, j, k, i, face_sign, inc_face, work, work_tags)

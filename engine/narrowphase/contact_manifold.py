@@ -200,7 +200,7 @@ def contact_points_pairs(points, offsets, pairs, radii, ftol, normal, closest_a,
     (``closest_a``, ``closest_b`` (k, 3), moved out to the swept surfaces here: + r_A n, − r_B n). Pair p writes
     kind_a[p], kind_b[p] (int8), point_count[p] points at ``out_points[point_start[p]:]``. Tiny or huge pairs are
     solved on copies scaled by a power of two (``rescale_unit``)."""
-    n_max = 1
+    n_max = np.int64(1)  # typed int64 from the start: feature_scratch is compiled for one size type
     for s in range(offsets.shape[0] - 1):
         n_max = max(n_max, offsets[s + 1] - offsets[s])
     scratch = feature_scratch(n_max)

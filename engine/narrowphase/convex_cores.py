@@ -109,16 +109,19 @@ def feature_point_ids(cores, pairs, rows_of, separation, normal, feature_a, feat
         for x in range(offsets[q], offsets[q + 1]):
             va = _support_vertex(cores.points[i], cores.count[i], nx, ny, nz, 1.0, tol, points[x])
             vb = _support_vertex(cores.points[j], cores.count[j], nx, ny, nz, -1.0, tol, points[x])
-            scratch_p[n] = points[x]
+            for c in range(3):  # coordinate by coordinate: no shape check to compile
+                scratch_p[n, c] = points[x, c]
             scratch_i[n] = point_id(feature_key(feature_a[q], va), feature_key(feature_b[q], vb))
             n += 1
         n = reduce_manifold(scratch_p, scratch_d, scratch_i, n, nx, ny, nz, scratch)
         rows.status[p] = TOUCHING
         rows.separation[p] = separation[q]
-        rows.normal[p] = normal[q]
+        for c in range(3):
+            rows.normal[p, c] = normal[q, c]
         rows.feature_a[p] = feature_a[q]
         rows.feature_b[p] = feature_b[q]
         rows.count[p] = n
         for v in range(n):
-            rows.points[p, v] = scratch_p[v]
+            for c in range(3):
+                rows.points[p, v, c] = scratch_p[v, c]
             rows.ids[p, v] = scratch_i[v]

@@ -110,7 +110,7 @@ def _face_plane(V, F, N, D, f, ox, oy, oz, orient):
     return True
 
 
-@njit
+@njit(inline="always")  # five stores, at sites with constant slots: no kernel of its own per constant
 def _put_vertex(V, VA, VB, k, ia, ib, wx, wy, wz):
     V[k, 0] = wx
     V[k, 1] = wy

@@ -106,7 +106,7 @@ def penetration_pairs_kernel(points, offsets, pairs, max_iter, signed, normal, p
     """``penetration_kernel`` over k pairs of packed shapes (shape s = rows ``offsets[s]:offsets[s + 1]`` of
     ``points`` (N, 3); ``pairs`` (k, 2) int64), in one compiled loop: writes signed (k,), normal, point_a,
     point_b (k, 3) and status (k,) int64."""
-    n_max = 1
+    n_max = np.int64(1)  # typed int64 from the start: gjk_scratch is compiled for one size type
     for s in range(offsets.shape[0] - 1):
         n_max = max(n_max, offsets[s + 1] - offsets[s])
     scratch = gjk_scratch(n_max)
