@@ -151,5 +151,11 @@ RAY_ROWS: dict[ShapeKind, RayRow] = {
 }
 assert all(kind in RAY_ROWS for kind in KINDS), "every shape kind needs its row in the ray table"
 
-#: the table compiled: ``ray_hit(kind, rb, b, o, d, t_max) -> (t, nx, ny, nz, part)``
-ray_hit = _chain(RAY_ROWS)
+_ray_chain = _chain(RAY_ROWS)
+
+
+@njit
+def ray_hit(kind, rb, b, o, d, t_max):
+    """The table compiled: ``(t, nx, ny, nz, part)`` of the ray (o, d) against body b of ``kind`` within
+    ``t_max``. One function (not inlined at each step of the walks): every walk calls the same machine code."""
+    return _ray_chain(kind, rb, b, o, d, t_max)
