@@ -92,6 +92,18 @@ def _incremental() -> None:
     tree.move(tree.insert(lo[1], lo[1] + 1.0), lo[1] + 0.5, lo[1] + 1.5)
 
 
+def _threads() -> None:
+    """The broad phase's threaded kernels (the sort by cell, the per-thread sweeps, the parallel merge): two threads
+    on boxes and spheres enough to be split."""
+    from engine import find_pairs, sphere_pairs
+    from engine.workloads import w1_boxes
+
+    lo, hi = w1_boxes(20_000, seed=0)
+    for method in ("sap", "grid", "octree", "tree"):
+        find_pairs(lo, hi, method, threads=2)
+    sphere_pairs(0.5 * (lo + hi), 0.5 * (hi - lo).max(axis=1), threads=2)
+
+
 def _two_boxes():
     from engine import OBB
 
@@ -188,6 +200,12 @@ def _shape_queries(world, examples) -> None:
             world.cast_shape(shape, [0.0, -1.0, 0.0])
 
 
+def _rays(world, examples) -> None:
+    """The nearest hits and every hit: the four ray kernels share their walks (one process compiles them once)."""
+    _nearest_rays(world, examples)
+    _every_hit(world, examples)
+
+
 def _world(question: Callable, broad_phases=("tree", "sap", "grid")) -> Callable[[], None]:
     """``question(world, examples)`` on the scene of ``_scene`` under each broad phase of ``broad_phases`` (each
     keeps a World's structures its own way; the rays walk a tree under "tree" and "sap", the grid under "grid")."""
@@ -209,9 +227,9 @@ def _gas(method: str) -> Callable[[], None]:
 
 #: (area, task, step, cost): the independent tasks of the warm-up, in the order ``warm_up`` runs them in one
 #: process; ``cost`` weighs the CPU time the task adds to a cold warm-up (only the ratios matter: they balance the
-#: groups of ``task_groups``): each ray walk (a tree or the grid, the nearest hit or every hit) compiles a large
-#: kernel of its own (bench/compile_times.py); every other task shares most of its kernels with the others and
-#: weighs its cost alone on an empty cache, scaled down to what two-process warm-ups measured it to add
+#: groups of ``task_groups``): the rays' four kernels share their walks, so they are one task; every other task
+#: shares most of its kernels with the others and weighs its cost alone on an empty cache, scaled down to what
+#: two-process warm-ups measured it to add
 WARMUP_TASKS: list[tuple[str, str, Callable[[], None], float]] = [
     ("falling bodies", "falling bodies", _dynamics, 1.1),
     ("bounding volumes", "volumes", _volumes, 1.5),
@@ -228,10 +246,8 @@ WARMUP_TASKS: list[tuple[str, str, Callable[[], None], float]] = [
     ("pipeline (World)", "contacts", _world(_contacts), 20.9),
     ("pipeline (World)", "impacts", _world(_impacts), 10.2),
     ("pipeline (World)", "distances", _world(_distances), 15.7),
-    ("pipeline (World)", "rays through the tree", _world(_nearest_rays, ("tree", "sap")), 60.0),
-    ("pipeline (World)", "every hit through the tree", _world(_every_hit, ("tree", "sap")), 60.0),
-    ("pipeline (World)", "rays through the grid", _world(_nearest_rays, ("grid",)), 60.0),
-    ("pipeline (World)", "every hit through the grid", _world(_every_hit, ("grid",)), 60.0),
+    ("broad phase", "threads", _threads, 8.0),
+    ("pipeline (World)", "rays", _world(_rays), 25.0),
     ("pipeline (World)", "shape queries", _world(_shape_queries), 10.0),
     ("gas", "events", _gas("events"), 2.5),
     ("gas", "stepped", _gas("stepped"), 2.5),
