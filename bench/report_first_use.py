@@ -30,6 +30,9 @@ from bench.first_run import ROOT, build_wheel, clean_environment, fresh_venv, py
 
 #: the commit the first-use work started from (main before the compile-time changes): the "before" columns
 BASELINE = "9e6ea36"
+#: its rows, measured once by ``python -m bench.report_first_use --before 9e6ea36 --save-before`` (a fresh venv and
+#: wheel of that commit): the main job reads them instead of building and compiling the old code again
+BASELINE_CSV = ROOT / "bench" / "first_use_baseline.csv"
 
 #: the ``colldet warmup --jobs`` values timed (a version whose warmup has no --jobs runs its one way, as jobs 1)
 WARMUP_JOBS = (1, 2)
@@ -114,7 +117,8 @@ def first_use_markdown(df: pd.DataFrame, info: dict, command: str) -> str:
     lines = [
         "# First use: README's blocks and `colldet warmup` on an empty kernel cache", "",
         f"{info['date']}, commit {info['commit']}, {info['machine']}. Produced by `{command}`.", "",
-        f"Before: commit {df[df.version == 'before'].commit.iloc[0] if len(before) else '—'}; after: this "
+        f"Before: commit {df[df.version == 'before'].commit.iloc[0] if len(before) else '—'} (measured once, the "
+        "same way, on this machine kind: bench/first_use_baseline.csv); after: this "
         "checkout. Each block runs as a fresh process from an empty folder, first with an empty kernel cache (cold), "
         "then again (warm); each warm-up on its own empty cache. Wall seconds, and CPU seconds (user + system, with "
         "the processes it started: compare these on a shared machine). A warm-up whose wall time is well under "
@@ -135,16 +139,21 @@ def first_use_markdown(df: pd.DataFrame, info: dict, command: str) -> str:
     return "\n".join(lines) + "\n"
 
 
-def first_use_section(out: Path, info: dict, quick: bool = False, before: str | None = BASELINE,
+def first_use_section(out: Path, info: dict, quick: bool = False, before: str | None = "stored",
                       python: Path | None = None, blocks: list[int] | None = None, command: str | None = None):
-    """first_use.md and first_use.csv (before: commit ``before`` of this repository, None for none; after: this
-    checkout); ``quick`` times README's first two blocks only. Returns the index's rows."""
+    """first_use.md and first_use.csv (before: "stored" for the rows of BASELINE_CSV, a commit of this repository
+    to measure it again, None for none; after: this checkout); ``quick`` times README's first two blocks only.
+    Returns the index's rows."""
     command = command or "python -m bench.report" + (" --quick" if quick else "")
     blocks = [1, 2] if quick and blocks is None else blocks
     rows = []
     with tempfile.TemporaryDirectory(prefix="first_use_") as tmp:
         folder = Path(tmp)
-        if before is not None:
+        if before == "stored":
+            stored = pd.read_csv(BASELINE_CSV)
+            rows += stored.to_dict("records") if blocks is None else \
+                stored[stored.item.isin([f"block {b}" for b in blocks])].to_dict("records")
+        elif before is not None:
             tree = baseline_tree(before, folder / "before_src")
             rows += measure("before", before, tree, folder / "before", python, blocks)
         rows += measure("after", info["commit"], ROOT, folder / "after", python, blocks)
@@ -162,14 +171,24 @@ def main(argv=None) -> int:
     from bench.report import stamp
 
     parser = argparse.ArgumentParser(prog="python -m bench.report_first_use", description=__doc__.split("\n\n")[0])
-    parser.add_argument("--before", default=BASELINE, help=f"baseline commit (default {BASELINE}); 'none' for none")
+    parser.add_argument("--before", default="stored",
+                        help=f"'stored' (default: the rows of {BASELINE_CSV.name}, measured on {BASELINE}), a commit "
+                             "to measure again, or 'none'")
     parser.add_argument("--blocks", type=int, nargs="*", default=None,
                         help="README's Python blocks to run, counted from 1 (default: all)")
     parser.add_argument("--python", type=Path, default=None,
                         help="run the sources with this interpreter instead of a fresh venv with the wheel")
     parser.add_argument("--quick", action="store_true", help="the first two blocks only (written to reports-quick/)")
     parser.add_argument("--out", default=None, help="output folder (default reports/, or reports-quick/)")
+    parser.add_argument("--save-before", action="store_true",
+                        help=f"measure commit --before and store its rows in bench/{BASELINE_CSV.name}, nothing else")
     args = parser.parse_args(argv)
+    if args.save_before:
+        with tempfile.TemporaryDirectory(prefix="first_use_before_") as tmp:
+            tree = baseline_tree(args.before, Path(tmp) / "before_src")
+            rows = measure("before", args.before, tree, Path(tmp) / "before", args.python, args.blocks)
+        pd.DataFrame(rows).to_csv(BASELINE_CSV, index=False)
+        return 0
     out = Path(args.out or ("reports-quick" if args.quick else "reports")).resolve()
     out.mkdir(parents=True, exist_ok=True)
     command = shlex.join(["python", "-m", "bench.report_first_use", *(argv if argv is not None else sys.argv[1:])])
