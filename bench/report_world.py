@@ -71,8 +71,8 @@ def fitted_slope(df, scene: str, peer: str) -> float:
 
 
 def _timing_table(df, scene) -> list[str]:
-    lines = ["| N | implementation | frame (ms) | upload | broad | narrow | contacts / read | × MuJoCo frame "
-             "| detection × pybullet |", "|---:|---|---:|---:|---:|---:|---:|---:|---:|"]
+    lines = ["| N | implementation | frame (ms) | upload | broad | narrow | contacts / read | time_of_impact "
+             "| × MuJoCo frame | detection × pybullet |", "|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|"]
     for n in sorted(df[df.scene == scene].n.unique()):
         mj = _value(df, scene, n, "MuJoCo", "frame_min")
         pb_detect = _value(df, scene, n, "pybullet", "stage_detect") + _value(df, scene, n, "pybullet", "stage_read")
@@ -87,6 +87,7 @@ def _timing_table(df, scene) -> list[str]:
             lines.append(
                 f"| {n:,} | {peer} | {_ms(frame)} | {stage['upload']} | {stage['broad'] if world else ''} | "
                 f"{stage['narrow'] if world else stage['detect']} | {stage['contacts'] if world else stage['read']} | "
+                f"{_ms(_value(df, scene, n, peer, 'time_of_impact_min')) if world else ''} | "
                 f"{_ratio(mj / frame) if world else ''} | {_ratio(pb_detect / detect) if world else ''} |")
     return lines
 
@@ -165,7 +166,9 @@ def _frame_lines(df: pd.DataFrame) -> list[str]:
              "steady state), then times 8; times are minimums. Stages: World's broad phase (the fat-box tree, "
              "IncrementalSAP or the grid), narrow phase (the compiled dispatch loop and the batched GJK/EPA rows) "
              "and contacts (the record, persistence); MuJoCo's and Bullet's detection is one call (shown under "
-             "narrow). `× MuJoCo frame` = MuJoCo's frame / World's; `detection × pybullet` = pybullet's detection "
+             "narrow). `time_of_impact`: World's `time_of_impact(1/60)` at the last pose, each body moving to its "
+             "next pose (its own call, not part of the frame). "
+             "`× MuJoCo frame` = MuJoCo's frame / World's; `detection × pybullet` = pybullet's detection "
              "and reading / World's `contacts()`. MuJoCo is not run at N = 1e5: its broad phase reserves 4 N² "
              "bytes (40 GB).", "", "![frame time against N](world.png)", ""]
     lines += _targets(df)

@@ -194,6 +194,23 @@ def _world_counts(frame) -> dict:
             "filtered": int(s.filtered), "narrow_tests": int(s.narrow_tests)}
 
 
+#: the frame's time step: the poses of consecutive frames give the bodies' velocities for ``time_of_impact``
+FRAME_DT = 1.0 / 60.0
+
+
+def _impact_time(frame, clock, poses) -> dict:
+    """``time_of_impact(FRAME_DT)`` of the World at the last pose, each body moving to its pose of the next frame
+    (the sequence's last two poses): the fastest of ``ROUNDS`` calls in the benchmark's clock, and its impacts."""
+    (c0, q0), (c1, _) = poses[-2], poses[-1]
+    frame.world.update(frame.ids, c0, rotations=q0, velocities=(c1 - c0) / FRAME_DT)
+    best = np.inf
+    for _ in range(ROUNDS):
+        t0 = clock()
+        impacts = frame.world.time_of_impact(FRAME_DT)
+        best = min(best, clock() - t0)
+    return {"time_of_impact_min": best, "impacts": int(impacts.pairs.shape[0])}
+
+
 @pytest.mark.parametrize("n", _sizes())
 @pytest.mark.parametrize("scene_name", SCENES)
 @pytest.mark.parametrize("peer", PEERS)
@@ -215,6 +232,7 @@ def test_bench_frame(benchmark, request, quick, peer, scene_name, n):
         info.update({f"vs_world_{k}": v for k, v in agreement(ref, (pairs, depth)).items()})
     if peer.startswith("World"):
         info.update(_world_counts(frame))
+        info.update(_impact_time(frame, _clock(request), poses))
     benchmark.extra_info.update(info)
     if isinstance(frame, BulletFrame):
         frame.close()
