@@ -93,7 +93,7 @@ def _sort_keys_into(src, count, dst, tmp, in_place):
 
 
 @njit
-def _first_at_or_after(keys, lo, hi, key):
+def first_at_or_after(keys, lo, hi, key):
     """The first position p in [lo, hi) of the sorted keys with keys[p] >= key (hi if none): binary search."""
     while lo < hi:
         mid = (lo + hi) >> 1
@@ -122,7 +122,7 @@ def _merge_bounds(keys, seg_start, seg_end, ranges):
         bounds[p, ranges] = seg_end[p]
         for j in range(1, ranges):
             splitter = keys[seg_start[longest] + size * j // ranges]
-            bounds[p, j] = _first_at_or_after(keys, bounds[p, j - 1], seg_end[p], splitter)
+            bounds[p, j] = first_at_or_after(keys, bounds[p, j - 1], seg_end[p], splitter)
     return bounds
 
 

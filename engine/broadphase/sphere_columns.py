@@ -28,6 +28,7 @@ import numpy as np
 
 from engine._config import njit
 from engine.broadphase.counting_sort import cell_of, radix_sort_pairs
+from engine.broadphase.pair_merge import first_at_or_after
 
 __all__ = ["X_STEPS", "ColumnLayout", "column_layout", "sort_into_columns", "sweep_columns", "pair_hit",
            "touching_at_scale", "TINY_REACH"]
@@ -101,20 +102,6 @@ def sort_into_columns(c, r, large, layout, keys, index, keys_tmp, index_tmp, sx,
 
 
 @njit
-def _first_at_or_after(keys, m, key):
-    """The first position p in the sorted keys[:m] with keys[p] >= key (m if none): binary search."""
-    lo = 0
-    hi = m
-    while lo < hi:
-        mid = (lo + hi) >> 1
-        if keys[mid] < key:
-            lo = mid + 1
-        else:
-            hi = mid
-    return lo
-
-
-@njit
 def home_columns(keys, m, layout):
     """The columns to sweep from: (column ids, first sphere of each, and m at the end), int64.
 
@@ -160,7 +147,7 @@ def _neighbour_starts(col, layout, keys, m, col_ids, col_start, bases, starts):
             continue
         other = jy * layout.nz + jz
         bases[k] = other * layout.nxf
-        starts[k] = col_start[other] if layout.dense else _first_at_or_after(keys, m, bases[k])
+        starts[k] = col_start[other] if layout.dense else first_at_or_after(keys, np.int64(0), m, bases[k])
     return col * layout.nxf
 
 
