@@ -119,8 +119,10 @@ def first_use_markdown(df: pd.DataFrame, info: dict, command: str) -> str:
         f"{info['date']}, commit {info['commit']}, {info['machine']}. Produced by `{command}`.", "",
         f"Before: commit {df[df.version == 'before'].commit.iloc[0] if len(before) else '—'} (measured once, the "
         "same way, on this machine kind: bench/first_use_baseline.csv); after: this "
-        "checkout. Each block runs as a fresh process from an empty folder, first with an empty kernel cache (cold), "
-        "then again (warm); each warm-up on its own empty cache. Wall seconds, and CPU seconds (user + system, with "
+        "checkout. The blocks run in README's order, as a newcomer meets them, each as a fresh process from an "
+        "empty folder: the kernel cache is empty before block 1 and keeps what each block compiled (cold: a "
+        "block's first run, which compiles what the blocks before it did not; warm: its second run); each "
+        "warm-up on its own empty cache. Wall seconds, and CPU seconds (user + system, with "
         "the processes it started: compare these on a shared machine). A warm-up whose wall time is well under "
         "its CPU time compiled in parallel.", "",
         "| run | before cold wall (CPU) s | before warm s | after cold wall (CPU) s | after warm s | ran |",
