@@ -35,9 +35,9 @@ def _small_splits(calls: list):
     saved = {name: getattr(split, name) for name in names}
     run = split.run_ranges
 
-    def counting(threads, work, spans):
+    def counting(work, spans):
         calls.append(len(spans))
-        return run(threads, work, spans)
+        return run(work, spans)
     try:
         for name in names:
             setattr(split, name, 1)

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import threading
 from collections.abc import Callable, Sequence
-from concurrent.futures import ThreadPoolExecutor
+from concurrent.futures import ThreadPoolExecutor, wait
 from typing import Any, TypeVar
 
 from engine._config import MAX_THREADS
@@ -35,10 +35,14 @@ def _pool() -> ThreadPoolExecutor:
 def run_parts(work: Callable[[Any], T], parts: Sequence[Any]) -> list[T]:
     """``[work(part) for part in parts]``, the parts run at once: the first on this thread, the others on the
     pool's threads (``work`` must release the GIL to run in parallel, and the parts must not write the same
-    memory). The results are in the order of ``parts``; an exception of any part is raised here."""
+    memory). The results are in the order of ``parts``; an exception (the first failing part's, in part order)
+    is raised once every part has finished, so no thread still writes the caller's arrays."""
     if len(parts) <= 1:
         return [work(part) for part in parts]
     pool = _pool()
     futures = [pool.submit(work, part) for part in parts[1:]]
-    first = work(parts[0])
+    try:
+        first = work(parts[0])
+    finally:
+        wait(futures)
     return [first, *(future.result() for future in futures)]

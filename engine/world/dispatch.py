@@ -262,7 +262,7 @@ def _classify_ranges(view, rows_pairs, index, test_boxes, keys, no_sensors, marg
     spans = split.ranges(rows_pairs.shape[0], threads, split.MIN_CANDIDATES_PER_THREAD)
     if len(spans) == 1:
         return work(0, rows_pairs.shape[0])
-    kept, codes, counts, filtered = zip(*split.run_ranges(threads, work, spans))
+    kept, codes, counts, filtered = zip(*split.run_ranges(work, spans))
     return np.concatenate(kept), np.concatenate(codes), sum(counts), sum(filtered)
 
 
@@ -275,8 +275,8 @@ def _run_kernel(kernel: Kernel, ctx: NarrowContext, tested, sel, out) -> None:
         kernel.run(ctx, tested, sel, out)
         return
     m = ctx.bodies.points.shape[1]
-    split.run_ranges(ctx.threads, lambda first, last: kernel.run(ctx._replace(scratch=kernel_scratch(m)), tested,
-                                                                 sel[first:last], out), spans)
+    split.run_ranges(lambda first, last: kernel.run(ctx._replace(scratch=kernel_scratch(m)), tested,
+                                                    sel[first:last], out), spans)
 
 
 def answer(table: DispatchTable, question: str, ctx: NarrowContext, pairs: np.ndarray, keys=None,

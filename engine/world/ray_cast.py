@@ -19,7 +19,6 @@ chunks run by the same compiled (GIL-free) kernel: each ray's answer is the same
 from __future__ import annotations
 
 from collections import namedtuple
-from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 
 import numpy as np
@@ -28,6 +27,7 @@ from engine._config import MAX_THREADS, njit
 from engine._validate import as_float_array
 from engine.broadphase.ray_aabb import inverse_direction, ray_aabb_interval, ray_row_interval
 from engine.broadphase.ray_grid import dda_start, dda_step
+from engine.broadphase.thread_pool import run_parts
 
 from .ray_rows import RAY_ROWS, ray_hit
 
@@ -307,15 +307,6 @@ def _hit_arrays(hits):
 
 
 # -- the batch --------------------------------------------------------------------------------------------------
-_POOLS: dict[int, ThreadPoolExecutor] = {}
-
-
-def _pool(threads: int) -> ThreadPoolExecutor:
-    if threads not in _POOLS:
-        _POOLS[threads] = ThreadPoolExecutor(max_workers=threads, thread_name_prefix="engine-rays")
-    return _POOLS[threads]
-
-
 def _compiled_args(scene: RayScene, mask: int):
     sc = (scene.rb, scene.lo, scene.hi, scene.category, scene.sensor, np.uint64(mask))
     walk = (scene.listed, scene.forest, scene.grid, scene.grid_body)
@@ -357,7 +348,7 @@ def cast_ray_batch(scene: RayScene, origins, directions, t_max, mask: int, every
 
     def run(c):
         return kernel(int(bounds[c]), int(bounds[c + 1]), origins, directions, t_max, sc, walk, out)
-    chunks = [run(0)] if bounds.shape[0] == 2 else list(_pool(threads).map(run, range(bounds.shape[0] - 1)))
+    chunks = [run(0)] if bounds.shape[0] == 2 else run_parts(run, range(bounds.shape[0] - 1))
     if every:
         found = [np.concatenate([c[f] for c in chunks]) for f in range(5)]
         ray, body, t, normal, part = _host_grounds(scene, origins, directions, t_max, mask, True, found)

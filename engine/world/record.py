@@ -169,6 +169,6 @@ def contact_record(rows, cand, origin, tested, part, radius, prev_keys, prev_ids
     if len(spans) == 1:
         return _fields(*_record_one_thread(rows, cand, origin, tested, part, radius, prev_keys, prev_ids))
     keep, offsets, out = _start(rows, cand, origin, tested, part)
-    split.run_ranges(threads, lambda first, last: _fill(rows, keep, offsets, cand, origin, tested, part, radius,
-                                                        prev_keys, prev_ids, out, first, last), spans)
+    split.run_ranges(lambda first, last: _fill(rows, keep, offsets, cand, origin, tested, part, radius,
+                                               prev_keys, prev_ids, out, first, last), spans)
     return _fields(offsets, out, _next_previous(out[-1], offsets, out[7]))

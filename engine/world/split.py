@@ -10,9 +10,10 @@ The thresholds are module attributes read at each call: the properties lower the
 from __future__ import annotations
 
 from collections.abc import Callable
-from concurrent.futures import ThreadPoolExecutor, wait
 
 import numpy as np
+
+from engine.broadphase.thread_pool import run_parts
 
 __all__ = ["MIN_CANDIDATES_PER_THREAD", "MIN_PAIRS_PER_THREAD", "MIN_RECORD_ROWS_PER_THREAD", "ranges", "run_ranges"]
 
@@ -22,15 +23,6 @@ MIN_CANDIDATES_PER_THREAD = 8192
 MIN_PAIRS_PER_THREAD = 256
 #: touching rows per thread below which the contact record is assembled on one thread
 MIN_RECORD_ROWS_PER_THREAD = 4096
-
-_POOLS: dict[int, ThreadPoolExecutor] = {}
-
-
-def _pool(threads: int) -> ThreadPoolExecutor:
-    if threads not in _POOLS:
-        _POOLS[threads] = ThreadPoolExecutor(max_workers=threads, thread_name_prefix="engine-world")
-    return _POOLS[threads]
-
 
 def ranges(n: int, threads: int, minimum: int) -> list[tuple[int, int]]:
     """[first, last) ranges covering 0 .. n − 1 in order: as many as ``threads`` allows with at least ``minimum``
@@ -42,11 +34,7 @@ def ranges(n: int, threads: int, minimum: int) -> list[tuple[int, int]]:
     return list(zip(bounds[:-1], bounds[1:]))
 
 
-def run_ranges(threads: int, work: Callable, spans: list[tuple[int, int]]) -> list:
+def run_ranges(work: Callable, spans: list[tuple[int, int]]) -> list:
     """``work(first, last)`` for each range, on the pool when there are several; the results in range order (an
     exception: the first failing range's, in range order, once every range has finished)."""
-    if len(spans) == 1:
-        return [work(*spans[0])]
-    futures = [_pool(threads).submit(work, first, last) for first, last in spans]
-    wait(futures)  # every range finished, failed or not, before anything is returned or raised
-    return [f.result() for f in futures]
+    return run_parts(lambda span: work(*span), spans)  # the engine's one pool of threads
