@@ -238,6 +238,20 @@ def test_bench_frame(benchmark, request, quick, peer, scene_name, n):
         frame.close()
 
 
+@pytest.mark.parametrize("threads", [1, 2])
+@pytest.mark.parametrize("n", [10_000, 100_000])
+def test_bench_frame_threads(benchmark, quick, n, threads):
+    """``World(threads=N)``: the mixed scene's frame on 1 and 2 threads, wall clock (each thread's time is not
+    summed): the 2-core scaling of the whole frame, in its own group of reports/benchmarks.md."""
+    if quick and n > 10_000:
+        pytest.skip("--quick: N = 1e4 only")
+    scene, poses = _scene("mixed", n)
+    frame = EngineFrame(scene, threads=threads)
+    benchmark.group = f"World frame threads: mixed, N = {n:,}"
+    stages = _time_frames(benchmark, time.perf_counter, frame, poses)
+    benchmark.extra_info.update({"threads": threads, "work": n, "unit": "bodies", **stages})
+
+
 # ---------------------------------------------------------------------------------------------------------------
 # the static level: moving bodies among static boxes
 # ---------------------------------------------------------------------------------------------------------------
