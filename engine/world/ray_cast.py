@@ -154,7 +154,7 @@ def as_rays(origins, directions, max_distance):
 
 # -- the compiled walk ------------------------------------------------------------------------------------------
 #: a walk's state: (t, body, nx, ny, nz, part) of the nearest hit so far
-@njit
+@njit(inline="always")
 def _visit(sc, b, o, d, inv, every, state, hits, r, box_test):
     """Body b met by ray r: the filter, its AABB (``box_test``: a tree's leaf box is the AABB already), the row;
     keeps the nearer hit (``every``: appends each one to ``hits``)."""
@@ -176,7 +176,7 @@ def _visit(sc, b, o, d, inv, every, state, hits, r, box_test):
     return state
 
 
-@njit
+@njit(inline="always")
 def _walk_tree(sc, forest, root, o, d, inv, every, state, hits, r, stack, stack_t):
     """Depth first through the nodes of one tree that the clipped ray meets, the nearer child first (Box2D's ray
     cast)."""
@@ -207,7 +207,7 @@ def _walk_tree(sc, forest, root, o, d, inv, every, state, hits, r, stack, stack_
     return state
 
 
-@njit
+@njit(inline="always")
 def _walk_grid(sc, grid, grid_body, o, d, inv, every, state, hits, r, seen):
     """The cells the ray crosses, in order, until the nearest hit lies before the current cell's exit; ``seen``
     (per grid box: the last ray that tested it) keeps a box in several cells from being tested twice."""
@@ -234,7 +234,7 @@ def _walk_grid(sc, grid, grid_body, o, d, inv, every, state, hits, r, seen):
     return state
 
 
-@njit
+@njit(inline="always")
 def _cast_one(sc, scene, o, d, t_max, every, grid_walk, hits, r, stack, stack_t, seen):
     """One ray through the scene: the listed bodies, the trees, and (``grid_walk``) the grid."""
     listed, forest, grid, grid_body = scene
@@ -249,7 +249,7 @@ def _cast_one(sc, scene, o, d, t_max, every, grid_walk, hits, r, stack, stack_t,
     return state
 
 
-@njit
+@njit(inline="always")
 def _cast_rays(r0, r1, every, grid_walk, origins, directions, t_max, sc, scene, out):
     """Rays r0 .. r1 − 1: the nearest hit of each into ``out`` (t, body, normal, part), or (``every``) every
     hit, returned as arrays (ray, body, t, normal, part)."""

@@ -121,7 +121,14 @@ _PART_ROWS: dict[ShapeKind, RayRow] = {
     CAPSULE: RayRow("capsule: cylinder and end spheres", _capsule),
     HULL: RayRow("hull: clipping by the face planes", _hull),
 }
-_part_hit = _chain(_PART_ROWS)
+_part_chain = _chain(_PART_ROWS)
+
+
+@njit
+def _part_hit(kind, rb, b, o, d, t_max):
+    """A compound's part: one compiled call (not inlined: the walks inline the table at each of their visits, and
+    the parts' rows inlined inside it again would double what each walk compiles)."""
+    return _part_chain(kind, rb, b, o, d, t_max)
 
 
 @njit(inline="always")
@@ -151,11 +158,5 @@ RAY_ROWS: dict[ShapeKind, RayRow] = {
 }
 assert all(kind in RAY_ROWS for kind in KINDS), "every shape kind needs its row in the ray table"
 
-_ray_chain = _chain(RAY_ROWS)
-
-
-@njit
-def ray_hit(kind, rb, b, o, d, t_max):
-    """The table compiled: ``(t, nx, ny, nz, part)`` of the ray (o, d) against body b of ``kind`` within
-    ``t_max``. One function (not inlined at each step of the walks): every walk calls the same machine code."""
-    return _ray_chain(kind, rb, b, o, d, t_max)
+#: the table compiled: ``ray_hit(kind, rb, b, o, d, t_max) -> (t, nx, ny, nz, part)``, inlined into the walks
+ray_hit = _chain(RAY_ROWS)
