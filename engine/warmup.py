@@ -200,12 +200,6 @@ def _shape_queries(world, examples) -> None:
             world.cast_shape(shape, [0.0, -1.0, 0.0])
 
 
-def _rays(world, examples) -> None:
-    """The nearest hits and every hit: the four ray kernels share their walks (one process compiles them once)."""
-    _nearest_rays(world, examples)
-    _every_hit(world, examples)
-
-
 def _world(question: Callable, broad_phases=("tree", "sap", "grid")) -> Callable[[], None]:
     """``question(world, examples)`` on the scene of ``_scene`` under each broad phase of ``broad_phases`` (each
     keeps a World's structures its own way; the rays walk a tree under "tree" and "sap", the grid under "grid")."""
@@ -227,9 +221,10 @@ def _gas(method: str) -> Callable[[], None]:
 
 #: (area, task, step, cost): the independent tasks of the warm-up, in the order ``warm_up`` runs them in one
 #: process; ``cost`` weighs the CPU time the task adds to a cold warm-up (only the ratios matter: they balance the
-#: groups of ``task_groups``): the rays' four kernels share their walks, so they are one task; every other task
-#: shares most of its kernels with the others and weighs its cost alone on an empty cache, scaled down to what
-#: two-process warm-ups measured it to add
+#: groups of ``task_groups``): each ray walk (a tree or the grid, the nearest hit or every hit) compiles a large
+#: kernel of its own (the walks and the ray table inlined in it); every other task shares most of its kernels with
+#: the others and weighs its cost alone on an empty cache, scaled down to what two-process warm-ups measured it
+#: to add
 WARMUP_TASKS: list[tuple[str, str, Callable[[], None], float]] = [
     ("falling bodies", "falling bodies", _dynamics, 1.1),
     ("bounding volumes", "volumes", _volumes, 1.5),
@@ -239,6 +234,7 @@ WARMUP_TASKS: list[tuple[str, str, Callable[[], None], float]] = [
     ("broad phase", "tree", _boxes("tree"), 0.8),
     ("broad phase", "spheres", _spheres, 3.9),
     ("broad phase", "incremental", _incremental, 2.2),
+    ("broad phase", "threads", _threads, 8.0),
     ("narrow phase", "SAT", _separating_axes, 4.4),
     ("narrow phase", "GJK, EPA", _gjk_epa, 7.6),
     ("narrow phase", "time of impact", _time_of_impact, 2.3),
@@ -246,8 +242,10 @@ WARMUP_TASKS: list[tuple[str, str, Callable[[], None], float]] = [
     ("pipeline (World)", "contacts", _world(_contacts), 20.9),
     ("pipeline (World)", "impacts", _world(_impacts), 10.2),
     ("pipeline (World)", "distances", _world(_distances), 15.7),
-    ("broad phase", "threads", _threads, 8.0),
-    ("pipeline (World)", "rays", _world(_rays), 25.0),
+    ("pipeline (World)", "rays through the tree", _world(_nearest_rays, ("tree", "sap")), 30.0),
+    ("pipeline (World)", "every hit through the tree", _world(_every_hit, ("tree", "sap")), 30.0),
+    ("pipeline (World)", "rays through the grid", _world(_nearest_rays, ("grid",)), 30.0),
+    ("pipeline (World)", "every hit through the grid", _world(_every_hit, ("grid",)), 30.0),
     ("pipeline (World)", "shape queries", _world(_shape_queries), 10.0),
     ("gas", "events", _gas("events"), 2.5),
     ("gas", "stepped", _gas("stepped"), 2.5),

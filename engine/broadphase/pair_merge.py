@@ -24,11 +24,11 @@ import numpy as np
 from engine._config import njit
 from engine.broadphase.thread_pool import run_parts
 
-__all__ = ["merge_pair_parts"]
+__all__ = ["merge_pair_parts", "row_keys", "first_at_or_after"]
 
 
 @njit
-def _row_keys(buf, count, shift, keys, first):
+def row_keys(buf, count, shift, keys, first):
     """keys[first:] = the key min · 2^shift + max of each row (a, b) of the pair buffer buf[:count] (int64
     (capacity, 2)) with a != b; returns how many keys were written."""
     k = first
@@ -66,11 +66,13 @@ def _sort_keys_into(src, count, dst, tmp, in_place):
     for d in range(passes):
         left += hist[d, (src[0] >> (d * width)) & mask] != count
     if left == 0:
-        dst[:count] = src[:count]
+        for t in range(count):  # copies by loops: a slice assignment compiles numba's shape-error path
+            dst[t] = src[t]
         return
     a = src
     if in_place and left % 2 == 1:
-        tmp[:count] = src[:count]
+        for t in range(count):
+            tmp[t] = src[t]
         a = tmp
     for d in range(passes):
         if hist[d, (src[0] >> (d * width)) & mask] == count:
@@ -202,7 +204,7 @@ def merge_pair_parts(parts: list[tuple[np.ndarray, int]], n: int, shift: int, ke
         buf, count = parts[p]
         first = int(seg_start[p])
         if buf.ndim == 2:  # rows: their keys, then sorted where they are
-            written = _row_keys(buf, count, shift, keys, first)
+            written = row_keys(buf, count, shift, keys, first)
             segment = keys[first:first + written]
             _sort_keys_into(segment, written, segment, tmp[first:first + written], True)
         else:  # pair keys: sorted from the buffer into the segment

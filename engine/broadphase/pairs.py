@@ -33,7 +33,7 @@ from numpy.typing import ArrayLike, DTypeLike
 from engine._config import MAX_THREADS, njit
 from engine._validate import as_count, as_float_array
 from engine.broadphase.counting_sort import radix_sort_pairs
-from engine.broadphase.pair_merge import merge_pair_parts
+from engine.broadphase.pair_merge import merge_pair_parts, row_keys
 from engine.broadphase.thread_pool import run_parts
 
 __all__ = ["canonical_pairs", "empty_pairs", "as_boxes", "as_boxes_3d", "as_one_box", "as_live_id", "boxes_overlap",
@@ -104,13 +104,7 @@ def canonicalise_pairs_with(candidates, count, n, keys, keys_tmp):
     """:func:`canonicalise_pairs` with the keys sorted in the given work arrays (int64, at least ``count``
     each; overwritten)."""
     shift = pair_key_shift(n)
-    k = np.int64(0)  # typed int64 from the start: radix_sort_pairs is compiled for one count type
-    for t in range(count):
-        a = candidates[t, 0]
-        b = candidates[t, 1]
-        if a != b:
-            keys[k] = (min(a, b) << shift) | max(a, b)
-            k += 1
+    k = row_keys(candidates, count, shift, keys, np.int64(0))  # int64: radix_sort_pairs is compiled for one count type
     no_values = np.empty(0, dtype=np.int64)
     keys, _ = radix_sort_pairs(keys, no_values, keys_tmp, no_values, k)
     rows = 0

@@ -25,6 +25,7 @@ import numpy as np
 
 from engine._config import MAX_THREADS, njit
 from engine._validate import as_float_array
+from engine.broadphase.pairs import split_even
 from engine.broadphase.ray_aabb import inverse_direction, ray_aabb_interval, ray_row_interval
 from engine.broadphase.ray_grid import dda_start, dda_step
 from engine.broadphase.thread_pool import run_parts
@@ -342,13 +343,11 @@ def cast_ray_batch(scene: RayScene, origins, directions, t_max, mask: int, every
     k = origins.shape[0]
     out = (np.full(k, np.inf), np.full(k, -1, np.int64), np.full((k, 3), np.nan), np.zeros(k, np.int64))
     sc, walk = _compiled_args(scene, mask)
-    bounds = np.linspace(0, k, min(threads, max(k, 1)) + 1).astype(np.int64)
-
     kernel = _KERNELS[every, scene.method == GRID]
 
-    def run(c):
-        return kernel(int(bounds[c]), int(bounds[c + 1]), origins, directions, t_max, sc, walk, out)
-    chunks = [run(0)] if bounds.shape[0] == 2 else run_parts(run, range(bounds.shape[0] - 1))
+    def run(span):
+        return kernel(span[0], span[1], origins, directions, t_max, sc, walk, out)
+    chunks = run_parts(run, split_even(k, threads, 1))
     if every:
         found = [np.concatenate([c[f] for c in chunks]) for f in range(5)]
         ray, body, t, normal, part = _host_grounds(scene, origins, directions, t_max, mask, True, found)

@@ -121,6 +121,7 @@ def _fill(rows, keep, offsets, cand, origin, tested, part, radius, prev_keys, pr
             ids[q] = rows.ids[r, slot]
     mark_persisting(prev_keys, prev_ids, keyed[first:last], offsets[first:last + 1], ids, persists)
 
+
 @njit
 def _next_previous(keyed, offsets, ids):
     """This record's points for the next frame's ``mark_persisting``: their keys (M, 2) and ids (M,), sorted by

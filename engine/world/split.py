@@ -11,8 +11,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
-import numpy as np
-
+from engine.broadphase.pairs import split_even
 from engine.broadphase.thread_pool import run_parts
 
 __all__ = ["MIN_CANDIDATES_PER_THREAD", "MIN_PAIRS_PER_THREAD", "MIN_RECORD_ROWS_PER_THREAD", "ranges", "run_ranges"]
@@ -24,14 +23,12 @@ MIN_PAIRS_PER_THREAD = 256
 #: touching rows per thread below which the contact record is assembled on one thread
 MIN_RECORD_ROWS_PER_THREAD = 4096
 
+
 def ranges(n: int, threads: int, minimum: int) -> list[tuple[int, int]]:
     """[first, last) ranges covering 0 .. n − 1 in order: as many as ``threads`` allows with at least ``minimum``
-    rows each (one range, maybe empty, when n < 2 · minimum or threads is 1)."""
-    parts = max(1, min(threads, n // max(minimum, 1)))
-    if parts == 1:
-        return [(0, n)]
-    bounds = np.linspace(0, n, parts + 1).astype(np.int64).tolist()
-    return list(zip(bounds[:-1], bounds[1:]))
+    rows each (one range, maybe empty, when n < 2 · minimum or threads is 1) — the broad phase's cut of equal
+    items (``engine.broadphase.pairs.split_even``)."""
+    return split_even(n, threads, minimum)
 
 
 def run_ranges(work: Callable, spans: list[tuple[int, int]]) -> list:
