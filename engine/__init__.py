@@ -31,11 +31,13 @@ from .world import (
     Compound,
     ConvexPolyhedron,
     HeightCurve,
+    HeightField,
     Plane,
     RayHit,
     RayHits,
     ShapeHit,
     Sphere,
+    TriangleMesh,
     World,
 )
 
@@ -66,7 +68,8 @@ __all__ = [
     # the confined gas
     "simulate_gas", "GasResult",
     # the collision pipeline: shapes and World
-    "Sphere", "Box", "Capsule", "ConvexPolyhedron", "Compound", "Plane", "HeightCurve", "World", "ALL",
+    "Sphere", "Box", "Capsule", "ConvexPolyhedron", "Compound", "Plane", "HeightCurve", "TriangleMesh",
+    "HeightField", "World", "ALL",
     "ShapeHit",
     "RayHits",
     "RayHit",

@@ -1,7 +1,7 @@
 """The collision pipeline over bodies of mixed shapes, as a game declares them.
 
 ``engine.world.kinds`` (the registry of shape kinds), ``engine.world.shapes`` (Sphere, Box, Capsule,
-ConvexPolyhedron, Compound, Plane, HeightCurve, each with its kind's entry), ``engine.world.bodies`` (the
+ConvexPolyhedron, Compound, Plane, HeightCurve, TriangleMesh, HeightField, each with its kind's entry), ``engine.world.bodies`` (the
 structure-of-arrays body store and the compiled pose upload), ``engine.world.broad`` (the broad phases kept
 across frames: the moving bodies', the static bodies'), ``engine.world.filters`` (categories, masks, groups,
 exclusions, sensors), ``engine.world.dispatch`` (the dispatch machinery: shape kind × shape kind × question →

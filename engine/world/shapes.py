@@ -35,12 +35,13 @@ from engine.bounding.decompose import decompose_mesh
 from engine.bounding.hull import convex_hull
 from engine.narrowphase.curve_ground import curve_candidates
 from engine.narrowphase.ray_hull import hull_planes
+from engine.narrowphase.triangle_mesh import MeshArrays, heightfield_arrays, mesh_arrays, mesh_box
 
 from .kinds import ShapeKind, shape_kind
 
 __all__ = ["Shape", "Sphere", "Box", "Capsule", "ConvexPolyhedron", "Compound", "Plane", "HeightCurve",
-           "as_rotation", "as_rotation_batch", "QUATERNION_ORDER", "SPHERE", "BOX", "CAPSULE", "HULL", "COMPOUND",
-           "PLANE", "CURVE"]
+           "TriangleMesh", "HeightField", "as_rotation", "as_rotation_batch", "QUATERNION_ORDER", "SPHERE", "BOX",
+           "CAPSULE", "HULL", "COMPOUND", "PLANE", "CURVE", "MESH", "FIELD"]
 
 #: the quaternion convention of every rotation argument, as the error messages say it
 QUATERNION_ORDER = "(w, x, y, z)"
@@ -562,6 +563,114 @@ class HeightCurve(Shape):
         return f"HeightCurve({getattr(self.f, '__name__', 'f')})"
 
 
+class _Surface(Shape):
+    """A static triangle surface (level geometry): its triangles in ``mesh`` (engine.narrowphase.triangle_mesh:
+    world coordinates, face normals, active edges, the BVH or the grid); the store holds the 8 corners of its AABB
+    as the core (the broad phase's box), the kernels read ``mesh``."""
+
+    mesh: MeshArrays
+
+    def _set_mesh(self, mesh: MeshArrays) -> None:
+        self.mesh = mesh
+        lo, hi = mesh_box(mesh)
+        self.center = np.zeros(3)
+        self.rotation = np.eye(3)
+        self.local = lo + (hi - lo) * (_CORNER_SIGNS + 1.0) / 2.0
+
+    @property
+    def vertices(self) -> np.ndarray:
+        """(nv, 3) float64: the corners, world coordinates (read-only view)."""
+        v = self.mesh.vertices.view()
+        v.flags.writeable = False
+        return v
+
+    @property
+    def triangles(self) -> np.ndarray:
+        """(nt, 3) int64: the corner indices of each triangle (read-only view)."""
+        t = self.mesh.triangles.view()
+        t.flags.writeable = False
+        return t
+
+
+@shape_kind("mesh", static_only=True, convex=False)
+class TriangleMesh(_Surface):
+    """A static triangle soup, open or closed (level geometry), with its own BVH over the triangles.
+
+    Bodies touch its triangles (two-sided surfaces; a closed mesh is a shell, not a solid); contacts, distances,
+    times of impact and rays are exact against the triangles, and internal edges give no ghost normals (see
+    engine.narrowphase.triangle_mesh). Static: ``World.add`` makes it so.
+
+    Parameters
+    ----------
+    vertices : array_like, shape (nv, 3)
+        The corners, world coordinates, finite.
+    triangles : array_like, shape (nt, 3), integers
+        Indices into ``vertices``; nt >= 1; no zero-area triangle (thin ones are kept and answered exactly).
+
+    Raises
+    ------
+    ValueError
+        For NaN or infinite vertices, indices out of range, a zero-area triangle (naming the first bad index).
+    TypeError
+        For non-numeric vertices or non-integer triangles.
+    """
+
+    def __init__(self, vertices, triangles):
+        self._set_mesh(mesh_arrays(vertices, triangles))
+
+    @classmethod
+    def random(cls, rng, center, size) -> TriangleMesh:
+        """A bumpy open sheet of 2–6 × 2–6 cells about ``center`` with its corners jittered, shuffled triangles."""
+        nx, nz = (int(x) for x in rng.integers(3, 8, size=2))
+        field = HeightField.random(rng, center, size, shape=(nx, nz))
+        v = field.mesh.vertices + rng.uniform(-0.2, 0.2, size=field.mesh.vertices.shape) * size / nx
+        return cls(v, field.mesh.triangles[rng.permutation(field.mesh.triangles.shape[0])])
+
+    def __repr__(self) -> str:
+        return f"TriangleMesh({self.mesh.vertices.shape[0]} vertices, {self.mesh.triangles.shape[0]} triangles)"
+
+
+@shape_kind("field", static_only=True, convex=False)
+class HeightField(_Surface):
+    """A static heightfield, y-up: heights (nx, nz) sampled at (x0 + i·dx, z0 + k·dz), two triangles per cell
+    split along the (i, k)–(i+1, k+1) diagonal; answered exactly as the ``TriangleMesh`` of those triangles (the
+    cells under a body are its candidates: no tree).
+
+    Parameters
+    ----------
+    heights : array_like, shape (nx, nz)
+        Finite heights, nx, nz >= 2.
+    spacing : float or (dx, dz)
+        Positive sample spacings.
+    origin : (x0, z0), default (0, 0)
+        Where sample (0, 0) lies.
+
+    Raises
+    ------
+    ValueError
+        For fewer than 2 × 2 samples, a non-finite height (naming its index), a non-positive spacing.
+    """
+
+    def __init__(self, heights, spacing, origin=(0.0, 0.0)):
+        self._set_mesh(heightfield_arrays(heights, spacing, origin))
+        self.heights = self.mesh.vertices[:, 1].reshape(tuple(self.mesh.grid_n))
+        self.heights.flags.writeable = False
+        self.spacing = (float(self.mesh.grid_f[2]), float(self.mesh.grid_f[3]))
+        self.origin = (float(self.mesh.grid_f[0]), float(self.mesh.grid_f[1]))
+
+    @classmethod
+    def random(cls, rng, center, size, shape=None) -> HeightField:
+        """Random hills of 2–6 × 2–6 cells spanning about ``size`` about ``center``."""
+        nx, nz = shape if shape is not None else (int(x) for x in rng.integers(3, 8, size=2))
+        h = center[1] + rng.uniform(-0.3, 0.3, size=(nx, nz)) * size
+        spacing = (size / (nx - 1), size / (nz - 1))
+        return cls(h, spacing, (center[0] - size / 2, center[2] - size / 2))
+
+    def __repr__(self) -> str:
+        return f"HeightField({self.heights.shape[0]} x {self.heights.shape[1]}, spacing={self.spacing})"
+
+
 # the registry entries, in code order (the dispatch tables' rows and columns)
 SPHERE, BOX, CAPSULE, HULL = Sphere.kind, Box.kind, Capsule.kind, ConvexPolyhedron.kind
 COMPOUND, PLANE, CURVE = Compound.kind, Plane.kind, HeightCurve.kind
+MESH, FIELD = TriangleMesh.kind, HeightField.kind
