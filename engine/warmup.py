@@ -174,8 +174,11 @@ def _impacts(world, examples) -> None:
 
 
 def _distances(world, examples) -> None:
-    bounded = [b for b in world.ids().tolist() if world.kind(b) not in ("plane", "curve")]
-    world.closest_points(bounded[:-1], bounded[1:])
+    bounded = [b for b in world.ids().tolist() if world.shape(b).kind.bounded]
+    moving = [b for b in bounded if not world.is_static(b)]
+    # every bounded body (level geometry included) against a moving one: two static bodies are never paired
+    pairs = [(moving[k % len(moving)], b) for k, b in enumerate(bounded) if b != moving[k % len(moving)]]
+    world.closest_points([a for a, _ in pairs], [b for _, b in pairs])
     world.pairs_within(0.5)
 
 

@@ -327,13 +327,13 @@ class World:
         Parameters
         ----------
         shape : Shape
-            A ``Sphere``, ``Box``, ``Capsule``, ``ConvexPolyhedron``, ``Compound``, ``Plane`` or ``HeightCurve``;
-            its pose as built.
+            A ``Sphere``, ``Box``, ``Capsule``, ``ConvexPolyhedron``, ``Compound``, ``Plane``, ``HeightCurve``,
+            ``TriangleMesh`` or ``HeightField``; its pose as built.
         velocity : array_like, shape (3,), optional
             Its constant velocity for ``time_of_impact``; default zero (a static body's must be zero).
         static : bool, default False
             Level geometry: it never moves (``move`` / ``update`` refuse it), is kept in a broad-phase tree of its
-            own, and is never paired with another static body. Grounds are always static.
+            own, and is never paired with another static body. Grounds and triangle surfaces are always static.
         category, mask : int, default 1 and ``engine.ALL``
             Its collision categories and the categories it collides with: 64-bit sets (ints in [0, 2^64)).
         group : int, default 0
