@@ -89,18 +89,21 @@ def _edge_axis(R, a, b, tl, length):
 
 @njit
 def prefer_face(face_overlap, edge_overlap, cos_angle, tie):
-    """Whether a face axis's clipped manifold describes a contact whose least overlap is on an edge axis: True
-    when the edge axis does not beat the face by more than ``tie`` (the round-off of the overlaps, >= 0), or when
-    the two unit axes make an angle whose cosine ``cos_angle`` (either sign) is at least ``FACE_KEEP_COS``.
+    """Whether the contact points come from a face axis (its clipped manifold) rather than from an edge–edge axis
+    whose overlap is smaller: True when the edge's ``edge_overlap`` does not beat ``face_overlap`` by more than
+    ``tie`` (their round-off, >= 0, a length), or when the two unit axes make an angle whose cosine
+    ``cos_angle`` (either sign) is at least ``FACE_KEEP_COS``. Only the points and feature kinds follow this
+    choice: the caller still reports the least overlap and its axis as the depth and the normal. Shared with
+    every kernel whose separating axes are faces and edge cross products (box–box, box–triangle).
 
-    The face's manifold measures depths along the face normal n_f; the contact's least translation is d_e along
-    the edge axis L, at angle φ from n_f. A wedge of depth d_e along L is d_e / cos φ deep along n_f: the face
-    overstates it by the factor 1 / cos φ. ODE's ``dBoxBox`` (and Bullet's ``btBoxBoxDetector``, its port) keep
-    a face unless an edge's overlap is smaller by more than its ``fudge_factor`` 1.05, Box2D's
-    ``b2CollidePolygons`` keeps the first reference face unless the other is better by 0.1 ``b2_linearSlop``:
-    the accepted overstatement is 5 %, i.e. cos φ >= 1 / 1.05 (φ <= 17.8°). The test is on the angle, not on
-    the overlaps (ODE's form), because a face's overlap also counts the corners that hang past the other box's
-    face: nearly flush boxes (φ ~ their tilt) have face overlaps above the edge's by up to tilt × overhang,
+    The face's manifold measures depths along the face normal n_f; the least translation is d_e along the edge
+    axis L, at angle φ from n_f. A wedge of depth d_e along L is d_e / cos φ deep along n_f: the face's
+    manifold overstates it by the factor 1 / cos φ. ODE's ``dBoxBox`` (and Bullet's ``btBoxBoxDetector``, its
+    port) keep a face unless an edge's overlap is smaller by more than its ``fudge_factor`` 1.05, a 5 %
+    overstatement; Box2D's ``b2CollidePolygons`` likewise keeps the first reference face within 0.1
+    ``b2_linearSlop``. Here the 5 % bounds 1 / cos φ: cos φ >= 1 / 1.05 (φ <= 17.8°). The test is on the angle,
+    not on the overlaps (ODE's form), because a face's overlap also counts the corners that hang past the other
+    box's face: nearly flush boxes (φ ~ their tilt) have face overlaps above the edge's by up to tilt × overhang,
     any multiple of the depth, and would lose their face."""
     return edge_overlap >= face_overlap - tie or abs(cos_angle) >= FACE_KEEP_COS
 
