@@ -7,11 +7,14 @@
    The overlap tests of the cross products add ``PARALLEL_EPS`` × the extents, as Ericson adds ε to |R|: for
    (nearly) parallel edges L is (nearly) zero and every term is round-off, which must never separate two boxes
    that touch. Otherwise the smallest overlap is the exact penetration depth (for two convex polyhedra the
-   minimum over face normals and edge–edge cross products is the minimum translation distance); a cross product
-   shorter than ``EDGE_AXIS_MIN`` is not a candidate normal (its parallel edges are covered by the faces), and a
-   later axis replaces an earlier one only when it is smaller by more than ``TIE`` × the boxes' size (faces of
-   A, then of B, then edges: the order breaks round-off ties), an edge axis by that margin over |A_i × B_j| (its
-   overlap is divided by that length, and so is its round-off).
+   minimum over face normals and edge–edge cross products is the minimum translation distance), reported with
+   its axis as the normal (the face's own normal when the face ties it to round-off, ``ROUND_OFF``); a cross
+   product shorter than ``EDGE_AXIS_MIN`` is not a candidate normal (its parallel edges are covered by the
+   faces). The feature pair that gives the points is a face — among the faces a later one replaces an earlier
+   one only when it is smaller by more than ``TIE`` × the boxes' size (faces of A, then of B) — unless the best
+   edge axis beats it by more than that margin over |A_i × B_j| *and* lies farther than arccos(``FACE_KEEP_COS``)
+   from the face normal (``prefer_face``): nearly flush boxes keep their face manifold even where an edge axis
+   between the two face normals has the least overlap (its depth and normal are still the ones reported).
 2. A face axis: that face is the *reference* face, the most anti-parallel face of the other box the *incident*
    face. The incident quad is clipped by the four side planes of the reference face (Sutherland–Hodgman,
    Ericson 8.3.4), its points below the reference face are kept (at most 8), reduced to 4 (deepest first, then
@@ -55,8 +58,8 @@ from .sat import PARALLEL_EPS
 from .segment_segment import closest_segment_parameters
 from .sphere_box import box_feature_key
 
-__all__ = ["EDGE_AXIS_MIN", "TIE", "FACE_SLOP", "sat_box_box", "contact_box_box", "overlap_box_box",
-           "contact_box_box_pair"]
+__all__ = ["EDGE_AXIS_MIN", "TIE", "FACE_SLOP", "ROUND_OFF", "FACE_KEEP_COS", "prefer_face", "sat_box_box",
+           "contact_box_box", "overlap_box_box", "contact_box_box_pair"]
 
 #: cross products of edges shorter than this (sin of the edges' angle) are not candidate contact normals
 EDGE_AXIS_MIN = 1e-7
@@ -65,23 +68,56 @@ TIE = 1e-12
 #: relative round-off (× the magnitude of the boxes' coordinates: the largest |centre coordinate| of each box plus
 #: all half extents) within which a clipped point on the reference face's plane counts as below it
 FACE_SLOP = 1e-14
+#: relative round-off of an overlap (× the magnitude of its terms: half extents and |centre offset|): two overlaps
+#: that close are equal, and the face's normal is reported for both
+ROUND_OFF = 64.0 * np.finfo(np.float64).eps
+#: a face's manifold is kept over an edge axis of smaller overlap within this cosine of the face normal (the edge
+#: axis at most arccos(1 / 1.05) = 17.8° from it: ODE's ``fudge_factor``, see ``prefer_face``)
+FACE_KEEP_COS = 1.0 / 1.05
+
+
+@njit(inline="always")
+def _edge_axis(R, a, b, tl, length):
+    """The unit edge axis A_a × B_b in A's frame (R_ij = A_i·B_j, ``length`` = |A_a × B_b| > 0), turned so that
+    the projection ``tl`` of B's centre on it is >= 0: L[a] = 0, L[a1] = −R[a2, b], L[a2] = R[a1, b]."""
+    a1, a2 = (a + 1) % 3, (a + 2) % 3
+    s = (1.0 if tl >= 0.0 else -1.0) / length
+    return (0.0 if a == 0 else (-s * R[a2, b] if a1 == 0 else s * R[a1, b]),
+            0.0 if a == 1 else (-s * R[a2, b] if a1 == 1 else s * R[a1, b]),
+            0.0 if a == 2 else (-s * R[a2, b] if a1 == 2 else s * R[a1, b]))
 
 
 @njit
-def _cross_columns(Ra, a, Rb, b, scale):
-    """scale × (column a of Ra) × (column b of Rb): the edge axis A_a × B_b in world coordinates."""
-    return (scale * (Ra[1, a] * Rb[2, b] - Ra[2, a] * Rb[1, b]), scale * (Ra[2, a] * Rb[0, b] - Ra[0, a] * Rb[2, b]),
-            scale * (Ra[0, a] * Rb[1, b] - Ra[1, a] * Rb[0, b]))
+def prefer_face(face_overlap, edge_overlap, cos_angle, tie):
+    """Whether the contact points come from a face axis (its clipped manifold) rather than from an edge–edge axis
+    whose overlap is smaller: True when the edge's ``edge_overlap`` does not beat ``face_overlap`` by more than
+    ``tie`` (their round-off, >= 0, a length), or when the two unit axes make an angle whose cosine
+    ``cos_angle`` (either sign) is at least ``FACE_KEEP_COS``. Only the points and feature kinds follow this
+    choice: the caller still reports the least overlap and its axis as the depth and the normal. Shared with
+    every kernel whose separating axes are faces and edge cross products (box–box, box–triangle).
+
+    The face's manifold measures depths along the face normal n_f; the least translation is d_e along the edge
+    axis L, at angle φ from n_f. A wedge of depth d_e along L is d_e / cos φ deep along n_f: the face's
+    manifold overstates it by the factor 1 / cos φ. ODE's ``dBoxBox`` (and Bullet's ``btBoxBoxDetector``, its
+    port) keep a face unless an edge's overlap is smaller by more than its ``fudge_factor`` 1.05, a 5 %
+    overstatement; Box2D's ``b2CollidePolygons`` likewise keeps the first reference face within 0.1
+    ``b2_linearSlop``. Here the 5 % bounds 1 / cos φ: cos φ >= 1 / 1.05 (φ <= 17.8°). The test is on the angle,
+    not on the overlaps (ODE's form), because a face's overlap also counts the corners that hang past the other
+    box's face: nearly flush boxes (φ ~ their tilt) have face overlaps above the edge's by up to tilt × overhang,
+    any multiple of the depth, and would lose their face."""
+    return edge_overlap >= face_overlap - tie or abs(cos_angle) >= FACE_KEEP_COS
 
 
 @njit
 def sat_box_box(centers, rotations, halves, i, j, R, t):
     """Ericson 4.4.1 with depths: box i against box j of the arrays ``centers`` (n, 3), ``rotations`` (n, 3, 3)
     (columns = the box axes), ``halves`` (n, 3); R (3, 3), t (>= 3,) scratch. Returns (overlap, axis,
-    penetration, nx, ny, nz): axis 0-2 a face of i, 3-5 of j, 6 + 3 a + b the edge pair A_a × B_b; n the unit
-    axis from i towards j (world): the least-overlap axis, or for a separated pair the first separating axis
-    found; penetration >= 0 when they overlap, else minus the gap along that unit axis (a lower bound of their
-    distance)."""
+    penetration, nx, ny, nz, fx, fy, fz). Overlapping: penetration >= 0 is the least overlap over the axes and
+    n (world, unit, from i towards j) that axis, so translating j by penetration · n separates the boxes;
+    ``axis`` is the feature pair that gives the contact points — 0-2 a face of i, 3-5 of j, 6 + 3 a + b the
+    edge pair A_a × B_b — and f its unit axis from i towards j (a face is kept over an edge by ``prefer_face``).
+    Apart: the first separating axis found, penetration = minus the gap along it (a lower bound of the
+    distance), f = n."""
     Ra, Rb, ea, eb = rotations[i], rotations[j], halves[i], halves[j]
     for a in range(3):
         for b in range(3):
@@ -90,30 +126,31 @@ def sat_box_box(centers, rotations, halves, i, j, R, t):
     for a in range(3):
         t[a] = dx * Ra[0, a] + dy * Ra[1, a] + dz * Ra[2, a]
     tie = TIE * (ea[0] + ea[1] + ea[2] + eb[0] + eb[1] + eb[2])
-    best = np.inf
-    axis = -1
-    lx = ly = lz = 0.0  # the best axis in i's frame, oriented from i to j
-    for a in range(3):  # faces of A
-        tl = t[a]
-        overlap = ea[a] + eb[0] * abs(R[a, 0]) + eb[1] * abs(R[a, 1]) + eb[2] * abs(R[a, 2]) - abs(tl)
+    # the round-off of an overlap: ROUND_OFF × the magnitude of its terms (/ |A_a × B_b| for an edge axis)
+    round_off = ROUND_OFF * (ea[0] + ea[1] + ea[2] + eb[0] + eb[1] + eb[2] + abs(t[0]) + abs(t[1]) + abs(t[2]))
+    least_round = round_off
+    least = face = edge = np.inf  # the least overlap; the face and the edge axes kept (ties: the first)
+    face_axis = edge_axis = -1
+    edge_tie = 0.0
+    ux = uy = uz = fx = fy = fz = lx = ly = lz = 0.0  # their unit axes in i's frame, from i to j
+    for m in range(6):  # faces of A (m = a), then of B (m = 3 + b)
+        b = m - 3
+        if m < 3:
+            tl = t[m]
+            overlap = ea[m] + eb[0] * abs(R[m, 0]) + eb[1] * abs(R[m, 1]) + eb[2] * abs(R[m, 2]) - abs(tl)
+        else:
+            tl = t[0] * R[0, b] + t[1] * R[1, b] + t[2] * R[2, b]
+            overlap = ea[0] * abs(R[0, b]) + ea[1] * abs(R[1, b]) + ea[2] * abs(R[2, b]) + eb[b] - abs(tl)
+        s = 1.0 if tl >= 0.0 else -1.0
+        vx, vy, vz = (s * (m == 0), s * (m == 1), s * (m == 2)) if m < 3 else (s * R[0, b], s * R[1, b], s * R[2, b])
         if overlap < 0.0:
-            s = 1.0 if tl >= 0.0 else -1.0
-            return False, a, overlap, s * Ra[0, a], s * Ra[1, a], s * Ra[2, a]
-        if overlap < best - tie:
-            best, axis = overlap, a
-            s = 1.0 if tl >= 0.0 else -1.0
-            lx, ly, lz = s * (a == 0), s * (a == 1), s * (a == 2)
-    for b in range(3):  # faces of B
-        tl = t[0] * R[0, b] + t[1] * R[1, b] + t[2] * R[2, b]
-        overlap = ea[0] * abs(R[0, b]) + ea[1] * abs(R[1, b]) + ea[2] * abs(R[2, b]) + eb[b] - abs(tl)
-        if overlap < 0.0:
-            s = 1.0 if tl >= 0.0 else -1.0
-            return False, 3 + b, overlap, s * Rb[0, b], s * Rb[1, b], s * Rb[2, b]
-        if overlap < best - tie:
-            best, axis = overlap, 3 + b
-            s = 1.0 if tl >= 0.0 else -1.0
-            lx, ly, lz = s * R[0, b], s * R[1, b], s * R[2, b]
-    for a in range(3):  # edges: L = A_a × B_b, in A's frame L[a] = 0, L[a1] = −R[a2, b], L[a2] = R[a1, b]
+            wx, wy, wz = _world(Ra, vx, vy, vz)
+            return False, m, overlap, wx, wy, wz, wx, wy, wz
+        if overlap < least:
+            least, least_round, ux, uy, uz = overlap, round_off, vx, vy, vz
+        if overlap < face - tie:
+            face, face_axis, fx, fy, fz = overlap, m, vx, vy, vz
+    for a in range(3):  # edges: L = A_a × B_b (``_edge_axis``)
         a1, a2 = (a + 1) % 3, (a + 2) % 3
         for b in range(3):
             b1, b2 = (b + 1) % 3, (b + 2) % 3
@@ -123,22 +160,32 @@ def sat_box_box(centers, rotations, halves, i, j, R, t):
             slack = PARALLEL_EPS * (ea[a1] + ea[a2] + eb[b1] + eb[b2])
             length = math.sqrt(R[a1, b] * R[a1, b] + R[a2, b] * R[a2, b])
             if abs(tl) > reach + slack:  # then length > 0: tl and reach both vanish with it
-                nx, ny, nz = _cross_columns(Ra, a, Rb, b, (1.0 if tl >= 0.0 else -1.0) / length)
-                return False, 6 + 3 * a + b, (reach - abs(tl)) / length, nx, ny, nz
+                vx, vy, vz = _edge_axis(R, a, b, tl, length)
+                vx, vy, vz = _world(Ra, vx, vy, vz)
+                return False, 6 + 3 * a + b, (reach - abs(tl)) / length, vx, vy, vz, vx, vy, vz
             if length > EDGE_AXIS_MIN:
                 overlap = max(reach - abs(tl), 0.0) / length
+                vx, vy, vz = _edge_axis(R, a, b, tl, length)
+                if overlap < least:
+                    least, least_round, ux, uy, uz = overlap, round_off / length, vx, vy, vz
                 # reach − |tl| carries the round-off of the face tests (a few u × the sizes); the division by
                 # |A_a × B_b| magnifies it by 1 / length, and so is the margin an edge must win by
-                if overlap < best - tie / length:
-                    best, axis = overlap, 6 + 3 * a + b
-                    s = (1.0 if tl >= 0.0 else -1.0) / length
-                    lx = 0.0 if a == 0 else (-s * R[a2, b] if a1 == 0 else s * R[a1, b])
-                    ly = 0.0 if a == 1 else (-s * R[a2, b] if a1 == 1 else s * R[a1, b])
-                    lz = 0.0 if a == 2 else (-s * R[a2, b] if a1 == 2 else s * R[a1, b])
-    nx = lx * Ra[0, 0] + ly * Ra[0, 1] + lz * Ra[0, 2]
-    ny = lx * Ra[1, 0] + ly * Ra[1, 1] + lz * Ra[1, 2]
-    nz = lx * Ra[2, 0] + ly * Ra[2, 1] + lz * Ra[2, 2]
-    return True, axis, best, nx, ny, nz
+                if overlap < edge - edge_tie:
+                    edge, edge_axis, edge_tie, lx, ly, lz = overlap, 6 + 3 * a + b, tie / length, vx, vy, vz
+    if face <= least + least_round + round_off:  # the face ties the least overlap: its normal, exact
+        ux, uy, uz = fx, fy, fz
+    if not prefer_face(face, edge, fx * lx + fy * ly + fz * lz, edge_tie):
+        face_axis, fx, fy, fz = edge_axis, lx, ly, lz
+    nx, ny, nz = _world(Ra, ux, uy, uz)
+    fx, fy, fz = _world(Ra, fx, fy, fz)
+    return True, face_axis, least, nx, ny, nz, fx, fy, fz
+
+
+@njit(inline="always")
+def _world(Ra, lx, ly, lz):
+    """The vector of components (lx, ly, lz) in the frame of the columns of Ra, in world coordinates."""
+    return (lx * Ra[0, 0] + ly * Ra[0, 1] + lz * Ra[0, 2], lx * Ra[1, 0] + ly * Ra[1, 1] + lz * Ra[1, 2],
+            lx * Ra[2, 0] + ly * Ra[2, 1] + lz * Ra[2, 2])
 
 
 @njit
@@ -293,9 +340,10 @@ def _touching_point(cr, Rr, er, i, nrx, nry, nrz, face_sign, ci, Ri, ei, poly, t
 
 
 @njit
-def _face_contact(cr, Rr, er, i, nrx, nry, nrz, ci, Ri, ei, ref_is_a, rows, p, flip, depth, scratch):
+def _face_contact(cr, Rr, er, i, nrx, nry, nrz, ci, Ri, ei, ref_is_a, rows, p, flip, depth, normal, scratch):
     """The manifold of a face axis: reference face i of box r (outward normal nr, towards box i), incident face
-    of box i clipped by its side planes. Writes row p (``ref_is_a``: the reference box is the kernel's A)."""
+    of box i clipped by its side planes. Writes row p (``ref_is_a``: the reference box is the kernel's A) with
+    the pair's ``depth`` and ``normal`` (3-tuple, from the kernel's A to B: the least-overlap axis)."""
     poly, work, tags, work_tags = scratch.poly, scratch.work, scratch.tags, scratch.work_tags
     inc_face = _incident_quad(cr, Rr, er, i, nrx, nry, nrz, ci, Ri, ei, poly, tags)
     j, k = min((i + 1) % 3, (i + 2) % 3), max((i + 1) % 3, (i + 2) % 3)
@@ -339,8 +387,7 @@ def _face_contact(cr, Rr, er, i, nrx, nry, nrz, ci, Ri, ei, ref_is_a, rows, p, f
         rows.points[p, v, 2] = pts[v, 2] + h * nrz
         rows.ids[p, v] = swap_point_id(ids[v]) if flip else ids[v]
     inc_kind = VERTEX if count == 1 else (EDGE if count == 2 else FACE)
-    sign = 1.0 if ref_is_a else -1.0  # the kernel's normal runs from A to B
-    write_pair(rows, p, -depth, sign * nrx, sign * nry, sign * nrz, FACE if ref_is_a else inc_kind,
+    write_pair(rows, p, -depth, normal[0], normal[1], normal[2], FACE if ref_is_a else inc_kind,
                inc_kind if ref_is_a else FACE, count, flip)
 
 
@@ -371,9 +418,10 @@ def _edge_key(R, axis, nx, ny, nz, sign):
 
 
 @njit
-def _edge_contact(centers, rotations, halves, i, j, a, b, nx, ny, nz, rows, p, flip, depth):
-    """The contact of an edge–edge axis A_a × B_b: the closest points of A's edge along A_a that is farthest
-    along n and B's edge along B_b farthest along −n (Ericson 5.1.9); one point halfway between them."""
+def _edge_contact(centers, rotations, halves, i, j, a, b, nx, ny, nz, rows, p, flip, depth, normal):
+    """The contact of an edge–edge axis A_a × B_b (unit n, from A to B): the closest points of A's edge along A_a
+    that is farthest along n and B's edge along B_b farthest along −n (Ericson 5.1.9); one point halfway between
+    them. Writes row p with the pair's ``depth`` and ``normal`` (3-tuple: the least-overlap axis)."""
     ca, Ra, ea, cb, Rb, eb = centers[i], rotations[i], halves[i], centers[j], rotations[j], halves[j]
     a0 = _edge_point(ca, Ra, ea, a, nx, ny, nz, 1.0, -1.0)
     a1 = _edge_point(ca, Ra, ea, a, nx, ny, nz, 1.0, 1.0)
@@ -386,7 +434,7 @@ def _edge_contact(centers, rotations, halves, i, j, a, b, nx, ny, nz, rows, p, f
     my = 0.5 * (a0[1] + s * (a1[1] - a0[1]) + b0[1] + t * (b1[1] - b0[1]))
     mz = 0.5 * (a0[2] + s * (a1[2] - a0[2]) + b0[2] + t * (b1[2] - b0[2]))
     write_point(rows, p, 0, mx, my, mz, key_a, key_b, flip)
-    write_pair(rows, p, -depth, nx, ny, nz, key_kind(key_a), key_kind(key_b), 1, flip)
+    write_pair(rows, p, -depth, normal[0], normal[1], normal[2], key_kind(key_a), key_kind(key_b), 1, flip)
 
 
 @njit
@@ -395,7 +443,8 @@ def contact_box_box(centers, rotations, halves, i, j, rows, p, flip, scratch):
     ``halves`` (n, 3), into row p of ``rows``; ``flip``: the pair's first shape is B; ``scratch`` a
     contacts.Scratch. Returns the separation (apart: minus the SAT overlap on the separating axis found, a
     lower bound of the distance)."""
-    overlap, axis, depth, nx, ny, nz = sat_box_box(centers, rotations, halves, i, j, scratch.mat, scratch.vec)
+    overlap, axis, depth, nx, ny, nz, fx, fy, fz = sat_box_box(centers, rotations, halves, i, j, scratch.mat,
+                                                               scratch.vec)
     if not overlap:
         write_pair(rows, p, -depth, nx, ny, nz, 0, 0, 0, flip)
         return -depth
@@ -404,11 +453,11 @@ def contact_box_box(centers, rotations, halves, i, j, rows, p, flip, scratch):
         # the clipping kernel twice)
         ref_is_a = axis < 3
         r, o, s = (i, j, 1.0) if ref_is_a else (j, i, -1.0)
-        _face_contact(centers[r], rotations[r], halves[r], axis % 3, s * nx, s * ny, s * nz, centers[o],
-                      rotations[o], halves[o], ref_is_a, rows, p, flip, depth, scratch)
+        _face_contact(centers[r], rotations[r], halves[r], axis % 3, s * fx, s * fy, s * fz, centers[o],
+                      rotations[o], halves[o], ref_is_a, rows, p, flip, depth, (nx, ny, nz), scratch)
     else:
-        _edge_contact(centers, rotations, halves, i, j, (axis - 6) // 3, (axis - 6) % 3, nx, ny, nz, rows, p,
-                      flip, depth)
+        _edge_contact(centers, rotations, halves, i, j, (axis - 6) // 3, (axis - 6) % 3, fx, fy, fz, rows, p,
+                      flip, depth, (nx, ny, nz))
     return -depth
 
 
