@@ -3,7 +3,8 @@ the contact manifold by clipping (Ericson 5.2.9 ``TestTriangleAABB``, with depth
 engine.narrowphase.box_box builds it, after ODE's ``dBoxBox`` and Box2D's ``b2CollidePolygons``).
 
 Everything is computed in the box's frame (the triangle's corners V_i = Rᵀ (p_i − c)), where the box is
-[−h, h]. The 13 axes, in this order: 0 the triangle's normal n, 1–3 the box's faces e_k, 4 + 3a + j the cross
+[−h, h]. The 13 axes, in this order: 0 the triangle's normal (the cross product of two edges, computed as the
+edge axes are, not the rounded unit normal given), 1–3 the box's faces e_k, 4 + 3a + j the cross
 products e_a × f_j of a box axis and the triangle's edge f_j = V_{j+1} − V_j (edge j joins corners j and j + 1).
 On an axis L the box projects on [−r, r], r = Σ h_m |L_m|, the triangle on [p_min, p_max]; their overlap is
 min(r − p_min, p_max + r) (translating the triangle by that much along +L, resp. −L, separates them), divided by
@@ -87,31 +88,44 @@ def _pair_size(h, V):
     return h[0] + h[1] + h[2] + big
 
 
+@njit(inline="always")
+def _edge_axis(V, a, j):
+    """e_a × f_j (not unit) and |f_j|: the axis of box axis a and triangle edge j."""
+    fx, fy, fz = V[(j + 1) % 3, 0] - V[j, 0], V[(j + 1) % 3, 1] - V[j, 1], V[(j + 1) % 3, 2] - V[j, 2]
+    # e_a × f: (0, −f_z, f_y), (f_z, 0, −f_x), (−f_y, f_x, 0)
+    lx = 0.0 if a == 0 else (fz if a == 1 else -fy)
+    ly = -fz if a == 0 else (0.0 if a == 1 else fx)
+    lz = fy if a == 0 else (-fx if a == 1 else 0.0)
+    return lx, ly, lz, math.sqrt(fx * fx + fy * fy + fz * fz)
+
+
 @njit
-def sat_box_triangle(h, V, nx, ny, nz):
-    """The 13-axis SAT of the box [−h, h] (h (3,)) and the triangle V (3, 3) with unit normal n, in the box's
-    frame. Returns (overlapping, axis, depth, lx, ly, lz): l the unit axis from the box towards the triangle;
-    depth >= 0 the penetration when overlapping, else minus the largest gap (a lower bound of the distance)."""
+def sat_box_triangle(h, V):
+    """The 13-axis SAT of the box [−h, h] (h (3,)) and the triangle V (3, 3), in the box's frame. The triangle's
+    normal is the cross product of its edges (as exact as the edge axes, not a rounded unit normal). Returns
+    (overlapping, axis, depth, lx, ly, lz): l the unit axis from the box towards the triangle; depth >= 0 the
+    penetration when overlapping, else minus the largest gap (a lower bound of the distance)."""
     size = _pair_size(h, V)
     tie = TIE * size
     best, axis, bx, by, bz = np.inf, -1, 0.0, 0.0, 0.0
     gap, gap_axis, gx, gy, gz = -np.inf, -1, 0.0, 0.0, 0.0
+    ux, uy, uz = V[1, 0] - V[0, 0], V[1, 1] - V[0, 1], V[1, 2] - V[0, 2]
+    wx, wy, wz = V[2, 0] - V[0, 0], V[2, 1] - V[0, 1], V[2, 2] - V[0, 2]
     for k in range(4):  # the triangle's normal, then the box's faces
-        lx, ly, lz = (nx, ny, nz) if k == 0 else (1.0 * (k == 1), 1.0 * (k == 2), 1.0 * (k == 3))
+        if k == 0:
+            lx, ly, lz = uy * wz - uz * wy, uz * wx - ux * wz, ux * wy - uy * wx
+        else:
+            lx, ly, lz = 1.0 * (k == 1), 1.0 * (k == 2), 1.0 * (k == 3)
+        length = math.sqrt(lx * lx + ly * ly + lz * lz)
         over, s = _overlap_on(h, V, lx, ly, lz)
         if over < 0.0:
-            if -over > gap:
-                gap, gap_axis, gx, gy, gz = -over, k, s * lx, s * ly, s * lz
-        elif over < best - tie:
-            best, axis, bx, by, bz = over, k, s * lx, s * ly, s * lz
+            if -over / length > gap:
+                gap, gap_axis, gx, gy, gz = -over / length, k, s * lx / length, s * ly / length, s * lz / length
+        elif over / length < best - tie:
+            best, axis, bx, by, bz = over / length, k, s * lx / length, s * ly / length, s * lz / length
     for a in range(3):
         for j in range(3):
-            fx, fy, fz = V[(j + 1) % 3, 0] - V[j, 0], V[(j + 1) % 3, 1] - V[j, 1], V[(j + 1) % 3, 2] - V[j, 2]
-            # e_a × f: (0, −f_z, f_y), (f_z, 0, −f_x), (−f_y, f_x, 0)
-            lx = 0.0 if a == 0 else (fz if a == 1 else -fy)
-            ly = -fz if a == 0 else (0.0 if a == 1 else fx)
-            lz = fy if a == 0 else (-fx if a == 1 else 0.0)
-            f_len = math.sqrt(fx * fx + fy * fy + fz * fz)
+            lx, ly, lz, f_len = _edge_axis(V, a, j)
             length = math.sqrt(lx * lx + ly * ly + lz * lz)
             over, s = _overlap_on(h, V, lx, ly, lz)
             if over < -PARALLEL_EPS * f_len * size:  # then length > 0: over and the bound vanish with it
@@ -462,7 +476,7 @@ def box_triangle(center, rotation, half, a, b, c, n_face, out, scratch):
     nx = R[0, 0] * n_face[0] + R[1, 0] * n_face[1] + R[2, 0] * n_face[2]
     ny = R[0, 1] * n_face[0] + R[1, 1] * n_face[1] + R[2, 1] * n_face[2]
     nz = R[0, 2] * n_face[0] + R[1, 2] * n_face[1] + R[2, 2] * n_face[2]
-    overlapping, axis, depth, lx, ly, lz = sat_box_triangle(half, V, nx, ny, nz)
+    overlapping, axis, depth, lx, ly, lz = sat_box_triangle(half, V)
     if axis == TRIANGLE_NORMAL_AXIS:  # ± the given normal itself, not its round trip through the box's frame
         s = 1.0 if lx * nx + ly * ny + lz * nz > 0.0 else -1.0
         out.normal[0], out.normal[1], out.normal[2] = s * n_face[0], s * n_face[1], s * n_face[2]
