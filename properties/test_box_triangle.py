@@ -233,7 +233,8 @@ def test_a_box_lying_flat_on_a_large_triangle_touches_at_its_four_bottom_corners
     Q = np.eye(3) if seed is None else Rotation.random(random_state=seed).as_matrix()
     if seed is not None:
         press = max(press, 1e-9)
-    turn = Rotation.from_euler("z", yaw).as_matrix()
+    # built from cos and sin: its third row and column are exactly e_z (scipy's may round the 1)
+    turn = np.array([[np.cos(yaw), -np.sin(yaw), 0.0], [np.sin(yaw), np.cos(yaw), 0.0], [0.0, 0.0, 1.0]])
     depth = press * h[2]
     c_local = np.array([0.1 * scale, -0.2 * scale, h[2] - depth])
     tri_local = 10.0 * scale * np.array([[-1.0, -1.0, 0.0], [1.0, -1.0, 0.0], [0.0, 1.5, 0.0]])
