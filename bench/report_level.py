@@ -158,7 +158,9 @@ def level_markdown(frames: pd.DataFrame, dist: pd.DataFrame, info: dict, command
              f"{NEAR_TOUCHING} of them within {NEAR_OFFSET:g}·size of touching (half in, half out, placed by "
              f"bisection on the exact answer). Bodies pair with the terrain only (collision categories). MuJoCo "
              f"holds the heights normalised in float32 (its surface is ours to ~2e-7), pybullet computes in "
-             f"float32: near-touching bodies are below their resolution.", ""]
+             f"float32: near-touching bodies are below their resolution. Each peer is judged at the scene's poses "
+             f"after the timed frames, as a game would read it: pybullet's contact manifolds persist across frames "
+             f"(earlier points are refreshed, not recomputed), which its depths show.", ""]
     if not frames.empty:
         lines += _frame_lines(frames) + _target_lines(frames) + _exact_lines(frames)
     lines += _distance_lines(dist)
