@@ -34,6 +34,7 @@ import pandas as pd
 
 from bench.report_broadphase import broadphase_section
 from bench.report_first_use import first_use_section
+from bench.report_level import level_section
 from bench.report_narrowphase import narrowphase_section
 from bench.report_queries import queries_section
 from bench.report_world import world_section
@@ -232,6 +233,7 @@ def main(quick: bool = False, out: Path | str = "reports", scheduler: str | None
     sections += narrowphase_section(json_path, out, info, quick)
     sections += world_section(json_path, out, info, quick)
     sections += queries_section(json_path, out, info, quick)
+    sections += level_section(json_path, out, info, quick)
     print("[report] first use (README's blocks cold and warm, the warm-up)", flush=True)
     sections += first_use_section(out, info, quick)
     write_index(out, sections, info)
