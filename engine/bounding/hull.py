@@ -691,31 +691,31 @@ def _polygon_convex_kernel(poly, tol):
 
 @njit
 def _mesh_convex_kernel(vertices, faces, tol):
-    """Every vertex on the inner side of every face plane (outward faces; all-inward faces are flipped)."""
+    """Every vertex on the inner side of every face plane (outward faces; all-inward faces are flipped). Each
+    face's normal is its cross product accurate to a few ulps (predicates.accurate_cross), so that a sliver face
+    (nearly collinear corners) has its exact plane's direction, not one tilted by ε / (the sine of its angle)."""
     m = faces.shape[0]
-    volume6 = 0.0
+    o = vertices[faces[0, 0]]
+    volume6 = 0.0  # about a vertex of the surface: no cancellation from the coordinates' magnitude
     for f in range(m):
-        a = vertices[faces[f, 0]]
-        b = vertices[faces[f, 1]]
-        c = vertices[faces[f, 2]]
+        a = vertices[faces[f, 0]] - o
+        b = vertices[faces[f, 1]] - o
+        c = vertices[faces[f, 2]] - o
         volume6 += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
                     + a[2] * (b[0] * c[1] - b[1] * c[0]))
     if volume6 == 0.0:
         return False
     sign = 1.0 if volume6 > 0.0 else -1.0
+    normal = np.empty(3)
     for f in range(m):
         a = vertices[faces[f, 0]]
-        u = vertices[faces[f, 1]] - a
-        v = vertices[faces[f, 2]] - a
-        nx = u[1] * v[2] - u[2] * v[1]
-        ny = u[2] * v[0] - u[0] * v[2]
-        nz = u[0] * v[1] - u[1] * v[0]
-        length = math.sqrt(nx * nx + ny * ny + nz * nz)
+        accurate_cross(vertices, faces[f, 0], faces[f, 1], faces[f, 2], normal)
+        length = math.sqrt(normal[0] ** 2 + normal[1] ** 2 + normal[2] ** 2)
         if length == 0.0:
             continue  # a degenerate (zero-area) triangle has no plane
         for k in range(vertices.shape[0]):
             w = vertices[k] - a
-            if sign * (nx * w[0] + ny * w[1] + nz * w[2]) > tol * length:
+            if sign * (normal[0] * w[0] + normal[1] * w[1] + normal[2] * w[2]) > tol * length:
                 return False
     return True
 
@@ -778,5 +778,5 @@ def is_convex(vertices, faces=None, *, tol: float = 1e-9) -> bool:
     if bad.any():
         f, e = (int(i) for i in np.argwhere(bad)[0])
         raise ValueError(f"faces[{f}, {e}] = {tri[f, e]} is not a vertex index in [0, {pts.shape[0]})")
-    return bool(_mesh_convex_kernel(pts - pts.mean(axis=0), tri.astype(np.int64), tol * scale))
+    return bool(_mesh_convex_kernel(pts, tri.astype(np.int64), tol * scale))  # uncentred: no rounding of corners
 
