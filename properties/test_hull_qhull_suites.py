@@ -22,7 +22,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.spatial import ConvexHull as QhullHull
 
-from engine.bounding.hull import HULL_TOL, convex_hull, is_convex
+from engine.bounding.hull import HULL_TOL, MERGE_TOL, convex_hull, is_convex
+from engine.bounding.predicates import accurate_cross, orient3d
 from properties.strategies.geometry import seeds
 
 # Five points of a 4,054-point float32 cloud of parry's convex-hull test (Qhull: all five are vertices, volume
@@ -63,15 +64,17 @@ def _exact_height_excess(pts, faces, bound):
     return bad
 
 
-def _check_against_qhull(pts):
-    """Qhull builds ⇒ we build; the same vertex set or (Qhull merged) a volume within 1e-12; convex to round-off."""
+def _check_against_qhull(pts, exact_input=False):
+    """Qhull builds ⇒ we build; the same vertex set or (Qhull merged) a volume within 1e-12; convex to round-off.
+    ``exact_input``: the points are exactly where they are meant to be (no round-off to merge): the same vertex
+    set, always."""
     try:
         ref = QhullHull(pts)
     except Exception:  # Qhull finds the input flat: no claim here (test_hull.py covers the refusals)
         return None
     hull = convex_hull(pts)  # never a ValueError on input Qhull builds
     same = {tuple(p) for p in pts[hull.vertices]} == {tuple(p) for p in pts[ref.vertices]}
-    assert same or hull.volume == pytest.approx(ref.volume, rel=1e-12), (hull.volume, ref.volume)
+    assert same or (not exact_input and hull.volume == pytest.approx(ref.volume, rel=1e-12)), (hull.volume, ref.volume)
     assert len(hull.faces) == 2 * len(hull.vertices) - 4
     scale = float(np.abs(pts).max())
     assert _exact_height_excess(pts, hull.faces, HULL_TOL * scale) == []
@@ -151,8 +154,10 @@ def lattices(draw):
     pts = rng.integers(-width, width + 1, size=(n, 3)).astype(float)
     if draw(st.booleans()):
         pts[np.arange(n), rng.integers(0, 3, size=n)] = rng.choice([-width, width], size=n)
-    pts = pts * draw(st.sampled_from([1.0, 0.1, 0.3, 1e3])) + draw(st.sampled_from([0.0, 0.7, 1e3]))
-    return _f32(pts) if draw(st.booleans()) else pts
+    scale, shift = draw(st.sampled_from([1.0, 0.1, 0.3, 1e3])), draw(st.sampled_from([0.0, 0.7, 1e3]))
+    exact = scale in (1.0, 1e3) and shift in (0.0, 1e3)  # integers: the lattice is exact, no round-off
+    pts = pts * scale + shift
+    return (_f32(pts) if draw(st.booleans()) else pts), exact
 
 
 def test_parrys_five_points_have_qhulls_hull():
@@ -178,5 +183,76 @@ def test_nearly_collinear_and_coplanar_subsets_match_qhull(pts):
 
 
 @given(lattices())
-def test_lattices_match_qhull(pts):
+def test_lattices_match_qhull(lattice):
+    """Exact lattices: Qhull's vertex set (no point inside a face or on an edge is a vertex); rounded ones: or its
+    volume."""
+    pts, exact = lattice
+    _check_against_qhull(pts, exact_input=exact)
+
+
+@st.composite
+def gentle_caps(draw):
+    """Points in a unit disk lifted onto a paraboloid z = -c (x² + y²) so flat that neighbouring faces are within
+    MERGE_TOL of each other's planes while the cap's middle is 10 to 1,000 times that above its rim, and an apex
+    below: merging coplanar neighbours transitively would flatten the cap and leave its middle points outside."""
+    rng = np.random.default_rng(draw(seeds))
+    n = draw(st.integers(20, 60))
+    r, t = np.sqrt(rng.uniform(0.0, 1.0, size=n)), rng.uniform(0.0, 2.0 * np.pi, size=n)
+    c = MERGE_TOL * 10.0 ** rng.uniform(1.0, 3.0)
+    cap = np.column_stack([r * np.cos(t), r * np.sin(t), -c * r * r])
+    return np.vstack([cap, [[0.0, 0.0, -1.0]]])
+
+
+@given(gentle_caps())
+def test_gentle_caps_keep_every_point_inside(pts):
     _check_against_qhull(pts)
+
+
+@st.composite
+def nearly_coplanar_quadruples(draw):
+    """Four points, the fourth within 0 to 1e-12 (relative) of the plane of the first three, or exactly on it
+    (small integers times a power of two), or the first three nearly collinear."""
+    rng = np.random.default_rng(draw(seeds))
+    kind = draw(st.sampled_from(["near", "exact", "sliver"]))
+    if kind == "exact":
+        base = rng.integers(-8, 9, size=(3, 3)).astype(float)
+        w = rng.integers(-3, 4, size=2).astype(float)
+        p = base[0] + w[0] * (base[1] - base[0]) + w[1] * (base[2] - base[0])
+        return np.ldexp(np.vstack([base, p]), int(rng.integers(-30, 30)))
+    base = rng.normal(size=(3, 3)) * 10.0 ** rng.uniform(-3, 3)
+    if kind == "sliver":
+        base[2] = base[0] + rng.uniform(-2, 3) * (base[1] - base[0]) + 10.0 ** rng.uniform(-16, -8) * rng.normal(size=3)
+    w = rng.uniform(-2, 3, size=2)
+    p = base[0] + w[0] * (base[1] - base[0]) + w[1] * (base[2] - base[0])
+    p = p + rng.normal(size=3) * 10.0 ** rng.uniform(-20, -12) * np.abs(p).max()
+    return np.vstack([base, p])[:, :] + draw(st.sampled_from([0.0, 1.0, 1e3]))
+
+
+def _exact_cross(pts):
+    a, b, c = ([Fraction(float(x)) for x in row] for row in pts[:3])
+    u = [b[k] - a[k] for k in range(3)]
+    v = [c[k] - a[k] for k in range(3)]
+    return [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]], a
+
+
+@given(nearly_coplanar_quadruples())
+def test_orient3d_has_the_exact_sign(pts):
+    """Shewchuk's predicate: the sign of ((b − a) × (c − a)) · (p − a), with zero, equals the rational one's, in
+    every order of the four points."""
+    n, a = _exact_cross(pts)
+    p = [Fraction(float(x)) for x in pts[3]]
+    exact = sum(n[k] * (p[k] - a[k]) for k in range(3))
+    sign = (exact > 0) - (exact < 0)
+    assert np.sign(orient3d(pts, 0, 1, 2, 3)) == sign
+    assert np.sign(orient3d(pts, 1, 2, 0, 3)) == sign  # a cyclic turn of the triangle keeps the sign
+    assert np.sign(orient3d(pts, 0, 2, 1, 3)) == -sign  # reversing it flips the sign
+    assert np.sign(orient3d(pts, 3, 1, 2, 0)) == -sign  # swapping two points flips it too
+
+
+@given(nearly_coplanar_quadruples())
+def test_accurate_cross_is_within_a_few_ulps_of_the_exact_cross_product(pts):
+    n, _ = _exact_cross(pts)
+    got = accurate_cross(pts, 0, 1, 2, np.empty(3))
+    dropped = 16 * Fraction(2.0 ** -106) * Fraction(float(np.abs(pts[:3] - pts[0]).max())) ** 2  # ~ ε² |u| |v|
+    for k in range(3):  # a few ulps of the component, or of the dropped terms when it cancels
+        assert abs(Fraction(float(got[k])) - n[k]) <= Fraction(4 * 2.0 ** -53) * abs(n[k]) + dropped, k
