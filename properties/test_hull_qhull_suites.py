@@ -194,7 +194,7 @@ def test_lattices_match_qhull(lattice):
 def gentle_caps(draw):
     """Points in a unit disk lifted onto a paraboloid z = -c (x² + y²) so flat that neighbouring faces are within
     MERGE_TOL of each other's planes while the cap's middle is 10 to 1,000 times that above its rim, and an apex
-    below: merging coplanar neighbours transitively would flatten the cap and leave its middle points outside."""
+    below: a merge of nearly coplanar faces must not flatten the cap (its middle points would be left outside)."""
     rng = np.random.default_rng(draw(seeds))
     n = draw(st.integers(20, 60))
     r, t = np.sqrt(rng.uniform(0.0, 1.0, size=n)), rng.uniform(0.0, 2.0 * np.pi, size=n)

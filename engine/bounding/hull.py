@@ -8,10 +8,18 @@ the object — and "Objet convexe" — a line meets a convex shape in at most tw
 - 2-D: Andrew's monotone chain (Andrew 1979): sort by x then y, build the lower and upper chains, popping
   every point that does not make a strict left turn.
 
-``convex_hull(points)`` never returns a wrong hull: duplicates are fine; input of lower dimension than its
-ambient space (all points equal, collinear, or coplanar in 3-D, fewer than d + 1 points) raises ValueError
-saying which; and the 3-D result is certified before it is returned (every point on the inner side of every
-face plane, Euler's formula F = 2V - 4 for a closed triangulated surface).
+``convex_hull(points)`` never returns a wrong hull and never refuses a full-dimensional one. Every visibility
+decision of quickhull is the exact sign of orient3d (engine.bounding.predicates, Shewchuk 1997), so the mesh stays
+exactly convex and every horizon is one loop, whatever the round-off. Points within MERGE_TOL s of a face (s = the
+largest |coordinate|) are not outside it (quickhull's thick planes), and faces within MERGE_TOL of each other's
+planes are one facet (Qhull's merge of coplanar facets): a vertex on one or two facets (inside a flat region, on
+an edge) is not a corner, and the hull is rebuilt from the corners. The result is certified — a closed
+triangulated sphere, every input point (past FULL_CERTIFY_WORK point-face pairs: every removed non-corner) at
+most CERTIFY_TOL s above every face plane — or else rebuilt with exact tests only (every point exactly inside).
+Every input point lies at most HULL_TOL s (2^-46 s, 1.4e-14 s) above the exact plane through each face's
+corners, and face normals come from cross products accurate to a few ulps, sliver faces included. Duplicates are
+fine; input within MERGE_TOL s of a point, a line or a plane (lower-dimensional to round-off; fewer than d + 1
+points) raises ValueError saying which.
 
 ``is_convex`` is the slide's criterion in its practical form: every vertex lies on the inner side of every
 face (edge) plane.
@@ -632,7 +640,7 @@ def convex_hull(points) -> ConvexHull:
     ------
     ValueError
         For fewer than d + 1 points, NaN or ±inf, or input of lower dimension (all points equal, collinear, or
-        coplanar in 3-D): such input has no d-dimensional hull.
+        coplanar in 3-D; in 3-D to MERGE_TOL × the largest |coordinate|): such input has no d-dimensional hull.
 
     Examples
     --------
