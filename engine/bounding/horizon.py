@@ -17,14 +17,21 @@ The mesh is stored as index arrays, one row per face slot (slots are never reuse
   fn[f]·p − fd[f] > eps; a face with offset +inf (a zero-area sliver that has no plane) counts as seen from
   every point, so that it leaves the mesh at the first chance;
 - ``stamp`` (F,) int64: the visit mark of the search (a face is visible in search ``mark`` iff stamp == mark).
+
+``visible_faces_and_horizon`` decides "p sees face h" by the face's floating-point plane (EPA's polytope);
+``visible_faces_and_horizon_exact`` by the exact sign of orient3d (engine.bounding.predicates, Shewchuk 1997) on
+the face's corners (quickhull's). With the exact test, a polytope that is exactly convex and a point strictly above
+one of its faces give a connected visible region whose horizon is one simple loop, and the cone on it makes the
+exact convex hull of the polytope and the point: no round-off can fold the mesh.
 """
 from __future__ import annotations
 
 import numpy as np
 
 from .._config import njit
+from .predicates import orient3d
 
-__all__ = ["link_neighbours", "visible_faces_and_horizon", "stitch_cone"]
+__all__ = ["link_neighbours", "visible_faces_and_horizon", "visible_faces_and_horizon_exact", "stitch_cone"]
 
 
 @njit
@@ -71,7 +78,44 @@ def visible_faces_and_horizon(start, px, py, pz, eps, fv, fadj, fn, fd, stamp, m
                 horizon[n_horizon, 1] = fv[g, (e + 1) % 3]
                 horizon[n_horizon, 2] = h
                 n_horizon += 1
-    # a horizon edge whose outer face turned visible later in the search is not a horizon edge
+    return n_visible, _drop_stale_edges(horizon, n_horizon, stamp, mark)
+
+
+@njit
+def visible_faces_and_horizon_exact(start, p, points, fv, fadj, stamp, mark, stack, visible, horizon):
+    """``visible_faces_and_horizon`` for the point ``p`` (a row of ``points`` (n, 3) float64, the rows ``fv``
+    indexes), where p sees face h iff orient3d(points, fv[h, 0], fv[h, 1], fv[h, 2], p) > 0 exactly."""
+    n_visible = 0
+    n_horizon = 0
+    top = 0
+    stack[top] = start
+    top += 1
+    stamp[start] = mark
+    while top > 0:
+        top -= 1
+        g = stack[top]
+        visible[n_visible] = g
+        n_visible += 1
+        for e in range(3):
+            h = fadj[g, e]
+            if stamp[h] == mark:
+                continue
+            if orient3d(points, fv[h, 0], fv[h, 1], fv[h, 2], p) > 0.0:
+                stamp[h] = mark
+                stack[top] = h
+                top += 1
+            else:
+                horizon[n_horizon, 0] = fv[g, e]
+                horizon[n_horizon, 1] = fv[g, (e + 1) % 3]
+                horizon[n_horizon, 2] = h
+                n_horizon += 1
+    return n_visible, _drop_stale_edges(horizon, n_horizon, stamp, mark)
+
+
+@njit
+def _drop_stale_edges(horizon, n_horizon, stamp, mark):
+    """Keep the horizon edges whose outer face is not visible (it may have turned visible after the edge was
+    listed, later in the search); returns their count."""
     k = 0
     for t in range(n_horizon):
         if stamp[horizon[t, 2]] != mark:
@@ -79,7 +123,7 @@ def visible_faces_and_horizon(start, px, py, pz, eps, fv, fadj, fn, fd, stamp, m
             horizon[k, 1] = horizon[t, 1]
             horizon[k, 2] = horizon[t, 2]
             k += 1
-    return n_visible, k
+    return k
 
 
 @njit

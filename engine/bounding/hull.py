@@ -8,10 +8,18 @@ the object — and "Objet convexe" — a line meets a convex shape in at most tw
 - 2-D: Andrew's monotone chain (Andrew 1979): sort by x then y, build the lower and upper chains, popping
   every point that does not make a strict left turn.
 
-``convex_hull(points)`` never returns a wrong hull: duplicates are fine; input of lower dimension than its
-ambient space (all points equal, collinear, or coplanar in 3-D, fewer than d + 1 points) raises ValueError
-saying which; and the 3-D result is certified before it is returned (every point on the inner side of every
-face plane, Euler's formula F = 2V - 4 for a closed triangulated surface).
+``convex_hull(points)`` never returns a wrong hull and never refuses a full-dimensional one. Every visibility
+decision of quickhull is the exact sign of orient3d (engine.bounding.predicates, Shewchuk 1997), so the mesh stays
+exactly convex and every horizon is one loop, whatever the round-off. Points within MERGE_TOL s of a face (s = the
+largest |coordinate|) are not outside it (quickhull's thick planes), and faces within MERGE_TOL of each other's
+planes are one facet (Qhull's merge of coplanar facets): a vertex on one or two facets (inside a flat region, on
+an edge) is not a corner, and the hull is rebuilt from the corners. The result is certified — a closed
+triangulated sphere, every input point (past FULL_CERTIFY_WORK point-face pairs: every removed non-corner) at
+most CERTIFY_TOL s above every face plane — or else rebuilt with exact tests only (every point exactly inside).
+Every input point lies at most HULL_TOL s (2^-46 s, 1.4e-14 s) above the exact plane through each face's
+corners, and face normals come from cross products accurate to a few ulps, sliver faces included. Duplicates are
+fine; input within MERGE_TOL s of a point, a line or a plane (lower-dimensional to round-off; fewer than d + 1
+points) raises ValueError saying which.
 
 ``is_convex`` is the slide's criterion in its practical form: every vertex lies on the inner side of every
 face (edge) plane.
@@ -26,24 +34,35 @@ import numpy as np
 from .._config import njit
 from .._validate import as_nonnegative, unit_scale_exponent
 from .aabb import as_points
-from .horizon import link_neighbours, stitch_cone, visible_faces_and_horizon
+from .horizon import link_neighbours, stitch_cone, visible_faces_and_horizon_exact
+from .predicates import accurate_cross, orient3d
 
-__all__ = ["ConvexHull", "convex_hull", "is_convex", "monotone_chain", "HULL_EPS"]
+__all__ = ["ConvexHull", "convex_hull", "is_convex", "monotone_chain", "HULL_EPS", "HULL_TOL"]
 
-#: distances below HULL_EPS times the coordinate scale count as "on the plane" (quickhull's thick planes)
+#: 2-D: an area below HULL_EPS × extent × scale counts as zero (the monotone chain's collinearity test)
 HULL_EPS = 1e-12
-#: certification tolerance, in units of the coordinate scale
-CERTIFY_EPS = 1e-9
-#: incident face normals closer than this (radians) to a common plane or line count as one flat region
+#: 3-D, relative to s = the largest |coordinate|: quickhull's thick planes and the merge of coplanar faces (a
+#: point within MERGE_TOL s of a face's plane is not outside it; faces whose far vertices are that close to each
+#: other's planes are one facet) — 64 ulps of 1, the order of Qhull's own premerge tolerance (a few times its
+#: DISTround ~ 10 ε max|x|), so that round-off-flat vertices (lattices after a decimal scaling) are not corners
+MERGE_TOL = 2.0 ** -47
+#: the certificate: every input point at most CERTIFY_TOL s above every face plane, in floating point (MERGE_TOL
+#: plus 32 ulps for the float distance's own error, which is below 26 ε s: see HULL_TOL)
+CERTIFY_TOL = MERGE_TOL + 2.0 ** -48
+#: the documented bound: every input point lies at most HULL_TOL s above the exact plane through every hull
+#: face's three (float) corners — CERTIFY_TOL plus the float distance's error (normal within ~4 ε of the
+#: exact one's direction, |p − a| <= 2√3 s; the dot products and the centroid offset: ~12 ε s), rounded up to
+#: 128 ulps of 1 (1.4e-14). A hull that fails the certificate is rebuilt exactly: then the bound is 0.
+HULL_TOL = 2.0 ** -46
+#: incident face normals closer than this (radians) to a common line count as flat (the 2-D chain's turns)
 FLAT_ANGLE = 1e-10
 #: up to this many point-face pairs, every input point is checked against every hull face
 FULL_CERTIFY_WORK = 50_000_000
 
 _DEGENERATE_3D = {
-    1: "all points coincide (a 0-dimensional set)",
-    2: "all points are collinear (a 1-dimensional set)",
-    3: "all points are coplanar (a 2-dimensional set); project them to 2-D and use a 2-D hull",
-    4: "the input is numerically degenerate (nearly coplanar faces); quickhull could not build a valid horizon",
+    1: "all points coincide (a 0-dimensional set, to MERGE_TOL)",
+    2: "all points are collinear (a 1-dimensional set, to MERGE_TOL)",
+    3: "all points are coplanar (a 2-dimensional set, to MERGE_TOL); project them to 2-D and use a 2-D hull",
 }
 
 
@@ -167,16 +186,11 @@ def _hull_2d(pts: np.ndarray) -> ConvexHull:
 # ---------------------------------------------------------------------------------------------------------
 @njit
 def _plane(points, a, b, c, normal):
-    """Unit normal of the triangle (a, b, c) (right-hand rule) written in ``normal``; returns its offset."""
-    ux = points[b, 0] - points[a, 0]
-    uy = points[b, 1] - points[a, 1]
-    uz = points[b, 2] - points[a, 2]
-    vx = points[c, 0] - points[a, 0]
-    vy = points[c, 1] - points[a, 1]
-    vz = points[c, 2] - points[a, 2]
-    nx = uy * vz - uz * vy
-    ny = uz * vx - ux * vz
-    nz = ux * vy - uy * vx
+    """Unit normal of the triangle (a, b, c) (right-hand rule) written in ``normal``; returns its offset. The
+    cross product is accurate to a few ulps per component (predicates.accurate_cross), sliver triangles included:
+    the normal is within a few ulps of the exact plane's, whatever the triangle's shape."""
+    accurate_cross(points, a, b, c, normal)
+    nx, ny, nz = normal[0], normal[1], normal[2]
     length = math.sqrt(nx * nx + ny * ny + nz * nz)
     if length == 0.0:
         length = 1.0
@@ -196,23 +210,25 @@ def _distance(points, i, normal, offset):
 
 
 @njit
-def _assign_outside_point(points, i, candidates, n_candidates, fn, fd, eps, head, nxt, far, far_d):
-    """Quickhull's conflict lists: put point i on the list of the candidate face it lies farthest outside of
-    (by more than eps), and keep each face's farthest point; a point inside every candidate is dropped."""
-    best = eps
+def _assign_outside_point(points, i, candidates, n_candidates, fv, fn, fd, delta, head, nxt, far, far_d):
+    """Quickhull's conflict lists: put point i on the list of the candidate face it lies farthest outside of,
+    and keep each face's farthest point; a point outside no candidate is dropped. Outside means exactly above the
+    face's plane (orient3d > 0) and more than ``delta`` above it in floating point (``delta`` = -inf: exactly
+    above is enough); the float distance only ranks the faces."""
+    best = -np.inf
     bf = -1
     for t in range(n_candidates):
         f = candidates[t]
         d = _distance(points, i, fn[f], fd[f])
-        if d > best:
+        if d > best and d > delta and orient3d(points, fv[f, 0], fv[f, 1], fv[f, 2], i) > 0.0:
             best = d
             bf = f
     if bf >= 0:
-        nxt[i] = head[bf]
-        head[bf] = i
-        if best > far_d[bf]:
+        if head[bf] == -1 or best > far_d[bf]:
             far_d[bf] = best
             far[bf] = i
+        nxt[i] = head[bf]
+        head[bf] = i
 
 
 @njit
@@ -304,30 +320,30 @@ def _grown_mesh(m, capacity):
                          _grown(m.stack, capacity, 0), _grown(m.horizon, 3 * capacity, 0),
                          _grown(m.new_faces, capacity, 0))
 @njit
-def _initial_tetrahedron(points, simplex, m, nxt, eps):
-    """Faces 0..3 of the mesh: the tetrahedron ``simplex``, each face oriented away from the opposite vertex and
-    linked to its neighbours; every other point goes to the conflict list of the face it lies farthest outside of."""
+def _initial_tetrahedron(points, simplex, m, nxt, delta):
+    """Faces 0..3 of the mesh: the tetrahedron ``simplex`` (not coplanar), each face oriented away from the
+    opposite vertex (exact orient3d) and linked to its neighbours; every other point goes to the conflict list of
+    the face it lies farthest outside of."""
     tri = np.array([[0, 1, 2], [0, 3, 1], [1, 3, 2], [2, 3, 0]], dtype=np.int64)
     opposite = np.array([3, 2, 0, 1], dtype=np.int64)
     for f in range(4):
         a = simplex[tri[f, 0]]
         b = simplex[tri[f, 1]]
         c = simplex[tri[f, 2]]
-        m.fd[f] = _plane(points, a, b, c, m.fn[f])
-        if _distance(points, simplex[opposite[f]], m.fn[f], m.fd[f]) > 0.0:
+        if orient3d(points, a, b, c, simplex[opposite[f]]) > 0.0:
             b, c = c, b
-            m.fd[f] = _plane(points, a, b, c, m.fn[f])
+        m.fd[f] = _plane(points, a, b, c, m.fn[f])
         m.fv[f, 0] = a
         m.fv[f, 1] = b
         m.fv[f, 2] = c
         m.alive[f] = True
     link_neighbours(m.fv, 4, m.fadj)
     first_faces = np.arange(4)
-    fn, fd, head, far, far_d = m.fn, m.fd, m.head, m.far, m.far_d  # locals: see the note above _quickhull_kernel
+    fv, fn, fd, head, far, far_d = m.fv, m.fn, m.fd, m.head, m.far, m.far_d  # locals: see above _quickhull_kernel
     for i in range(points.shape[0]):
         if i == simplex[0] or i == simplex[1] or i == simplex[2] or i == simplex[3]:
             continue
-        _assign_outside_point(points, i, first_faces, 4, fn, fd, eps, head, nxt, far, far_d)
+        _assign_outside_point(points, i, first_faces, 4, fv, fn, fd, delta, head, nxt, far, far_d)
 
 
 @njit
@@ -347,25 +363,29 @@ def _alive_faces(fv, alive, n_faces):
 # increments and decrements of the arrays' counts on every iteration; bench/test_bench_bounding.py, the convex
 # hull group's 10,000 points on a sphere, times the loop).
 @njit
-def _quickhull_kernel(points, eps, capacity):
-    """Quickhull in 3-D (Ericson 12.4.2). Returns (faces (m, 3), status): status 0 ok, 1/2/3 degenerate input of
-    that dimension + 1, 4 numerically invalid horizon. ``capacity`` is the initial number of face slots.
+def _quickhull_kernel(points, simplex, delta, capacity):
+    """Quickhull in 3-D (Ericson 12.4.2) from the tetrahedron ``simplex`` (4,) int64 of points not coplanar.
+    Returns (faces (m, 3), ok); ok is False only if the simplex is coplanar. ``capacity``: the first number of
+    face slots. A point is outside a face when exactly above its plane and more than ``delta`` above it in
+    floating point (quickhull's thick planes; ``delta`` = -inf: exactly above).
 
-        the tetrahedron of four extreme points; every other point on the conflict list of a face it is outside
+        the tetrahedron; every other point on the conflict list of a face it is outside
         for each face f with a non-empty conflict list:
             p <- the farthest point of f's list
-            replace the faces p sees by the cone of new faces on their horizon (engine.bounding.horizon)
+            replace the faces p sees (exact orient3d) by the cone of new faces on their horizon
             hand the dead faces' points over to the new faces
+
+    Every visibility decision is exact, so each step makes the exact hull of the polytope and p: the mesh stays
+    exactly convex, its horizons are simple loops, and a point dropped with ``delta`` = -inf is exactly inside.
     """
     n = points.shape[0]
-    simplex, status = _initial_simplex(points, eps)
-    if status != 0:
-        return np.zeros((0, 3), dtype=np.int64), status
+    if orient3d(points, simplex[0], simplex[1], simplex[2], simplex[3]) == 0.0:
+        return np.zeros((0, 3), dtype=np.int64), False
     m = _new_mesh(capacity)
     nxt = np.full(n, -1, dtype=np.int64)  # next point in the same conflict list
     start_face = np.full(n, -1, dtype=np.int64)  # stitch_cone's scratch
     end_face = np.full(n, -1, dtype=np.int64)
-    _initial_tetrahedron(points, simplex, m, nxt, eps)
+    _initial_tetrahedron(points, simplex, m, nxt, delta)
     fv, fadj, fn, fd, alive, head, far, far_d, stamp, visible, stack, horizon, new_faces = m
     n_faces = 4
     f = 0
@@ -374,14 +394,14 @@ def _quickhull_kernel(points, eps, capacity):
             f += 1
             continue
         p = far[f]
-        n_visible, n_horizon = visible_faces_and_horizon(f, points[p, 0], points[p, 1], points[p, 2], eps, fv,
-                                                         fadj, fn, fd, stamp, f, stack, visible, horizon)  # mark: f
+        n_visible, n_horizon = visible_faces_and_horizon_exact(f, p, points, fv, fadj, stamp, f, stack, visible,
+                                                               horizon)  # mark: f
         if n_faces + n_horizon > fv.shape[0]:
             fv, fadj, fn, fd, alive, head, far, far_d, stamp, visible, stack, horizon, new_faces = _grown_mesh(
                 QuickhullMesh(fv, fadj, fn, fd, alive, head, far, far_d, stamp, visible, stack, horizon, new_faces),
                 2 * (n_faces + n_horizon))
         if not stitch_cone(p, horizon, n_horizon, fv, fadj, stamp, n_faces, start_face, end_face, new_faces):
-            return np.zeros((0, 3), dtype=np.int64), 4  # the horizon is not a simple loop
+            return np.zeros((0, 3), dtype=np.int64), False  # not a simple loop: only if the mesh were not convex
         for nf in range(n_faces, n_faces + n_horizon):  # the cone's planes, with empty conflict lists
             fd[nf] = _plane(points, fv[nf, 0], fv[nf, 1], p, fn[nf])
             alive[nf] = True
@@ -396,18 +416,18 @@ def _quickhull_kernel(points, eps, capacity):
             while i != -1:
                 following = nxt[i]
                 if i != p:
-                    _assign_outside_point(points, i, new_faces, n_horizon, fn, fd, eps, head, nxt, far, far_d)
+                    _assign_outside_point(points, i, new_faces, n_horizon, fv, fn, fd, delta, head, nxt, far, far_d)
                 i = following
             head[g] = -1
         f += 1
-    return _alive_faces(fv, alive, n_faces), 0
+    return _alive_faces(fv, alive, n_faces), True
 
 
 @njit
-def _max_outside_kernel(points, normals, offsets):
-    """The largest signed distance of any point outside any face plane (<= 0 for a valid hull)."""
+def _max_outside_kernel(points, rows, normals, offsets):
+    """The largest signed distance of the points ``rows`` above any face plane (<= 0 for an exact hull)."""
     worst = -np.inf
-    for i in range(points.shape[0]):
+    for i in rows:
         for f in range(normals.shape[0]):
             d = normals[f, 0] * points[i, 0] + normals[f, 1] * points[i, 1] + normals[f, 2] * points[i, 2]
             d -= offsets[f]
@@ -416,75 +436,113 @@ def _max_outside_kernel(points, normals, offsets):
     return worst
 
 
-def _convex_at_every_edge(points, faces, normals, offsets, tol) -> bool:
-    """Every edge is shared by exactly two faces that traverse it in opposite directions (a closed, consistently
-    oriented surface), and the far vertex of each face lies on the inner side of its neighbour's plane."""
+@njit
+def _face_planes(points, faces):
+    """Unit outward normals (F, 3), offsets (F,) (through each face's centroid) and twice the areas (F,) of the
+    faces, from cross products accurate to a few ulps (predicates.accurate_cross)."""
+    m = faces.shape[0]
+    normals = np.empty((m, 3))
+    offsets = np.empty(m)
+    twice_area = np.empty(m)
+    for f in range(m):
+        offsets[f] = _plane(points, faces[f, 0], faces[f, 1], faces[f, 2], normals[f])
+        cross = accurate_cross(points, faces[f, 0], faces[f, 1], faces[f, 2], np.empty(3))
+        twice_area[f] = math.sqrt(cross[0] ** 2 + cross[1] ** 2 + cross[2] ** 2)
+    return normals, offsets, twice_area
+
+
+def _edge_pairs(faces, n):
+    """The two faces of every edge of a closed, consistently oriented triangle mesh over n points, and the far
+    vertex of each: four (E,) int64 arrays (f, g, far vertex of f, far vertex of g); None when some edge is not
+    traversed exactly once in each direction."""
     m = faces.shape[0]
     start = faces.ravel()
     end = np.roll(faces, -1, axis=1).ravel()
     far = np.roll(faces, -2, axis=1).ravel()
     face = np.repeat(np.arange(m), 3)
-    key = np.minimum(start, end) * points.shape[0] + np.maximum(start, end)
+    key = np.minimum(start, end) * n + np.maximum(start, end)
     order = np.argsort(key, kind="stable")
     first, second = order[0::2], order[1::2]
-    if (key[first] != key[second]).any() or (np.diff(key[first]) <= 0).any():
-        return False
-    if (start[first] != end[second]).any():
-        return False
-    d1 = np.einsum("ij,ij->i", normals[face[first]], points[far[second]]) - offsets[face[first]]
-    d2 = np.einsum("ij,ij->i", normals[face[second]], points[far[first]]) - offsets[face[second]]
-    return bool(max(d1.max(), d2.max()) <= tol)
+    if (key[first] != key[second]).any() or (np.diff(key[first]) <= 0).any() or (start[first] != end[second]).any():
+        return None
+    return face[first], face[second], far[first], far[second]
 
 
 @njit
-def _non_extreme_kernel(faces, normals, n):
-    """Boolean (n,): hull vertices that are not extreme points (they lie inside a face or on an edge).
+def _root(parent, a):
+    while parent[a] != a:
+        parent[a] = parent[parent[a]]
+        a = parent[a]
+    return a
 
-    A vertex is a corner of the polytope iff the normals of its incident faces span 3-D (its normal cone is
-    full-dimensional). With ties, quickhull may pick a point in the middle of a flat region or of an edge as
-    "farthest"; such a vertex has incident normals all parallel (rank 1) or all orthogonal to one direction
-    (rank 2), to FLAT_ANGLE.
-    """
-    m = faces.shape[0]
-    count = np.zeros(n + 1, dtype=np.int64)
-    for f in range(m):
-        for k in range(3):
-            count[faces[f, k] + 1] += 1
-    for v in range(n):
-        count[v + 1] += count[v]
-    fill = count[:-1].copy()
-    incident = np.empty(3 * m, dtype=np.int64)
-    for f in range(m):
+
+@njit
+def _facet_labels(points, faces, f, g, far_f, far_g, normals, offsets, delta):
+    """Qhull's merge of coplanar neighbours (Barber et al. 1996, section 4): faces f[k], g[k] across an edge join
+    one facet when each one's far vertex is within ``delta`` of the other's plane (``delta`` <= 0: when the four
+    points are exactly coplanar, orient3d = 0). Returns each face's facet label (union-find roots), (F,) int64."""
+    parent = np.arange(faces.shape[0])
+    for k in range(f.shape[0]):
+        a, b = f[k], g[k]
+        if delta > 0.0:
+            coplanar = (_distance(points, far_g[k], normals[a], offsets[a]) >= -delta
+                        and _distance(points, far_f[k], normals[b], offsets[b]) >= -delta)
+        else:
+            coplanar = orient3d(points, faces[a, 0], faces[a, 1], faces[a, 2], far_g[k]) == 0.0
+        if coplanar:
+            ra, rb = _root(parent, a), _root(parent, b)
+            parent[max(ra, rb)] = min(ra, rb)
+    for h in range(faces.shape[0]):
+        parent[h] = _root(parent, h)
+    return parent
+
+
+@njit
+def _on_at_most_two_facets(faces, labels, n):
+    """Boolean (n,): the mesh vertices on one facet (inside a flat region) or two (on the edge between two flat
+    regions) — not corners of the polytope, whose corners meet three facets or more."""
+    first = np.full(n, -1, dtype=np.int64)
+    second = np.full(n, -1, dtype=np.int64)
+    seen = np.zeros(n, dtype=np.bool_)
+    many = np.zeros(n, dtype=np.bool_)
+    for f in range(faces.shape[0]):
+        label = labels[f]
         for k in range(3):
             v = faces[f, k]
-            incident[fill[v]] = f
-            fill[v] += 1
-    flat = np.zeros(n, dtype=np.bool_)
-    for v in range(n):
-        start, stop = count[v], count[v + 1]
-        if stop == start:
-            continue
-        ref = normals[incident[start]]
-        best = 0.0
-        w = np.zeros(3)
-        for t in range(start + 1, stop):
-            q = normals[incident[t]]
-            c = np.array([ref[1] * q[2] - ref[2] * q[1], ref[2] * q[0] - ref[0] * q[2], ref[0] * q[1] - ref[1] * q[0]])
-            size = math.sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2])
-            if size > best:
-                best = size
-                w = c / size
-        if best <= FLAT_ANGLE:
-            flat[v] = True  # rank 1: inside a flat region
-            continue
-        rank2 = True
-        for t in range(start, stop):
-            q = normals[incident[t]]
-            if abs(q[0] * w[0] + q[1] * w[1] + q[2] * w[2]) > FLAT_ANGLE:
-                rank2 = False
-                break
-        flat[v] = rank2  # rank 2: on an edge
-    return flat
+            seen[v] = True
+            if first[v] == -1 or first[v] == label:
+                first[v] = label
+            elif second[v] == -1 or second[v] == label:
+                second[v] = label
+            else:
+                many[v] = True
+    return seen & ~many
+
+
+def _corner_hull(pts, simplex, delta):
+    """Quickhull with thick planes ``delta`` (-inf: exact), then the rebuild from the polytope's corners until
+    every vertex is a corner (ties and near-ties make quickhull keep points inside facets or on their edges; the
+    facets are merged as in ``_facet_labels``). Returns (faces (F, 3) into ``pts``, the rows removed as not
+    corners), or None when a rebuild finds the corners (numerically) flat."""
+    index = np.arange(pts.shape[0])
+    work = pts
+    removed = []
+    while True:
+        faces, ok = _quickhull_kernel(work, simplex, delta, 256)  # per-face arrays grow as needed
+        pairs = _edge_pairs(faces, work.shape[0]) if ok else None
+        if pairs is None:
+            return None
+        normals, offsets, _ = _face_planes(work, faces)
+        labels = _facet_labels(work, faces, *pairs, normals, offsets, delta)
+        flat = _on_at_most_two_facets(faces, labels, work.shape[0])
+        if not flat.any():
+            return index[faces], np.concatenate(removed or [np.zeros(0, dtype=np.int64)])
+        removed.append(index[flat])
+        keep = np.setdiff1d(np.unique(faces), np.flatnonzero(flat))
+        index, work = index[keep], work[keep]
+        simplex, status = _initial_simplex(work, max(delta, 0.0))
+        if status != 0:
+            return None
 
 
 def _volume_from_a_vertex(pts: np.ndarray, faces: np.ndarray) -> float:
@@ -529,44 +587,34 @@ def _dist2(pts, i, j):
 
 
 def _hull_3d(pts: np.ndarray) -> ConvexHull:
+    """Quickhull on ``pts`` (n, 3), |coordinates| < 1: with thick planes of MERGE_TOL s (s = the largest
+    |coordinate|) and certified (every point at most CERTIFY_TOL s above every face plane in floating point, so
+    at most HULL_TOL s exactly); when the certificate fails, the exact hull of the points' corners."""
     n = pts.shape[0]
     if n < 4:
         raise ValueError(f"points: a 3-D hull needs at least 4 points that are not coplanar, got {n} point(s)")
-    centre = (pts.max(axis=0) + pts.min(axis=0)) / 2.0
-    local = pts - centre  # work about the box centre: round-off then scales with the extent
-    scale = float(np.abs(local).sum(axis=1).max() + np.abs(centre).max() * 1e-4)
-    eps = HULL_EPS * max(scale, np.finfo(float).tiny)
-    index = np.arange(n)  # rows of `work` -> rows of `points`
-    work = local
-    while True:
-        faces, status = _quickhull_kernel(work, eps, 256)  # per-face arrays grow as needed
-        if status != 0:
-            raise ValueError(f"points: {_DEGENERATE_3D[status]}")
-        a, b, c = work[faces[:, 0]], work[faces[:, 1]], work[faces[:, 2]]
-        cross = np.cross(b - a, c - a)
-        twice_area = np.linalg.norm(cross, axis=1)
-        normals = cross / np.where(twice_area > 0, twice_area, 1.0)[:, None]
-        flat = _non_extreme_kernel(faces, normals, work.shape[0])
-        if not flat.any():
-            break
-        # ties made quickhull keep points inside faces or edges: rebuild from the true corners only
-        keep = np.setdiff1d(np.unique(faces), np.flatnonzero(flat))
-        index, work = index[keep], work[keep]
-    faces = index[faces]
-    offsets_local = np.einsum("ij,ij->i", normals, (a + b + c) / 3.0)
+    s = max(float(np.abs(pts).max()), np.finfo(float).tiny)
+    simplex, status = _initial_simplex(pts, MERGE_TOL * s)
+    if status != 0:
+        raise ValueError(f"points: {_DEGENERATE_3D[status]}")
+    built = _corner_hull(pts, simplex, MERGE_TOL * s)
+    if built is None or not _certified(pts, *built, CERTIFY_TOL * s):
+        built = _corner_hull(pts, simplex, -np.inf)  # exact: every point exactly inside every face plane
+    faces = built[0]
+    normals, offsets, twice_area = _face_planes(pts, faces)
     vertices = np.unique(faces)
-    # certify: a closed triangulated sphere (F = 2V - 4) that is convex at every edge (no vertex of the hull
-    # outside any face plane) is a convex polyhedron; quickhull only drops points inside the new hull, and for
-    # inputs small enough we also check every input point against every face plane
-    tol = CERTIFY_EPS * scale
-    if faces.shape[0] != 2 * vertices.shape[0] - 4 or not _convex_at_every_edge(local, faces, normals,
-                                                                                 offsets_local, tol):
-        raise ValueError(f"points: {_DEGENERATE_3D[4]}")
-    if n * faces.shape[0] <= FULL_CERTIFY_WORK and _max_outside_kernel(local, normals, offsets_local) > tol:
-        raise ValueError(f"points: {_DEGENERATE_3D[4]}")
     volume = _volume_from_a_vertex(pts, faces)
-    offsets = offsets_local + normals @ centre
     return ConvexHull(pts, vertices.astype(np.int64), faces, normals, offsets, volume, twice_area.sum() / 2.0)
+
+
+def _certified(pts, faces, removed, tol) -> bool:
+    """A closed triangulated sphere (F = 2V - 4) with every input point (the removed non-corners only, past
+    FULL_CERTIFY_WORK point-face pairs) at most ``tol`` above every face plane in floating point."""
+    if faces.shape[0] != 2 * np.unique(faces).shape[0] - 4:
+        return False
+    normals, offsets, _ = _face_planes(pts, faces)
+    rows = np.arange(pts.shape[0]) if pts.shape[0] * faces.shape[0] <= FULL_CERTIFY_WORK else removed
+    return rows.shape[0] == 0 or _max_outside_kernel(pts, rows, normals, offsets) <= tol
 
 
 def convex_hull(points) -> ConvexHull:
@@ -592,7 +640,7 @@ def convex_hull(points) -> ConvexHull:
     ------
     ValueError
         For fewer than d + 1 points, NaN or ±inf, or input of lower dimension (all points equal, collinear, or
-        coplanar in 3-D): such input has no d-dimensional hull.
+        coplanar in 3-D; in 3-D to MERGE_TOL × the largest |coordinate|): such input has no d-dimensional hull.
 
     Examples
     --------
@@ -651,31 +699,31 @@ def _polygon_convex_kernel(poly, tol):
 
 @njit
 def _mesh_convex_kernel(vertices, faces, tol):
-    """Every vertex on the inner side of every face plane (outward faces; all-inward faces are flipped)."""
+    """Every vertex on the inner side of every face plane (outward faces; all-inward faces are flipped). Each
+    face's normal is its cross product accurate to a few ulps (predicates.accurate_cross), so that a sliver face
+    (nearly collinear corners) has its exact plane's direction, not one tilted by ε / (the sine of its angle)."""
     m = faces.shape[0]
-    volume6 = 0.0
+    o = vertices[faces[0, 0]]
+    volume6 = 0.0  # about a vertex of the surface: no cancellation from the coordinates' magnitude
     for f in range(m):
-        a = vertices[faces[f, 0]]
-        b = vertices[faces[f, 1]]
-        c = vertices[faces[f, 2]]
+        a = vertices[faces[f, 0]] - o
+        b = vertices[faces[f, 1]] - o
+        c = vertices[faces[f, 2]] - o
         volume6 += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
                     + a[2] * (b[0] * c[1] - b[1] * c[0]))
     if volume6 == 0.0:
         return False
     sign = 1.0 if volume6 > 0.0 else -1.0
+    normal = np.empty(3)
     for f in range(m):
         a = vertices[faces[f, 0]]
-        u = vertices[faces[f, 1]] - a
-        v = vertices[faces[f, 2]] - a
-        nx = u[1] * v[2] - u[2] * v[1]
-        ny = u[2] * v[0] - u[0] * v[2]
-        nz = u[0] * v[1] - u[1] * v[0]
-        length = math.sqrt(nx * nx + ny * ny + nz * nz)
+        accurate_cross(vertices, faces[f, 0], faces[f, 1], faces[f, 2], normal)
+        length = math.sqrt(normal[0] ** 2 + normal[1] ** 2 + normal[2] ** 2)
         if length == 0.0:
             continue  # a degenerate (zero-area) triangle has no plane
         for k in range(vertices.shape[0]):
             w = vertices[k] - a
-            if sign * (nx * w[0] + ny * w[1] + nz * w[2]) > tol * length:
+            if sign * (normal[0] * w[0] + normal[1] * w[1] + normal[2] * w[2]) > tol * length:
                 return False
     return True
 
@@ -738,5 +786,5 @@ def is_convex(vertices, faces=None, *, tol: float = 1e-9) -> bool:
     if bad.any():
         f, e = (int(i) for i in np.argwhere(bad)[0])
         raise ValueError(f"faces[{f}, {e}] = {tri[f, e]} is not a vertex index in [0, {pts.shape[0]})")
-    return bool(_mesh_convex_kernel(pts - pts.mean(axis=0), tri.astype(np.int64), tol * scale))
+    return bool(_mesh_convex_kernel(pts, tri.astype(np.int64), tol * scale))  # uncentred: no rounding of corners
 
