@@ -16,6 +16,8 @@ from __future__ import annotations
 
 from fractions import Fraction
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -164,6 +166,15 @@ def test_parrys_five_points_have_qhulls_hull():
     hull = _check_against_qhull(PARRY_FIVE)
     assert set(hull.vertices.tolist()) == {0, 1, 2, 3, 4}
     assert hull.volume == pytest.approx(3.0140356175970085e-05, rel=1e-12)
+
+
+def test_parrys_whole_cloud_has_qhulls_hull():
+    """The whole 4,054-point float32 cloud of parry's convex-hull test (crates/parry3d/tests/geometry/convex_hull.rs,
+    ``test_complex_convex_hull``; exact duplicates included): Qhull's 190 vertices (by coordinates) and volume."""
+    pts = np.load(Path(__file__).parent / "data" / "parry_convex_hull_cloud.npy").astype(np.float64)
+    hull = _check_against_qhull(pts, exact_input=True)
+    assert len(hull.vertices) == 190
+    assert hull.volume == pytest.approx(0.18355884532196826, rel=1e-12)
 
 
 @given(float32_clouds())
