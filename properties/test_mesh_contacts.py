@@ -6,10 +6,10 @@ answers exactly as the TriangleMesh of its triangles (bit for bit); a sphere's d
 distance to the nearest triangle (an independent numpy closest-point oracle); the round-core kernel agrees with
 GJK's distance on apart pairs.
 
-Planted defects caught (each reverted): candidate_triangles dropping its last triangle (the brute-force
-properties fail: a touching pair missing, or another separation); the merge keeping the first touching triangle
-instead of the deepest (separation/normal differ from the brute force); the face region's offset taken as +h n
-instead of −h n (the sphere-depth oracle fails).
+Planted defects caught (each reverted): the pair kernels' candidates dropping their last triangle (the contact,
+closest-points, overlap/cast and sphere-depth properties fail); the merge keeping the first touching triangle
+instead of the deepest (the contact and sphere-depth properties fail); the face region's offset taken as +h n
+instead of −h n (the round-core-vs-GJK property fails: the point is on the wrong side).
 """
 from __future__ import annotations
 
