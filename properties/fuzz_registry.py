@@ -810,6 +810,13 @@ api("Compound", lambda shapes, positions, rotations: engine.Compound(shapes, pos
 api("Plane", engine.Plane)(lambda draw: dict(altitude=draw(_coord)))
 api("HeightCurve", lambda samples: engine.HeightCurve(_curve, samples=samples))(
     lambda draw: dict(samples=draw(st.integers(2, 128))))
+_GRID_TRIANGLES = np.array([[0, 1, 4], [0, 4, 3], [1, 2, 5], [1, 5, 4], [3, 4, 7], [3, 7, 6], [4, 5, 8], [4, 8, 7]])
+api("TriangleMesh", engine.TriangleMesh)(  # a 3 x 3 grid of random heights: no zero-area triangle
+    lambda draw: dict(vertices=np.column_stack([np.repeat([0.0, 1.0, 2.0], 3), draw(
+        hnp.arrays(np.float64, (9,), elements=_coord)), np.tile([0.0, 1.0, 2.0], 3)]), triangles=_GRID_TRIANGLES))
+api("HeightField", engine.HeightField)(
+    lambda draw: dict(heights=draw(hnp.arrays(np.float64, (3, 4), elements=_coord)),
+                      spacing=draw(pos(0.01, 3)), origin=draw(hnp.arrays(np.float64, (2,), elements=_coord))))
 
 
 def _per_body(value, n):

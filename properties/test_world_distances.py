@@ -208,6 +208,11 @@ def test_a_curve_or_any_ground_witness_is_on_the_ground(shapes, ground):
     apart = d > 0
     if hasattr(ground, "f"):
         np.testing.assert_allclose(pb[apart, 1], ground.height(pb[apart, 0]), atol=1e-9)
+    if hasattr(ground, "mesh"):  # a triangle surface: the ground's witness lies on one of its triangles
+        for k in np.flatnonzero(apart).tolist():
+            on = min(gjk_distance(pb[k][None], ground.mesh.vertices[t])[0] for t in ground.mesh.triangles)
+            assert on <= TOL
+        return
     # never farther than the gap straight down (the vertical distance bounds the distance)
     for k, i in enumerate(ids.tolist()):
         if apart[k]:

@@ -23,7 +23,7 @@ def reference_pairs(world) -> np.ndarray:
     """The pairs of ``every_pair`` whose shapes overlap, by the overlap table: canonical (k, 2)."""
     allp = every_pair(world)
     store = world._store.view()
-    grounds = {g: world.shape(g) for g in world.ids().tolist() if not store.bounded[g]}
-    result = answer(TABLE, "overlap", NarrowContext(store, grounds, kernel_scratch(store.points.shape[1]), 0.0, True),
+    shapes = {g: world.shape(g) for g in world.ids().tolist()}  # the kernels of grounds and surfaces read them
+    result = answer(TABLE, "overlap", NarrowContext(store, shapes, kernel_scratch(store.points.shape[1]), 0.0, True),
                     allp)
     return np.unique(allp[result.origin[result.out.status == TOUCHING]], axis=0).reshape(-1, 2)

@@ -11,8 +11,10 @@ Every other pair of convex kinds falls back on GJK distance / GJK + EPA + contac
 advancement for the time of impact (parry's explicit GJK fallback); their signed distance is GJK's distance apart
 and EPA's depth overlapping (engine.narrowphase.signed_distance, which also turns the closed forms' contact rows
 into witness points). A convex body against a ``HeightCurve``:
-engine.narrowphase.curve_ground (f is a Python callable). A ``Compound`` is answered part by part. Two grounds
-are never paired (both static): their cells are explicitly unsupported.
+engine.narrowphase.curve_ground (f is a Python callable). A convex body against a ``TriangleMesh`` or a
+``HeightField``: engine.narrowphase.mesh_contact (the candidate triangles under the body's box, one kernel per
+triangle, the active-edge fix, the merge), one compiled call per surface. A ``Compound`` is answered part by
+part. Two static-only shapes (grounds, surfaces) are never paired: their cells are explicitly unsupported.
 """
 from __future__ import annotations
 
@@ -24,6 +26,16 @@ from engine.narrowphase.box_box import contact_box_box, overlap_box_box
 from engine.narrowphase.contacts import APART, TOUCHING, contact_rows
 from engine.narrowphase.convex_cores import Cores, gjk_contact_rows, gjk_overlap_rows, pack_cores
 from engine.narrowphase.curve_ground import curve_contact_rows, curve_impact_times, curve_overlap
+from engine.narrowphase.mesh_contact import (
+    BODY_BOX,
+    BODY_HULL,
+    BODY_ROUND,
+    mesh_contact_rows,
+    mesh_distance_rows,
+    mesh_impact_times,
+    mesh_overlap_rows,
+    mesh_work,
+)
 from engine.narrowphase.plane import contact_points_plane, impact_time_plane
 from engine.narrowphase.segment_segment import contact_round_cores
 from engine.narrowphase.signed_distance import (
@@ -35,15 +47,16 @@ from engine.narrowphase.signed_distance import (
 )
 from engine.narrowphase.sphere_box import contact_sphere_box
 from engine.narrowphase.sphere_sweep import impact_time_spheres
+from engine.narrowphase.status import raise_for_status
 
 from .dispatch import PARTS, QUESTIONS, DispatchTable, Kernel, unsupported
 from .kinds import KINDS
-from .shapes import BOX, CAPSULE, CURVE, PLANE, SPHERE
+from .shapes import BOX, CAPSULE, CURVE, FIELD, HULL, MESH, PLANE, SPHERE
 
 __all__ = ["ROUND_CORES", "SPHERE_BOX", "BOX_BOX", "BOX_BOX_SAT", "BODY_PLANE", "GJK_DISTANCE", "GJK_EPA",
            "CURVE_OVERLAP", "CURVE_CONTACT", "SPHERE_SWEEP", "PLANE_SWEEP", "ADVANCEMENT", "CURVE_SWEEP",
            "ROUND_CORES_DISTANCE", "SPHERE_BOX_DISTANCE", "BOX_BOX_DISTANCE", "PLANE_DISTANCE", "GJK_EPA_DISTANCE",
-           "CURVE_DISTANCE", "ROWS", "TABLE"]
+           "CURVE_DISTANCE", "MESH_OVERLAP", "MESH_CONTACT", "MESH_SWEEP", "MESH_DISTANCE", "ROWS", "TABLE"]
 
 
 @njit(inline="always")
@@ -216,6 +229,39 @@ def _curve_times(ctx, pairs, sel, times) -> None:
                                        ctx.dt)
 
 
+def _by_surface(ctx, pairs, sel):
+    """Per triangle surface g (a TriangleMesh or HeightField) among the pairs ``pairs[sel]``: (g's MeshArrays, the
+    rows of its pairs, their bodies, each body's shape code of engine.narrowphase.mesh_contact, whether the
+    surface is the pair's first shape)."""
+    bodies = ctx.bodies
+    pr = pairs[sel]
+    kinds = bodies.kind[pr]
+    for g in np.unique(pr[(kinds == MESH.code) | (kinds == FIELD.code)]).tolist():
+        mine = (pr == g).any(axis=1)
+        rows, sub = sel[mine], pr[mine]
+        first = sub[:, 0] == g
+        body = np.ascontiguousarray(np.where(first, sub[:, 1], sub[:, 0]))
+        kind = bodies.kind[body]
+        shape = np.where(kind == BOX.code, BODY_BOX, np.where(kind == HULL.code, BODY_HULL, BODY_ROUND))
+        yield ctx.shapes[g].mesh, np.ascontiguousarray(rows), body, shape.astype(np.int64), first
+
+
+def _mesh_answers(kernel):
+    """A Kernel.run over the surfaces' pairs: ``kernel(mesh, bodies, shape, body, at, flip, out, work)`` per
+    surface, with scratch of its own (mesh_work: any thread may run it)."""
+    def run(ctx, pairs, sel, out):
+        for mesh, at, body, shape, first in _by_surface(ctx, pairs, sel):
+            kernel(mesh, ctx.bodies, shape, body, at, first, out, mesh_work(mesh, ctx.bodies.points.shape[1]))
+    return run
+
+
+def _mesh_times(ctx, pairs, sel, times) -> None:
+    for mesh, at, body, _, _ in _by_surface(ctx, pairs, sel):
+        status = np.zeros(at.shape[0], np.int64)
+        mesh_impact_times(mesh, ctx.bodies, body, float(ctx.dt), times, at, status)
+        raise_for_status(status, 256, "pairs")
+
+
 # -- the kernels ------------------------------------------------------------------------------------------
 ROUND_CORES = Kernel("closest points of segments", lambda ctx, pairs, sel, out:
                      _round_cores_rows(ctx.bodies, pairs, sel, out))
@@ -250,6 +296,12 @@ PLANE_DISTANCE = Kernel("lowest core point against a plane", lambda ctx, pairs, 
                         _plane_distances(ctx.bodies, pairs, sel, out))
 GJK_EPA_DISTANCE = Kernel("GJK distance / EPA depth", _gjk_distances)
 CURVE_DISTANCE = Kernel("distance to the sampled curve / depth under it", _curve_distances, threaded=False)
+MESH_OVERLAP = Kernel("candidate triangles: the first touching one", _mesh_answers(mesh_overlap_rows))
+MESH_CONTACT = Kernel("candidate triangles, active edges, the deepest triangle's normal",
+                      _mesh_answers(mesh_contact_rows))
+MESH_SWEEP = Kernel("conservative advancement against the triangles under the swept box", _mesh_times)
+MESH_DISTANCE = Kernel("the nearest triangle (best first by box distance)", _mesh_answers(mesh_distance_rows))
+_MESH = {"overlap": MESH_OVERLAP, "contact": MESH_CONTACT, "impact": MESH_SWEEP, "distance": MESH_DISTANCE}
 
 _GJK = {"overlap": GJK_DISTANCE, "contact": GJK_EPA, "impact": ADVANCEMENT, "distance": GJK_EPA_DISTANCE}
 _ROUND = {"overlap": ROUND_CORES, "contact": ROUND_CORES, "impact": ADVANCEMENT, "distance": ROUND_CORES_DISTANCE}
@@ -277,6 +329,8 @@ for _x, _a in enumerate(KINDS):
         elif CURVE in (_a, _b) and (_a.convex or _b.convex):  # ... and by its kind
             ROWS[_a, _b] = {"overlap": CURVE_OVERLAP, "contact": CURVE_CONTACT, "impact": CURVE_SWEEP,
                             "distance": CURVE_DISTANCE}
+        elif (MESH in (_a, _b) or FIELD in (_a, _b)) and (_a.convex or _b.convex):  # ... by its kind
+            ROWS[_a, _b] = _MESH
         else:
             ROWS[_a, _b] = dict.fromkeys(QUESTIONS, unsupported(
                 f"a {_a.name} against a {_b.name}: two static shapes are never paired"))

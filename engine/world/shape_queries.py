@@ -82,11 +82,12 @@ def as_box(lo, hi) -> tuple[np.ndarray, np.ndarray]:
 
 
 def as_query_shape(shape) -> Shape:
-    """A body shape for a query: TypeError for a non-shape, ValueError for a ground (its kind is unbounded)."""
+    """A body shape for a query: TypeError for a non-shape, ValueError for a ground or a triangle surface (a
+    static-only kind: never paired with another static shape)."""
     if not isinstance(shape, Shape):
         raise TypeError(f"shape must be an engine shape (Sphere, Box, Capsule, ConvexPolyhedron, Compound), got "
                         f"{type(shape).__name__}")
-    if not shape.kind.bounded:
+    if not shape.kind.bounded or shape.kind.static_only:
         raise ValueError(f"shape must be a body shape (sphere, box, capsule, hull or compound), got a "
                          f"{shape.kind.name}: a ground cannot be a query shape")
     return shape
@@ -118,22 +119,28 @@ def _pairs_with(bodies: np.ndarray, row: int) -> np.ndarray:
     return np.ascontiguousarray(np.stack([bodies, np.full(bodies.shape[0], row, np.int64)], axis=1))
 
 
-def overlapping_bodies(store: BodyStore, grounds: dict, has_compounds: bool, shape: Shape, mask: int) -> np.ndarray:
+def overlapping_bodies(store: BodyStore, grounds: dict, has_compounds: bool, shape: Shape, mask: int, *,
+                       shapes: dict | None = None) -> np.ndarray:
     """Ids (sorted int64) of the bodies (sensors included) with ``category & mask != 0`` whose shapes overlap
-    ``shape`` (closed), through the overlap rows of the dispatch table."""
+    ``shape`` (closed), through the overlap rows of the dispatch table. ``shapes``: {id: Shape} of every body whose
+    kernels read the shape object (the grounds, the triangle surfaces; default ``grounds``)."""
+    shapes = grounds if shapes is None else shapes
     with store.scratch(shape) as rows:
         q = rows[0]
         cand = bodies_in_box(store, grounds, store.lo[q].copy(), store.hi[q].copy(), mask)
         if cand.shape[0] == 0:
             return cand
-        ctx = _context(store, grounds, has_compounds or len(rows) > 1)
+        ctx = _context(store, shapes, has_compounds or len(rows) > 1)
         result = answer(TABLE, "overlap", ctx, _pairs_with(cand, q))
         return cand[np.unique(result.origin[result.out.status == TOUCHING])]
 
 
-def cast(store: BodyStore, grounds: dict, has_compounds: bool, shape: Shape, displacement, mask: int):
+def cast(store: BodyStore, grounds: dict, has_compounds: bool, shape: Shape, displacement, mask: int, *,
+         shapes: dict | None = None):
     """The first body (not a sensor, ``category & mask != 0``) that ``shape`` touches while translated by
-    ``fraction * displacement``, fraction in [0, 1]: a ``ShapeHit``, or None (see the module docstring)."""
+    ``fraction * displacement``, fraction in [0, 1]: a ``ShapeHit``, or None (see the module docstring);
+    ``shapes`` as ``overlapping_bodies``'."""
+    shapes = grounds if shapes is None else shapes
     with store.scratch(shape) as rows:
         q = rows[0]
         lo, hi = store.lo[q].copy(), store.hi[q].copy()
@@ -144,7 +151,7 @@ def cast(store: BodyStore, grounds: dict, has_compounds: bool, shape: Shape, dis
         has_parts = has_compounds or len(rows) > 1
         velocity = np.zeros_like(store.velocity)
         velocity[rows] = displacement
-        result = answer(TABLE, "impact", _context(store, grounds, has_parts, 1.0, velocity), _pairs_with(cand, q))
+        result = answer(TABLE, "impact", _context(store, shapes, has_parts, 1.0, velocity), _pairs_with(cand, q))
         times = np.full(cand.shape[0], np.inf)
         np.minimum.at(times, result.origin, result.out)
         first = int(np.argmin(times))  # the first of the minima: cand is sorted, so the lowest id wins ties
@@ -153,7 +160,7 @@ def cast(store: BodyStore, grounds: dict, has_compounds: bool, shape: Shape, dis
         fraction = float(min(max(times[first], 0.0), 1.0))
         body = int(cand[first])
         center = shape.center + fraction * displacement
-        point, normal = _touch(store, grounds, has_parts, shape, rows, body, center,
+        point, normal = _touch(store, shapes, has_parts, shape, rows, body, center,
                                _push_direction(store, body, center, displacement))
         return ShapeHit(fraction=fraction, body=body, point=point, normal=normal)
 
@@ -204,12 +211,29 @@ def _push_direction(store, body, center, displacement) -> np.ndarray:
     return np.array([0.0, -1.0, 0.0])
 
 
+def _surface_closest(store, grounds, has_parts, body, q):
+    """(point, normal) of a triangle surface and the query from the distance question: its witnesses (the normal
+    from the surface to the query, the point halfway between them); None when they meet."""
+    result = answer(TABLE, "distance", _context(store, grounds, has_parts), _pairs_with(np.array([body]), q),
+                    margin=np.inf)
+    out = result.out
+    if out.distance.shape[0] == 0 or not out.distance.min() > 0.0:
+        return None
+    best = int(np.argmin(out.distance))
+    return 0.5 * (out.point_a[best] + out.point_b[best]), out.normal[best]
+
+
 def _touch(store, grounds, has_parts, shape, rows, body, center, push_direction):
-    """Point and normal of the contact of the query (scratch rows ``rows``) at ``center`` with ``body``."""
+    """Point and normal of the contact of the query (scratch rows ``rows``) at ``center`` with ``body``
+    (``grounds``: the shapes the kernels read)."""
     q = rows[0]
     _place(store, q, shape, center)
     found = _contact(store, grounds, has_parts, body, q)
-    if found is None and store.bounded[body]:
+    kind = grounds[body].kind if body in grounds else None
+    surface = kind is not None and kind.bounded and kind.static_only  # a triangle surface: its core is its box
+    if found is None and surface:
+        found = _surface_closest(store, grounds, has_parts, body, q)
+    elif found is None and store.bounded[body]:
         found = _closest(store, body, rows)
     if found is None:  # cores that meet to round-off yet no contact row (or a ground): push the query in
         scale = max(1.0, float(np.abs(store.lo[q]).max()), float(np.abs(store.hi[q]).max()))

@@ -937,7 +937,8 @@ class World:
             For a ground (``Plane``, ``HeightCurve``) as ``shape``, a negative or over-64-bit ``mask``.
         """
         shape = as_query_shape(shape)
-        return overlapping_bodies(self._store, self._grounds, self._compounds > 0, shape, as_bits(mask, "mask"))
+        return overlapping_bodies(self._store, self._grounds, self._compounds > 0, shape, as_bits(mask, "mask"),
+                                  shapes=self._shapes)
 
     def cast_shape(self, shape, displacement, *, mask=ALL) -> ShapeHit | None:
         """The first body that ``shape`` touches when translated from its pose by ``fraction * displacement``,
@@ -994,7 +995,8 @@ class World:
         """
         shape = as_query_shape(shape)
         move = as_float_array(displacement, "displacement", shape=(3,))
-        return cast(self._store, self._grounds, self._compounds > 0, shape, move, as_bits(mask, "mask"))
+        return cast(self._store, self._grounds, self._compounds > 0, shape, move, as_bits(mask, "mask"),
+                    shapes=self._shapes)
 
     # -- the frame -----------------------------------------------------------------------------------------
     def _moving(self) -> np.ndarray:
@@ -1038,13 +1040,14 @@ class World:
         return self._exclusions.keys() if self._filtering or self._exclusions.pairs else None
 
     def _context(self, dt: float = 0.0) -> NarrowContext:
-        """What the kernels read: the store, the grounds, scratch for the store's points per body (kept while
-        that count holds), ``dt``, whether a compound is present, and this world's threads."""
+        """What the kernels read: the store, the shapes by id (the grounds' and the triangle surfaces' kernels read
+        their shape objects), scratch for the store's points per body (kept while that count holds), ``dt``,
+        whether a compound is present, and this world's threads."""
         view = self._store.view()
         m = view.points.shape[1]
         if self._scratch is None or self._scratch[0] != m:
             self._scratch = (m, kernel_scratch(m))
-        return NarrowContext(view, self._grounds, self._scratch[1], dt, self._compounds > 0, self.threads)
+        return NarrowContext(view, self._shapes, self._scratch[1], dt, self._compounds > 0, self.threads)
 
     def _answer(self, question: str, query: str):
         """Broad phase, then ``question`` for every candidate the AABB test and the filter keep: (candidate pairs of
