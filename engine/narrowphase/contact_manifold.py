@@ -29,9 +29,10 @@ import numpy as np
 
 from .._config import njit
 from .._validate import as_float_array, as_nonnegative, as_positive, as_radii, check_offsets, check_pairs
+from .box_box import FACE_KEEP_COS, TIE, prefer_face
 from .clipping import clip_polygon, clip_segment, closest_segments_2d, drop_flat_vertices
 from .contacts import PairFeatureNames, feature_name
-from .features import feature_polygon, plane_basis, support_set
+from .features import adjacent_face, feature_polygon, plane_basis, support_set
 from .gjk import MAX_ITERATIONS
 from .penetration import ONE_PAIR, penetration_pairs
 from .rescale import largest_coordinate, rescale_unit
@@ -86,16 +87,17 @@ class Contact:
 # ---------------------------------------------------------------------------------------------------------------
 
 #: the scratch of ``contact_points`` (see ``feature_scratch``)
-FeatureScratch = namedtuple("FeatureScratch", ["S", "FA", "FB", "buf", "basis"])
+FeatureScratch = namedtuple("FeatureScratch", ["S", "FA", "FB", "buf", "basis", "verts"])
 
 
 @njit
 def feature_scratch(n_max):
     """``contact_points``' scratch for shapes of up to ``n_max`` points, allocated here only: ``S`` (2 n_max + 2, 2)
     (support sets, then the clipped points), ``FA``, ``FB`` (n_max + 1, 2) (the two features), ``buf``
-    (2, 2 n_max + 2, 2) (Sutherland–Hodgman's two halves) and ``basis`` (2, 3) (the contact plane's frame)."""
+    (2, 2 n_max + 2, 2) (Sutherland–Hodgman's two halves), ``basis`` (2, 3) (the contact plane's frame) and
+    ``verts`` (2, n_max) int64 (the vertices of a reference and an incident face)."""
     return FeatureScratch(np.empty((2 * n_max + 2, 2)), np.empty((n_max + 1, 2)), np.empty((n_max + 1, 2)),
-                          np.empty((2, 2 * n_max + 2, 2)), np.empty((2, 3)))
+                          np.empty((2, 2 * n_max + 2, 2)), np.empty((2, 3)), np.empty((2, n_max), np.int64))
 
 
 @njit
@@ -158,6 +160,84 @@ def _drop_repeats(S, count, tol):
 
 
 @njit
+def _project(points, verts, count, basis, S):
+    """The rows ``verts[:count]`` of ``points`` projected on ``basis`` (2, 3) into S[:count]."""
+    for k in range(count):
+        v = verts[k]
+        for r in range(2):
+            S[k, r] = points[v, 0] * basis[r, 0] + points[v, 1] * basis[r, 1] + points[v, 2] * basis[r, 2]
+
+
+@njit
+def _clipped_face(px, py, pz, level_i, level, m, tol, scratch, out_points, start, count):
+    """Lift the clipped polygon S[:count] (coordinates (s, t) on ``scratch.basis`` = (u, v), the plane ⊥ the
+    reference normal m) onto the incident face's plane p·x = ``level_i`` (p = (px, py, pz) unit, p·m < 0): the
+    point x = s u + t v + z m of that plane has z = (level_i − s p·u − t p·v) / p·m. Each point at most ``tol``
+    above the reference face (z <= ``level`` + tol) goes into out_points[start:], halfway between itself and the
+    reference face. Returns the number written."""
+    S, basis = scratch.S, scratch.basis
+    mu = px * basis[0, 0] + py * basis[0, 1] + pz * basis[0, 2]
+    mv = px * basis[1, 0] + py * basis[1, 1] + pz * basis[1, 2]
+    mm = px * m[0] + py * m[1] + pz * m[2]
+    kept = 0
+    for i in range(count):
+        z = (level_i - S[i, 0] * mu - S[i, 1] * mv) / mm
+        if level - z >= -tol:
+            h = 0.5 * (z + level)
+            for c in range(3):
+                out_points[start + kept, c] = S[i, 0] * basis[0, c] + S[i, 1] * basis[1, c] + h * m[c]
+            kept += 1
+    return kept
+
+
+@njit
+def _face_manifold(pa, pb, nx, ny, nz, depth, size, tol, scratch, out_points, start):
+    """The face manifold of two overlapping polyhedra along the penetration normal n (box–box's ``prefer_face``
+    on hulls): the face of either hull through its support vertex nearest to n (A's along n, B's along −n; A's
+    on a tie) is the *reference* face when ``prefer_face`` keeps it (within arccos(``FACE_KEEP_COS``) of n);
+    the other hull's face most anti-parallel to it is the *incident* face, clipped by the reference face's side
+    planes (Sutherland–Hodgman in the plane ⊥ its normal, Ericson 8.3.4), its points below the reference face
+    kept, each halfway between itself and that face (ODE's ``dBoxBox``, Box2D's ``b2ClipPolygons``). Returns
+    (kind_a, kind_b, count): the reference FACE and the incident feature its count spans; count 0 when no face
+    is kept (the support features answer)."""
+    verts = scratch.verts
+    count_a, cos_a, ax, ay, az, level_a = adjacent_face(pa, nx, ny, nz, FACE_KEEP_COS, tol, verts[0])
+    count_b, cos_b, bx, by, bz, level_b = adjacent_face(pb, -nx, -ny, -nz, FACE_KEEP_COS, tol, verts[1])
+    if count_a < 3 and count_b < 3:
+        return 0, 0, 0
+    ref_is_a = count_a >= 3 and (count_b < 3 or cos_a >= cos_b)
+    ref, inc = (pa, pb) if ref_is_a else (pb, pa)
+    m = (ax, ay, az) if ref_is_a else (bx, by, bz)
+    level, count, cos = (level_a, count_a, cos_a) if ref_is_a else (level_b, count_b, cos_b)
+    ref_verts = verts[0] if ref_is_a else verts[1]
+    bottom = np.inf  # the incident hull's lowest level along m: the face's overlap is level − bottom
+    for i in range(inc.shape[0]):
+        bottom = min(bottom, inc[i, 0] * m[0] + inc[i, 1] * m[1] + inc[i, 2] * m[2])
+    if not prefer_face(level - bottom, depth, cos, TIE * size):
+        return 0, 0, 0
+    inc_verts = verts[1] if ref_is_a else verts[0]
+    count_i, _, px, py, pz, level_i = adjacent_face(inc, -m[0], -m[1], -m[2], -1.0, tol, inc_verts)
+    mm = px * m[0] + py * m[1] + pz * m[2]  # the incident normal along −m: below −1e-6, a plane over the face
+    if count_i < 3 or not mm < -1e-6:
+        return 0, 0, 0
+    S, basis = scratch.S, scratch.basis
+    plane_basis(m[0], m[1], m[2], basis)
+    _project(ref, ref_verts, count, basis, S)
+    nr = feature_polygon(S, count, tol, scratch.FA)
+    _project(inc, inc_verts, count_i, basis, S)
+    ni = feature_polygon(S, count_i, tol, scratch.FB)
+    if nr < 3 or ni < 3:
+        return 0, 0, 0
+    half, clipped = clip_polygon(scratch.FB, ni, scratch.FA, nr, scratch.buf)
+    for i in range(clipped):
+        S[i, 0], S[i, 1] = scratch.buf[half, i, 0], scratch.buf[half, i, 1]
+    clipped = drop_flat_vertices(S, _drop_repeats(S, clipped, tol), tol)
+    kept = _clipped_face(px, py, pz, level_i, level, m, tol, scratch, out_points, start, clipped)
+    kind = min(kept, 3)
+    return (3, kind, kept) if ref_is_a else (kind, 3, kept)
+
+
+@njit
 def contact_points(pa, pb, ra, rb, n, ca, cb, ftol, scratch, out_points, start):
     """The "where" of one pair: hull(pa) swept by radius ``ra`` against hull(pb) swept by ``rb`` ((n, 3), (m, 3)
     float64), given the contact normal ``n`` (3,) (A towards B) and the closest (or deepest) points ``ca``, ``cb``
@@ -167,7 +247,8 @@ def contact_points(pa, pb, ra, rb, n, ca, cb, ftol, scratch, out_points, start):
     ``out_points[start:]`` (room for n + m + 1 rows); returns (kind_a, kind_b, count), kind 1 vertex, 2 edge, 3
     face. ``scratch`` from ``feature_scratch`` (max(n, m) points)."""
     S, basis = scratch.S, scratch.basis
-    tol = ftol * _pair_size(pa, pb, ra, rb)
+    size = _pair_size(pa, pb, ra, rb)
+    tol = ftol * size
     nx, ny, nz = n[0], n[1], n[2]
     top_a = -np.inf
     for i in range(pa.shape[0]):
@@ -175,6 +256,10 @@ def contact_points(pa, pb, ra, rb, n, ca, cb, ftol, scratch, out_points, start):
     bot_b = np.inf
     for i in range(pb.shape[0]):
         bot_b = min(bot_b, pb[i, 0] * nx + pb[i, 1] * ny + pb[i, 2] * nz)
+    if ra == 0.0 and rb == 0.0 and top_a >= bot_b:  # overlapping polyhedra: a face within the angle keeps them
+        kind_a, kind_b, kept = _face_manifold(pa, pb, nx, ny, nz, top_a - bot_b, size, tol, scratch, out_points, start)
+        if kept > 0:
+            return kind_a, kind_b, kept
     plane_basis(nx, ny, nz, basis)
     na = feature_polygon(S, support_set(pa, nx, ny, nz, top_a, tol, 1, basis, S), tol, scratch.FA)
     nb = feature_polygon(S, support_set(pb, nx, ny, nz, bot_b, tol, -1, basis, S), tol, scratch.FB)
