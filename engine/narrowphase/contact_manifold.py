@@ -16,6 +16,17 @@ planes:
     F_A <- feature of A's support set along n;  F_B <- feature of B's support set along −n
     points <- F_A ∩ F_B in the plane ⊥ n, repeated and flat points dropped, lifted to the mid-plane
 
+Overlapping polyhedra (no radius) whose normal n lies within arccos(``box_box.FACE_KEEP_COS``) = 17.8° of a face
+normal take their points from that face instead, by box–box's rule (``box_box.prefer_face``, ODE's
+``fudge_factor``): between nearly flush hulls the penetration solver's n is often an edge–edge direction between
+the two face normals and its support sets are a vertex or an edge, one point where the hulls touch over a
+polygon. The face of either hull through its support vertex nearest to n (``features.adjacent_face``) is the
+reference face; the other hull's most anti-parallel face, when within the angle too (the faces nearly flush), is
+clipped by its side planes (as ``box_box``'s face manifold), and the clipped points below the reference face —
+points of both hulls, so between the two support planes ⊥ n — are moved along n onto their mid-plane. The
+separation and the normal stay the penetration chain's: translating B by depth · n separates the pair; only the
+points and the feature names come from the face.
+
 Kernels (public within the package): ``feature_scratch`` (``FeatureScratch``), ``contact_points`` (one pair) and
 ``contact_points_pairs`` (k pairs in one compiled loop).
 """
@@ -63,6 +74,8 @@ class Contact:
     points : numpy.ndarray, shape (q, 3), float64
         The contact point(s) on the mid-plane between the two support planes: q = 1 for a vertex or crossing
         edges, 2 for an edge on a face or parallel edges, up to the clipped polygon's size for face–face.
+        Nearly flush overlapping polyhedra (faces within arccos(``FACE_KEEP_COS``) of the normal): the points of
+        the face manifold, on the same mid-plane (module docstring).
     closest_a, closest_b : numpy.ndarray, shape (3,), float64
         GJK's closest (or EPA's deepest) points of A and of B.
     """
@@ -169,12 +182,13 @@ def _project(points, verts, count, basis, S):
 
 
 @njit
-def _clipped_face(px, py, pz, level_i, level, m, tol, scratch, out_points, start, count):
+def _clipped_face(px, py, pz, level_i, level, m, n, mid, tol, scratch, out_points, start, count):
     """Lift the clipped polygon S[:count] (coordinates (s, t) on ``scratch.basis`` = (u, v), the plane ⊥ the
     reference normal m) onto the incident face's plane p·x = ``level_i`` (p = (px, py, pz) unit, p·m < 0): the
-    point x = s u + t v + z m of that plane has z = (level_i − s p·u − t p·v) / p·m. Each point at most ``tol``
-    above the reference face (z <= ``level`` + tol) goes into out_points[start:], halfway between itself and the
-    reference face. Returns the number written."""
+    point y = s u + t v + z m of that plane has z = (level_i − s p·u − t p·v) / p·m. Each y at most ``tol``
+    above the reference face (z <= ``level`` + tol) lies in both hulls, so between the two support planes ⊥ n;
+    it goes into out_points[start:] moved along n onto their mid-plane x·n = ``mid`` (at most half the depth
+    away). Returns the number written."""
     S, basis = scratch.S, scratch.basis
     mu = px * basis[0, 0] + py * basis[0, 1] + pz * basis[0, 2]
     mv = px * basis[1, 0] + py * basis[1, 1] + pz * basis[1, 2]
@@ -183,21 +197,26 @@ def _clipped_face(px, py, pz, level_i, level, m, tol, scratch, out_points, start
     for i in range(count):
         z = (level_i - S[i, 0] * mu - S[i, 1] * mv) / mm
         if level - z >= -tol:
-            h = 0.5 * (z + level)
-            for c in range(3):
-                out_points[start + kept, c] = S[i, 0] * basis[0, c] + S[i, 1] * basis[1, c] + h * m[c]
+            y0 = S[i, 0] * basis[0, 0] + S[i, 1] * basis[1, 0] + z * m[0]
+            y1 = S[i, 0] * basis[0, 1] + S[i, 1] * basis[1, 1] + z * m[1]
+            y2 = S[i, 0] * basis[0, 2] + S[i, 1] * basis[1, 2] + z * m[2]
+            lift = mid - (y0 * n[0] + y1 * n[1] + y2 * n[2])
+            out_points[start + kept, 0] = y0 + lift * n[0]
+            out_points[start + kept, 1] = y1 + lift * n[1]
+            out_points[start + kept, 2] = y2 + lift * n[2]
             kept += 1
     return kept
 
 
 @njit
-def _face_manifold(pa, pb, nx, ny, nz, depth, size, tol, scratch, out_points, start):
+def _face_manifold(pa, pb, nx, ny, nz, top_a, bot_b, size, tol, scratch, out_points, start):
     """The face manifold of two overlapping polyhedra along the penetration normal n (box–box's ``prefer_face``
     on hulls): the face of either hull through its support vertex nearest to n (A's along n, B's along −n; A's
     on a tie) is the *reference* face when ``prefer_face`` keeps it (within arccos(``FACE_KEEP_COS``) of n);
-    the other hull's face most anti-parallel to it is the *incident* face, clipped by the reference face's side
-    planes (Sutherland–Hodgman in the plane ⊥ its normal, Ericson 8.3.4), its points below the reference face
-    kept, each halfway between itself and that face (ODE's ``dBoxBox``, Box2D's ``b2ClipPolygons``). Returns
+    the other hull's face through its support vertex most anti-parallel to it, if within that angle too (the
+    faces nearly flush), is the *incident* face, clipped by the reference face's side planes (Sutherland–Hodgman
+    in the plane ⊥ its normal, Ericson 8.3.4; ODE's ``dBoxBox``, Box2D's ``b2ClipPolygons``), its points below
+    the reference face kept and moved along n onto the mid-plane of the two support planes. Returns
     (kind_a, kind_b, count): the reference FACE and the incident feature its count spans; count 0 when no face
     is kept (the support features answer)."""
     verts = scratch.verts
@@ -213,12 +232,13 @@ def _face_manifold(pa, pb, nx, ny, nz, depth, size, tol, scratch, out_points, st
     bottom = np.inf  # the incident hull's lowest level along m: the face's overlap is level − bottom
     for i in range(inc.shape[0]):
         bottom = min(bottom, inc[i, 0] * m[0] + inc[i, 1] * m[1] + inc[i, 2] * m[2])
-    if not prefer_face(level - bottom, depth, cos, TIE * size):
+    if not prefer_face(level - bottom, top_a - bot_b, cos, TIE * size):
         return 0, 0, 0
     inc_verts = verts[1] if ref_is_a else verts[0]
-    count_i, _, px, py, pz, level_i = adjacent_face(inc, -m[0], -m[1], -m[2], -1.0, tol, inc_verts)
-    mm = px * m[0] + py * m[1] + pz * m[2]  # the incident normal along −m: below −1e-6, a plane over the face
-    if count_i < 3 or not mm < -1e-6:
+    # the two faces nearly flush: the incident face within the angle too (a steeper one touches by the edge or
+    # the vertex that the support sets give)
+    count_i, _, px, py, pz, level_i = adjacent_face(inc, -m[0], -m[1], -m[2], FACE_KEEP_COS, tol, inc_verts)
+    if count_i < 3:
         return 0, 0, 0
     S, basis = scratch.S, scratch.basis
     plane_basis(m[0], m[1], m[2], basis)
@@ -232,7 +252,9 @@ def _face_manifold(pa, pb, nx, ny, nz, depth, size, tol, scratch, out_points, st
     for i in range(clipped):
         S[i, 0], S[i, 1] = scratch.buf[half, i, 0], scratch.buf[half, i, 1]
     clipped = drop_flat_vertices(S, _drop_repeats(S, clipped, tol), tol)
-    kept = _clipped_face(px, py, pz, level_i, level, m, tol, scratch, out_points, start, clipped)
+    mid = 0.5 * (top_a + bot_b)
+    kept = _clipped_face(px, py, pz, level_i, level, m, (nx, ny, nz), mid, tol, scratch, out_points, start,
+                         clipped)
     kind = min(kept, 3)
     return (3, kind, kept) if ref_is_a else (kind, 3, kept)
 
@@ -257,7 +279,7 @@ def contact_points(pa, pb, ra, rb, n, ca, cb, ftol, scratch, out_points, start):
     for i in range(pb.shape[0]):
         bot_b = min(bot_b, pb[i, 0] * nx + pb[i, 1] * ny + pb[i, 2] * nz)
     if ra == 0.0 and rb == 0.0 and top_a >= bot_b:  # overlapping polyhedra: a face within the angle keeps them
-        kind_a, kind_b, kept = _face_manifold(pa, pb, nx, ny, nz, top_a - bot_b, size, tol, scratch, out_points, start)
+        kind_a, kind_b, kept = _face_manifold(pa, pb, nx, ny, nz, top_a, bot_b, size, tol, scratch, out_points, start)
         if kept > 0:
             return kind_a, kind_b, kept
     plane_basis(nx, ny, nz, basis)
