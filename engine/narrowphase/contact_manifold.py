@@ -16,6 +16,17 @@ planes:
     F_A <- feature of A's support set along n;  F_B <- feature of B's support set along −n
     points <- F_A ∩ F_B in the plane ⊥ n, repeated and flat points dropped, lifted to the mid-plane
 
+Overlapping polyhedra (no radius) whose normal n lies within arccos(``box_box.FACE_KEEP_COS``) = 17.8° of a face
+normal take their points from that face instead, by box–box's rule (``box_box.prefer_face``, ODE's
+``fudge_factor``): between nearly flush hulls the penetration solver's n is often an edge–edge direction between
+the two face normals and its support sets are a vertex or an edge, one point where the hulls touch over a
+polygon. The face of either hull through its support vertex nearest to n (``features.adjacent_face``) is the
+reference face; the other hull's most anti-parallel face, when within the angle too (the faces nearly flush), is
+clipped by its side planes (as ``box_box``'s face manifold), and the clipped points below the reference face —
+points of both hulls, so between the two support planes ⊥ n — are moved along n onto their mid-plane. The
+separation and the normal stay the penetration chain's: translating B by depth · n separates the pair; only the
+points and the feature names come from the face.
+
 Kernels (public within the package): ``feature_scratch`` (``FeatureScratch``), ``contact_points`` (one pair) and
 ``contact_points_pairs`` (k pairs in one compiled loop).
 """
@@ -29,9 +40,10 @@ import numpy as np
 
 from .._config import njit
 from .._validate import as_float_array, as_nonnegative, as_positive, as_radii, check_offsets, check_pairs
+from .box_box import FACE_KEEP_COS, TIE, prefer_face
 from .clipping import clip_polygon, clip_segment, closest_segments_2d, drop_flat_vertices
 from .contacts import PairFeatureNames, feature_name
-from .features import feature_polygon, plane_basis, support_set
+from .features import adjacent_face, feature_polygon, plane_basis, support_set
 from .gjk import MAX_ITERATIONS
 from .penetration import ONE_PAIR, penetration_pairs
 from .rescale import largest_coordinate, rescale_unit
@@ -62,6 +74,8 @@ class Contact:
     points : numpy.ndarray, shape (q, 3), float64
         The contact point(s) on the mid-plane between the two support planes: q = 1 for a vertex or crossing
         edges, 2 for an edge on a face or parallel edges, up to the clipped polygon's size for face–face.
+        Nearly flush overlapping polyhedra (faces within arccos(``FACE_KEEP_COS``) of the normal): the points of
+        the face manifold, on the same mid-plane (module docstring).
     closest_a, closest_b : numpy.ndarray, shape (3,), float64
         GJK's closest (or EPA's deepest) points of A and of B.
     """
@@ -86,16 +100,17 @@ class Contact:
 # ---------------------------------------------------------------------------------------------------------------
 
 #: the scratch of ``contact_points`` (see ``feature_scratch``)
-FeatureScratch = namedtuple("FeatureScratch", ["S", "FA", "FB", "buf", "basis"])
+FeatureScratch = namedtuple("FeatureScratch", ["S", "FA", "FB", "buf", "basis", "verts"])
 
 
 @njit
 def feature_scratch(n_max):
     """``contact_points``' scratch for shapes of up to ``n_max`` points, allocated here only: ``S`` (2 n_max + 2, 2)
     (support sets, then the clipped points), ``FA``, ``FB`` (n_max + 1, 2) (the two features), ``buf``
-    (2, 2 n_max + 2, 2) (Sutherland–Hodgman's two halves) and ``basis`` (2, 3) (the contact plane's frame)."""
+    (2, 2 n_max + 2, 2) (Sutherland–Hodgman's two halves), ``basis`` (2, 3) (the contact plane's frame) and
+    ``verts`` (2, n_max) int64 (the vertices of a reference and an incident face)."""
     return FeatureScratch(np.empty((2 * n_max + 2, 2)), np.empty((n_max + 1, 2)), np.empty((n_max + 1, 2)),
-                          np.empty((2, 2 * n_max + 2, 2)), np.empty((2, 3)))
+                          np.empty((2, 2 * n_max + 2, 2)), np.empty((2, 3)), np.empty((2, n_max), np.int64))
 
 
 @njit
@@ -158,6 +173,93 @@ def _drop_repeats(S, count, tol):
 
 
 @njit
+def _project(points, verts, count, basis, S):
+    """The rows ``verts[:count]`` of ``points`` projected on ``basis`` (2, 3) into S[:count]."""
+    for k in range(count):
+        v = verts[k]
+        for r in range(2):
+            S[k, r] = points[v, 0] * basis[r, 0] + points[v, 1] * basis[r, 1] + points[v, 2] * basis[r, 2]
+
+
+@njit
+def _clipped_face(px, py, pz, level_i, level, m, n, mid, tol, scratch, out_points, start, count):
+    """Lift the clipped polygon S[:count] (coordinates (s, t) on ``scratch.basis`` = (u, v), the plane ⊥ the
+    reference normal m) onto the incident face's plane p·x = ``level_i`` (p = (px, py, pz) unit, p·m < 0): the
+    point y = s u + t v + z m of that plane has z = (level_i − s p·u − t p·v) / p·m. Each y at most ``tol``
+    above the reference face (z <= ``level`` + tol) lies in both hulls, so between the two support planes ⊥ n;
+    it goes into out_points[start:] moved along n onto their mid-plane x·n = ``mid`` (at most half the depth
+    away). Returns the number written."""
+    S, basis = scratch.S, scratch.basis
+    mu = px * basis[0, 0] + py * basis[0, 1] + pz * basis[0, 2]
+    mv = px * basis[1, 0] + py * basis[1, 1] + pz * basis[1, 2]
+    mm = px * m[0] + py * m[1] + pz * m[2]
+    kept = 0
+    for i in range(count):
+        z = (level_i - S[i, 0] * mu - S[i, 1] * mv) / mm
+        if level - z >= -tol:
+            y0 = S[i, 0] * basis[0, 0] + S[i, 1] * basis[1, 0] + z * m[0]
+            y1 = S[i, 0] * basis[0, 1] + S[i, 1] * basis[1, 1] + z * m[1]
+            y2 = S[i, 0] * basis[0, 2] + S[i, 1] * basis[1, 2] + z * m[2]
+            lift = mid - (y0 * n[0] + y1 * n[1] + y2 * n[2])
+            out_points[start + kept, 0] = y0 + lift * n[0]
+            out_points[start + kept, 1] = y1 + lift * n[1]
+            out_points[start + kept, 2] = y2 + lift * n[2]
+            kept += 1
+    return kept
+
+
+@njit
+def _face_manifold(pa, pb, nx, ny, nz, top_a, bot_b, size, tol, scratch, out_points, start):
+    """The face manifold of two overlapping polyhedra along the penetration normal n (box–box's ``prefer_face``
+    on hulls): the face of either hull through its support vertex nearest to n (A's along n, B's along −n; A's
+    on a tie) is the *reference* face when ``prefer_face`` keeps it (within arccos(``FACE_KEEP_COS``) of n);
+    the other hull's face through its support vertex most anti-parallel to it, if within that angle too (the
+    faces nearly flush), is the *incident* face, clipped by the reference face's side planes (Sutherland–Hodgman
+    in the plane ⊥ its normal, Ericson 8.3.4; ODE's ``dBoxBox``, Box2D's ``b2ClipPolygons``), its points below
+    the reference face kept and moved along n onto the mid-plane of the two support planes. Returns
+    (kind_a, kind_b, count): the reference FACE and the incident feature its count spans; count 0 when no face
+    is kept (the support features answer)."""
+    verts = scratch.verts
+    count_a, cos_a, ax, ay, az, level_a = adjacent_face(pa, nx, ny, nz, FACE_KEEP_COS, tol, verts[0])
+    count_b, cos_b, bx, by, bz, level_b = adjacent_face(pb, -nx, -ny, -nz, FACE_KEEP_COS, tol, verts[1])
+    if count_a < 3 and count_b < 3:
+        return 0, 0, 0
+    ref_is_a = count_a >= 3 and (count_b < 3 or cos_a >= cos_b)
+    ref, inc = (pa, pb) if ref_is_a else (pb, pa)
+    m = (ax, ay, az) if ref_is_a else (bx, by, bz)
+    level, count, cos = (level_a, count_a, cos_a) if ref_is_a else (level_b, count_b, cos_b)
+    ref_verts = verts[0] if ref_is_a else verts[1]
+    bottom = np.inf  # the incident hull's lowest level along m: the face's overlap is level − bottom
+    for i in range(inc.shape[0]):
+        bottom = min(bottom, inc[i, 0] * m[0] + inc[i, 1] * m[1] + inc[i, 2] * m[2])
+    if not prefer_face(level - bottom, top_a - bot_b, cos, TIE * size):
+        return 0, 0, 0
+    inc_verts = verts[1] if ref_is_a else verts[0]
+    # the two faces nearly flush: the incident face within the angle too (a steeper one touches by the edge or
+    # the vertex that the support sets give)
+    count_i, _, px, py, pz, level_i = adjacent_face(inc, -m[0], -m[1], -m[2], FACE_KEEP_COS, tol, inc_verts)
+    if count_i < 3:
+        return 0, 0, 0
+    S, basis = scratch.S, scratch.basis
+    plane_basis(m[0], m[1], m[2], basis)
+    _project(ref, ref_verts, count, basis, S)
+    nr = feature_polygon(S, count, tol, scratch.FA)
+    _project(inc, inc_verts, count_i, basis, S)
+    ni = feature_polygon(S, count_i, tol, scratch.FB)
+    if nr < 3 or ni < 3:
+        return 0, 0, 0
+    half, clipped = clip_polygon(scratch.FB, ni, scratch.FA, nr, scratch.buf)
+    for i in range(clipped):
+        S[i, 0], S[i, 1] = scratch.buf[half, i, 0], scratch.buf[half, i, 1]
+    clipped = drop_flat_vertices(S, _drop_repeats(S, clipped, tol), tol)
+    mid = 0.5 * (top_a + bot_b)
+    kept = _clipped_face(px, py, pz, level_i, level, m, (nx, ny, nz), mid, tol, scratch, out_points, start,
+                         clipped)
+    kind = min(kept, 3)
+    return (3, kind, kept) if ref_is_a else (kind, 3, kept)
+
+
+@njit
 def contact_points(pa, pb, ra, rb, n, ca, cb, ftol, scratch, out_points, start):
     """The "where" of one pair: hull(pa) swept by radius ``ra`` against hull(pb) swept by ``rb`` ((n, 3), (m, 3)
     float64), given the contact normal ``n`` (3,) (A towards B) and the closest (or deepest) points ``ca``, ``cb``
@@ -167,7 +269,8 @@ def contact_points(pa, pb, ra, rb, n, ca, cb, ftol, scratch, out_points, start):
     ``out_points[start:]`` (room for n + m + 1 rows); returns (kind_a, kind_b, count), kind 1 vertex, 2 edge, 3
     face. ``scratch`` from ``feature_scratch`` (max(n, m) points)."""
     S, basis = scratch.S, scratch.basis
-    tol = ftol * _pair_size(pa, pb, ra, rb)
+    size = _pair_size(pa, pb, ra, rb)
+    tol = ftol * size
     nx, ny, nz = n[0], n[1], n[2]
     top_a = -np.inf
     for i in range(pa.shape[0]):
@@ -175,6 +278,10 @@ def contact_points(pa, pb, ra, rb, n, ca, cb, ftol, scratch, out_points, start):
     bot_b = np.inf
     for i in range(pb.shape[0]):
         bot_b = min(bot_b, pb[i, 0] * nx + pb[i, 1] * ny + pb[i, 2] * nz)
+    if ra == 0.0 and rb == 0.0 and top_a >= bot_b:  # overlapping polyhedra: a face within the angle keeps them
+        kind_a, kind_b, kept = _face_manifold(pa, pb, nx, ny, nz, top_a, bot_b, size, tol, scratch, out_points, start)
+        if kept > 0:
+            return kind_a, kind_b, kept
     plane_basis(nx, ny, nz, basis)
     na = feature_polygon(S, support_set(pa, nx, ny, nz, top_a, tol, 1, basis, S), tol, scratch.FA)
     nb = feature_polygon(S, support_set(pb, nx, ny, nz, bot_b, tol, -1, basis, S), tol, scratch.FB)

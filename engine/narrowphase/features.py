@@ -17,7 +17,7 @@ import numpy as np
 from .._config import njit
 from ..bounding.hull import HULL_EPS, monotone_chain
 
-__all__ = ["plane_basis", "support_set", "feature_polygon"]
+__all__ = ["plane_basis", "support_set", "feature_polygon", "adjacent_face"]
 
 
 @njit
@@ -156,3 +156,77 @@ def feature_polygon(P, m, tol, F):
     F[0, 0], F[0, 1] = P[i_min, 0], P[i_min, 1]
     F[1, 0], F[1, 1] = P[i_max, 0], P[i_max, 1]
     return 2
+
+
+@njit
+def adjacent_face(points, nx, ny, nz, min_cos, tol, verts):
+    """The face of hull(``points``) (n, 3) through its support vertex v along the unit direction (nx, ny, nz)
+    whose outward unit normal m is nearest to it, if m·n >= ``min_cos``: the plane through v and two more points
+    p_i, p_j (m ∝ (p_i − v) × (p_j − v), turned towards n) with every point at most ``tol`` above it, the largest
+    m·n first (the first found among equals). Its vertices (the points within ``tol`` of the plane) go into
+    ``verts`` (>= n,) int64. Returns (count, cos, mx, my, mz, level): count 0 when no such face exists (fewer
+    than 3 points off a line through v, or every face farther than ``min_cos``); level = max over the face's
+    vertices of x·m.
+
+    A face through v at angle φ from n has its vertices x within |x − v| |m − n| = |x − v| √(2 (1 − cos φ)) of
+    v's support plane, so only those points are tried as p_i, p_j when ``min_cos`` > 0 (|x − v| at most the
+    diagonal of the points' bounding box)."""
+    n = points.shape[0]
+    top = -np.inf
+    s = 0
+    diagonal2 = 0.0
+    for i in range(n):
+        h = points[i, 0] * nx + points[i, 1] * ny + points[i, 2] * nz
+        if h > top:
+            top, s = h, i
+    for c in range(3):
+        lo, hi = np.inf, -np.inf
+        for i in range(n):
+            lo, hi = min(lo, points[i, c]), max(hi, points[i, c])
+        diagonal2 += (hi - lo) ** 2
+    diagonal = math.sqrt(diagonal2)
+    reach = diagonal * math.sqrt(2.0 * (1.0 - min_cos)) + tol if min_cos > 0.0 else np.inf
+    vx, vy, vz = points[s, 0], points[s, 1], points[s, 2]
+    best, mx, my, mz = min_cos, 0.0, 0.0, 0.0
+    found = False
+    for i in range(n):
+        ax, ay, az = points[i, 0] - vx, points[i, 1] - vy, points[i, 2] - vz
+        if i == s or -(ax * nx + ay * ny + az * nz) > reach:
+            continue
+        for j in range(i + 1, n):
+            bx, by, bz = points[j, 0] - vx, points[j, 1] - vy, points[j, 2] - vz
+            if j == s or -(bx * nx + by * ny + bz * nz) > reach:
+                continue
+            cx, cy, cz = ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
+            length = math.sqrt(cx * cx + cy * cy + cz * cz)
+            # v, p_i, p_j on one line to 1e-6 rad: no plane (another triple of the same face gives it)
+            if not length > 1e-6 * math.sqrt((ax * ax + ay * ay + az * az) * (bx * bx + by * by + bz * bz)):
+                continue
+            sign = 1.0 if cx * nx + cy * ny + cz * nz >= 0.0 else -1.0
+            cx, cy, cz = sign * cx / length, sign * cy / length, sign * cz / length
+            c = cx * nx + cy * ny + cz * nz
+            if c < best or (found and c == best) or not _supports(points, vx, vy, vz, cx, cy, cz, tol):
+                continue
+            best, mx, my, mz, found = c, cx, cy, cz, True
+    if not found:
+        return 0, best, 0.0, 0.0, 0.0, top
+    level = vx * mx + vy * my + vz * mz
+    count = 0
+    for k in range(n):
+        h = points[k, 0] * mx + points[k, 1] * my + points[k, 2] * mz
+        if abs(h - level) <= tol:
+            verts[count] = k
+            count += 1
+    top_m = -np.inf
+    for k in range(count):
+        top_m = max(top_m, points[verts[k], 0] * mx + points[verts[k], 1] * my + points[verts[k], 2] * mz)
+    return count, best, mx, my, mz, top_m
+
+
+@njit
+def _supports(points, vx, vy, vz, mx, my, mz, tol):
+    """Whether every point lies at most ``tol`` above the plane through v with unit normal m."""
+    for k in range(points.shape[0]):
+        if (points[k, 0] - vx) * mx + (points[k, 1] - vy) * my + (points[k, 2] - vz) * mz > tol:
+            return False
+    return True
