@@ -23,7 +23,9 @@ subnormal range), whose sign fl(e_p − e_q) keeps. The recomputed value is agai
 
 With det = U + V + W (0: the ray runs in the triangle's plane or the triangle projects to a segment — a miss),
 the distance is t = (U·A'z + V·B'z + W·C'z) / det with z' = z_kz / d_kz; both signs of det are accepted (the
-triangle is two-sided) and a hit needs 0 <= t <= t_max (an origin on the triangle: t = 0). The sign of det tells
+triangle is two-sided) and a hit needs 0 <= t <= t_max (an origin on the triangle: t = 0), compared on the t
+returned (not on T against t_max·det, whose rounding could let a t just beyond t_max through: a surface's walk
+passes its best t so far as t_max, and needs the exact comparison to keep the lowest t). The sign of det tells
 the side the ray comes from: det > 0 when it meets the face against its right-hand normal n = (b − a) × (c − a)
 (n·d < 0), det < 0 when it meets its back; the normal returned is the one facing the ray, −sign(n·d)·n.
 """
@@ -104,9 +106,10 @@ def ray_triangle_side(o, d, t_max, a, b, c):
     side = 1.0
     if det < 0.0:  # the back face: both signs flipped, so that one comparison serves
         big_t, det, side = -big_t, -det, -1.0
-    if big_t < 0.0 or big_t > t_max * det:
+    t = big_t / det
+    if big_t < 0.0 or t > t_max:
         return math.inf, 0.0
-    return min(big_t / det, t_max), side
+    return t, side
 
 
 @njit
