@@ -2,7 +2,8 @@
 
 The brute force here is independent of the World's traversals: a Python loop over ``world.ids()`` calling the
 narrow-phase ray kernels on each body as the user sees it (``world.pose``, ``world.world_points``,
-``world.radius``, ``world.shape``), a compound part by part, keeping the nearest hit (ties: the lowest id). It runs
+``world.radius``, ``world.shape``), a compound part by part and a triangle surface triangle by triangle, keeping
+the nearest hit (ties: the lowest id). It runs
 for every broad phase (tree, grid walked by DDA, sap, octree, brute), with rays from inside bodies, grazing rays
 along box faces and edges, zero and finite lengths, masks, threads and scales from 1e-6 to 1e6.
 """
@@ -30,6 +31,7 @@ from engine.narrowphase.ray_curve import ray_curve_batch
 from engine.narrowphase.ray_halfspace import ray_halfspace
 from engine.narrowphase.ray_hull import hull_planes, ray_hull
 from engine.narrowphase.ray_sphere import ray_sphere
+from engine.narrowphase.ray_triangle import ray_triangle_side
 from engine.world.kinds import KINDS
 from engine.world.ray_cast import LIST, cast_ray_batch
 from engine.world.ray_rows import RAY_ROWS
@@ -78,6 +80,17 @@ def _part_pose(world, body, part):
     return rows.center[s], rows.rotation[s]
 
 
+def _hit_surface(mesh, o, d, t_max):
+    """[(t, triangle, normal)] of every triangle of a surface's MeshArrays, by the watertight kernel: the stored
+    face normal turned against the ray."""
+    found = []
+    for k, tri in enumerate(mesh.triangles):
+        a, b, c = (tuple(mesh.vertices[i]) for i in tri)
+        t, side = ray_triangle_side(tuple(o), tuple(d), t_max, a, b, c)
+        found.append((t, k, side * mesh.normals[k]))
+    return found
+
+
 def brute_hits(world, o, d, t_max, mask=None):
     """Every hit (t, body, part, normal) of the ray o + t·d (d unit) in [0, t_max], by the per-shape kernels."""
     hits = []
@@ -95,6 +108,8 @@ def brute_hits(world, o, d, t_max, mask=None):
             t, n = ray_curve_batch(shape.height, shape.slope, 4 * shape.samples, o[None], d[None],
                                    np.array([reach]))
             found = [(t[0], 0, n[0])]
+        elif kind in ("mesh", "field"):
+            found = _hit_surface(world.shape(b).mesh, o, d, t_max)
         elif kind == "compound":
             found = [(*_hit_shape(world, b, p, o, d, t_max),) for p in range(len(world.shape(b).parts))]
             found = [(t, p, n) for p, (t, n) in enumerate(found)]

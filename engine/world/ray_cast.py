@@ -10,7 +10,9 @@ Detection* 6.5 and 7.4.2):
   the 3-D DDA of Amanatides and Woo ("grid", engine/broadphase/ray_grid.py), every body's box ("brute"), and for
   the methods that keep no hierarchy ("sap", "octree") a tree built over the AABBs, kept until a body changes;
 - at a body: its AABB's slab test, the filter (its category against the query's mask; sensors are never hit: they
-  are trigger volumes, not surfaces), then the ray table's row for its kind (engine/world/ray_rows.py).
+  are trigger volumes, not surfaces), then the ray table's row for its kind (engine/world/ray_rows.py) — for a
+  static triangle surface (``TriangleMesh``, ``HeightField``, in the static tree) the nearest of its triangles,
+  by its own BVH or its heightfield's cells (engine/narrowphase/ray_mesh.py).
 A nearest-hit query keeps the smallest t (ties: the lowest id, so every structure gives the same answer);
 ``every=True`` collects every hit in [0, t_max] instead. Grounds whose shape lives in Python (``HeightCurve``) are
 answered after the compiled pass by their row's batch function. ``threads`` split the rays into contiguous
@@ -93,7 +95,8 @@ class RayHits:
     normal : numpy.ndarray, shape (k, 3), float64
         The outward unit normal of the surface hit (−direction for a ray starting inside); NaN for a miss.
     part : numpy.ndarray, shape (k,), int64
-        The part hit of a ``Compound`` (0 for other bodies and misses).
+        The part hit of a ``Compound``, the triangle hit of a ``TriangleMesh`` or ``HeightField`` (its row in the
+        shape's ``triangles``; ties in distance: the lowest); 0 for other bodies and misses.
     """
 
     ray: np.ndarray

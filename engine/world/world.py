@@ -59,7 +59,7 @@ from .ray_cast import (
     check_threads,
     forest_of,
 )
-from .ray_rows import RAY_ROWS, ray_bodies
+from .ray_rows import RAY_ROWS, SURFACE_KINDS, ray_bodies, ray_surfaces
 from .record import contact_record
 from .rows import TABLE
 from .shape_queries import ShapeHit, as_box, as_query_shape, bodies_in_box, cast, overlapping_bodies
@@ -294,6 +294,7 @@ class World:
         self._scratch: tuple | None = None  # (points per body, the kernels' scratch for that many)
         self._ray_scene: tuple[int, RayScene] | None = None
         self._ray_tree_state: tuple | None = None  # (bodies, tree, quality when built) of the rays' tree
+        self._ray_surface_state: tuple | None = None  # (meshes, SurfaceSet) of the surfaces the rays last saw
         self._store = BodyStore()
         self._shapes: dict[int, Shape] = {}
         self._grounds: dict[int, Shape] = {}  # the unbounded static shapes, found by their own candidate test
@@ -610,6 +611,19 @@ class World:
             return GRID, [], empty, build_ray_grid(st.lo[bodies], st.hi[bodies]), bodies
         return TREE, [(self._ray_tree(bodies).arrays(), bodies)], empty, None, empty
 
+    def _surfaces(self) -> tuple:
+        """(surface_of, SurfaceSet) of the triangle surfaces (engine/world/ray_rows.py), the set built again only
+        when the surfaces changed."""
+        st = self._store
+        codes = [kind.code for kind in SURFACE_KINDS]
+        ids = np.flatnonzero(np.isin(st.kind, codes) & (st.owner < 0))
+        meshes = [self._shapes[int(b)].mesh for b in ids]
+        kept = self._ray_surface_state
+        same = kept is not None and len(kept[0]) == len(meshes) and all(a is b for a, b in zip(kept[0], meshes))
+        surfaces = ray_surfaces(ids, meshes, st.kind.shape[0], kept[1] if same else None)
+        self._ray_surface_state = (meshes, surfaces[1])
+        return surfaces
+
     def _rays(self) -> RayScene:
         """The structures the rays walk, built again only when a body changed since (``_version``)."""
         if self._ray_scene is not None and self._ray_scene[0] == self._version:
@@ -623,7 +637,7 @@ class World:
         live = st.live()
         bounded = live[st.bounded[live]]
         span = st.hi[bounded].max(axis=0) - st.lo[bounded].min(axis=0) if bounded.size else np.ones(3)
-        scene = RayScene(ray_bodies(st.view()), st.lo, st.hi, st.category, st.sensor,
+        scene = RayScene(ray_bodies(st.view(), self._surfaces()), st.lo, st.hi, st.category, st.sensor,
                          np.concatenate([compiled, listed]), forest_of([self._static.tree_arrays(st), *trees]),
                          method, build_ray_grid(np.zeros((1, 3)), np.zeros((1, 3))) if grid is None else grid,
                          grid_body, host, max(1.0, 4.0 * float(np.sqrt((span * span).sum()))))
@@ -636,8 +650,10 @@ class World:
         One compiled call for the whole batch (split into ``threads`` chunks): each ray walks the static bodies'
         tree, the moving bodies' broad-phase structure (the tree of fat boxes, the grid by 3-D DDA, ...) clipped by
         its nearest hit so far, and tests the bodies it reaches exactly (engine/world/ray_rows.py: spheres, boxes,
-        capsules, hulls, compounds part by part, the Plane; a HeightCurve by sampling and bisection of the height
-        gap, within ``max_distance``, or 4 × the bodies' extent when that is infinite). Sensors are never hit.
+        capsules, hulls, compounds part by part, the Plane, the nearest triangle of a TriangleMesh or HeightField
+        (two-sided and watertight: a ray through a shared edge or vertex never slips between its triangles); a
+        HeightCurve by sampling and bisection of the height gap, within ``max_distance``, or 4 × the bodies'
+        extent when that is infinite). Sensors are never hit.
 
         Parameters
         ----------
@@ -656,8 +672,10 @@ class World:
         -------
         RayHits
             Nearest: one row per ray (``body`` −1, ``distance`` inf and NaN point and normal for a miss). A ray
-            that starts inside a body (or on its surface) hits it at distance 0, with normal −direction. Ties in
-            distance go to the lowest id. ``all_hits``: one row per hit, sorted by (ray, distance, body).
+            that starts inside a body (or on its surface) hits it at distance 0, with normal −direction; a triangle
+            surface is a shell, not a solid: it is hit where the ray crosses it (at 0 from an origin on it), with the
+            triangle's normal turned against the ray, and ``part`` is that triangle. Ties in distance go to the
+            lowest id. ``all_hits``: one row per hit, sorted by (ray, distance, body).
 
         Raises
         ------
