@@ -3,7 +3,8 @@ on its nodes and cells.
 
 Ericson, *Real-Time Collision Detection* 5.3.3 (intersecting a ray against a box): the ray o + t·d meets the box
 [lo, hi] on the intersection, over the three axes, of the intervals where it lies between the two planes of each
-slab. An axis the ray runs parallel to (d_k = 0) is handled apart — the ray is inside that slab for every t or for
+slab. Each slab is widened by a few ulps of its bounds (``SLAB_SLACK``: never stricter than the exact kernels
+behind it). An axis the ray runs parallel to (d_k = 0) is handled apart — the ray is inside that slab for every t or for
 none — so no 0·∞ ever makes a NaN. The box is closed: a ray grazing a face or an edge meets it.
 """
 from __future__ import annotations
@@ -12,7 +13,7 @@ import numpy as np
 
 from engine._config import njit
 
-__all__ = ["ray_aabb_interval", "ray_row_interval", "inverse_direction"]
+__all__ = ["ray_aabb_interval", "ray_row_interval", "inverse_direction", "SLAB_SLACK"]
 
 
 @njit(inline="always")
@@ -24,10 +25,18 @@ def inverse_direction(d):
     return ix, iy, iz
 
 
+#: the slab's widening, in units of |lo| + |hi|: a body's exact ray kernel works on o − c (c its centre), whose
+#: rounding (half an ulp of the larger of |o| and |c|) can put an origin a hair outside the box inside the body;
+#: the box test must not be stricter than the kernel it guards (2 ε covers o − c and the box's own c ± r)
+SLAB_SLACK = 4.0 * np.finfo(np.float64).eps
+
+
 @njit(inline="always")
 def _slab_row(o, d, inv, lo, hi, t0, t1):
-    """Clip [t0, t1] to the slab lo <= o + t·d <= hi of one axis (an empty result has t0 > t1): the plane the ray
-    meets first by the sign of d, an axis it runs parallel to apart."""
+    """Clip [t0, t1] to the slab lo <= o + t·d <= hi of one axis, widened by ``SLAB_SLACK`` (|lo| + |hi|) (an empty
+    result has t0 > t1): the plane the ray meets first by the sign of d, an axis it runs parallel to apart."""
+    slack = SLAB_SLACK * (abs(lo) + abs(hi))
+    lo, hi = lo - slack, hi + slack
     if d == 0.0:
         if o < lo or o > hi:
             return 1.0, 0.0
