@@ -24,7 +24,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import engine.world.world as world_module
-from engine import Plane, Sphere, World, epa_penetration, gjk_distance
+from engine import HeightField, Plane, Sphere, World, epa_penetration, gjk_distance
 from engine.world import TABLE
 from engine.world.dispatch import Kernel
 from properties.strategies.world import any_bodies_near, bodies, curves, ground_kinds, planes, registered_shapes
@@ -266,6 +266,7 @@ def _world_for_errors():
     world.add(Sphere([0.0, 0.0, 0.0], 0.5))
     world.add(Sphere([2.0, 0.0, 0.0], 0.5), static=True)
     world.add(Plane(-3.0))
+    world.add(HeightField(np.zeros((2, 2)), 1.0, (5.0, 5.0)))
     return world
 
 
@@ -273,7 +274,8 @@ def _world_for_errors():
     ([1, 2], [2, 9], ValueError, r"ids_b\[1\] = 9 is not a body"),
     ([1, -1], [2, 1], ValueError, r"ids_a\[1\] = -1 is not a body"),
     ([1, 2, 1], [2, 1, 1], ValueError, r"ids_b\[2\] = 1 is ids_a\[2\]"),
-    ([1, 0], [2, 3], ValueError, r"ids_a\[1\] = 0 and ids_b\[1\] = 3 are both grounds"),
+    ([1, 0], [2, 3], ValueError, r"ids_a\[1\] = 0 and ids_b\[1\] = 3 are both level geometry"),
+    ([4, 1], [0, 4], ValueError, r"ids_a\[0\] = 4 and ids_b\[0\] = 0 are both level geometry"),
     ([1, 2], [2], ValueError, "ids_a and ids_b must have the same length"),
     ([1.0], [2], TypeError, "ids_a must be a 1-D integer array"),
     ([1], [[2]], TypeError, "ids_b must be a 1-D integer array"),

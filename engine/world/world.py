@@ -1257,10 +1257,12 @@ class World:
         if bad.size:
             raise ValueError(f"ids_b[{bad[0]}] = {pairs[bad[0], 1]} is ids_a[{bad[0]}]: a body has no distance to "
                              f"itself")
-        bad = np.flatnonzero(~st.bounded[pairs[:, 0]] & ~st.bounded[pairs[:, 1]])
+        # level geometry (grounds, triangle surfaces) is neither convex nor made of convex parts
+        level = np.array([not (k.convex or k.composite) for k in KINDS])[st.kind[pairs]]
+        bad = np.flatnonzero(level[:, 0] & level[:, 1])
         if bad.size:
             raise ValueError(f"ids_a[{bad[0]}] = {pairs[bad[0], 0]} and ids_b[{bad[0]}] = {pairs[bad[0], 1]} are "
-                             f"both grounds: two grounds have no distance")
+                             f"both level geometry (grounds or triangle surfaces): they have no distance")
         return pairs
 
     def _distances(self, pairs: np.ndarray, margin: float, keys):

@@ -136,6 +136,14 @@ AREAS: dict[str, dict[str, list[str]]] = {
             "properties/test_box_box_feature_kinds.py",
             # the compiled curve search (_search_jit), called directly: reached with the JIT off too
             "properties/test_curve_search_kernel.py",
+            # issue 31 (level geometry) and issue 32 (face manifolds)
+            "properties/test_box_box_nearly_flush.py",
+            "properties/test_hull_nearly_flush.py",
+            "properties/test_box_triangle.py",
+            "properties/test_mesh_contacts.py",
+            "properties/test_mesh_ghosts.py",
+            "properties/test_mesh_rays.py",
+            "properties/test_mesh_input.py",
         ],
         "sample": 64,
     },
@@ -145,6 +153,8 @@ AREAS: dict[str, dict[str, list[str]]] = {
             "properties/test_bounding_fits.py",
             "properties/test_bounding_overlap.py",
             "properties/test_hull.py",
+            # issue 32: hulls of every full-dimensional set, convex to round-off
+            "properties/test_hull_qhull_suites.py",
             "properties/test_decompose.py",
             "properties/test_bounding_argument_names.py",
             "properties/test_bounding_input_forms.py",
