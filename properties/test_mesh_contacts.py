@@ -29,6 +29,7 @@ from engine.narrowphase.mesh_contact import (
     fix_normal,
     mesh_work,
     triangle_answer,
+    triangle_distance,
 )
 from engine.narrowphase.status import OVERLAP
 from engine.narrowphase.time_of_impact import toi_kernel
@@ -59,9 +60,10 @@ def _scene(seed, scale, field: bool, n_bodies: int = 4, velocity: bool = False):
     return world, g, ids
 
 
-def _brute_triangles(world, g, body):
-    """Every triangle of surface g against body: (separation (nt,), normals (nt, 3) after the active-edge fix,
-    body feature (nt,), triangle feature type (nt,), per triangle the list of (point, depth))."""
+def _brute_triangles(world, g, body, kernel=triangle_answer):
+    """Every triangle of surface g against body by ``kernel`` (triangle_answer, or triangle_distance: apart, the
+    exact distance): (separation (nt,), normals (nt, 3) after the active-edge fix, body feature (nt,), triangle
+    feature type (nt,), per triangle the list of (point, depth))."""
     view = world._store.view()
     mesh = world.shape(g).mesh
     work = mesh_work(mesh, view.points.shape[1])
@@ -71,7 +73,7 @@ def _brute_triangles(world, g, body):
     sep, normal = np.empty(nt), np.empty((nt, 3))
     fa, fb, points = np.empty(nt, np.int64), np.empty(nt, np.int64), []
     for t in range(nt):
-        sep[t] = triangle_answer(view, code, body, mesh, t, out, work)
+        sep[t] = kernel(view, code, body, mesh, t, out, work)
         fix_normal(mesh, t, out)
         normal[t], fa[t], fb[t] = out.normal, out.body_feature[0], out.tri_feature[0]
         points.append([(out.points[v].copy(), out.depths[v]) for v in range(out.count[0])])
@@ -146,7 +148,7 @@ def test_closest_points_equal_the_nearest_triangle(case):
     body = np.array(ids)
     distance, point_a, point_b = world.closest_points(body, np.full(len(ids), g))
     for k, b in enumerate(ids):
-        sep = _brute_triangles(world, g, b)[0]
+        sep = _brute_triangles(world, g, b, triangle_distance)[0]
         best = sep.min()
         if best <= 0.0:
             assert distance[k] == best
