@@ -563,7 +563,8 @@ def _surface_box(mesh):
 def _nearest(mesh, shape, core, box, hull, radius, lo, hi, reach, work, cand, best_w, best, best_t, nx, ny, nz):
     """The nearest triangle to the body (``_round_of``, …; its box [lo, hi]) among those whose
     AABBs meet [lo − reach[0], hi + reach[0]], skipping, once best > 0, any whose box distance exceeds best + radius
-    + reach[1] (round-off): it cannot be nearer (its core is that far, or it would touch and meet the box). Ties: the lowest triangle id. Returns (best, best_t, normal, cand)."""
+    + reach[1] (round-off): it cannot be nearer (its core is that far, or it would touch and meet the box).
+    Ties: the lowest triangle id. Returns (best, best_t, normal, cand)."""
     g = reach[0]
     glo = np.empty(3)
     ghi = np.empty(3)
@@ -604,7 +605,7 @@ def _nearest_triangle(mesh, shape, core, box, hull, radius, lo, hi, s_lo, s_hi, 
             whole = whole and lo[k] - reach[0] <= s_lo[k] and hi[k] + reach[0] >= s_hi[k]
         if whole or reach[0] > best + radius + reach[1]:  # a triangle outside is farther than reach
             break
-        reach[0] = max(2.0 * reach[0], best + radius + 2.0 * reach[1])
+        reach[0] = 2.0 * reach[0] if best == np.inf else max(2.0 * reach[0], best + radius + 2.0 * reach[1])
     return max(best, SMALLEST_GAP), bx, by, bz, cand  # no candidate touches: apart, as the overlap question says
 
 
