@@ -475,25 +475,46 @@ def _merge_round(vertices, triangles, normals, active, core, cand, count, pts, d
     return best, nx, ny, nz, fa, fb, n
 
 
+@njit(inline="always")
+def _take_answer(s, t, tri, triangles, normals, active, best, nx, ny, nz, fa, fb, n, pts, deep, ids):
+    """Merge triangle t's answer ``tri`` (separation s) into the pair's: the deepest triangle's normal (active-edge
+    fixed) and features, every touching triangle's points (``_merge_round``)."""
+    if s < best:
+        best = s
+        nx, ny, nz = _fixed_normal(active, normals, t, tri.tri_feature[0], tri.tri_feature[1], tri.normal[0],
+                                   tri.normal[1], tri.normal[2])
+        fa, fb = tri.body_feature[0], tri.tri_feature[0]
+    if s <= 0.0:
+        for v in range(tri.count[0]):
+            _insert_point(pts, deep, ids, n, tri.points[v, 0], tri.points[v, 1], tri.points[v, 2], tri.depths[v],
+                          point_id(tri.body_keys[v], _surface_key(triangles, t, tri.tri_keys[v])))
+            n += 1
+    return best, nx, ny, nz, fa, fb, n
+
+
 @njit
-def _merge_convex(shape, box, hull, vertices, triangles, normals, active, cand, count, tri, work, pts, deep, ids):
-    """``_merge_round`` for a box or a hull (``_box_of``, ``_hull_of``), each triangle's answer in tri."""
-    best, n = np.inf, np.int64(0)
-    nx = ny = nz = 0.0
-    fa = fb = np.int64(0)
+def _merge_box(box, vertices, triangles, normals, active, cand, count, tri, scratch, pts, deep, ids):
+    """``_merge_round`` for a box (``_box_of``): box_triangle's answers, each in tri."""
+    best, nx, ny, nz, fa, fb, n = np.inf, 0.0, 0.0, 0.0, np.int64(0), np.int64(0), np.int64(0)
     for x in range(count):
         t = cand[x]
-        s = _convex_answer(shape, box, hull, vertices, triangles, normals, t, tri, work)
-        if s < best:
-            best = s
-            nx, ny, nz = _fixed_normal(active, normals, t, tri.tri_feature[0], tri.tri_feature[1], tri.normal[0],
-                                       tri.normal[1], tri.normal[2])
-            fa, fb = tri.body_feature[0], tri.tri_feature[0]
-        if s <= 0.0:
-            for v in range(tri.count[0]):
-                _insert_point(pts, deep, ids, n, tri.points[v, 0], tri.points[v, 1], tri.points[v, 2],
-                              tri.depths[v], point_id(tri.body_keys[v], _surface_key(triangles, t, tri.tri_keys[v])))
-                n += 1
+        a, b, c, nf = _triangle_of(vertices, triangles, normals, t)
+        s = box_triangle(box[0], box[1], box[2], a, b, c, nf, tri, scratch)
+        best, nx, ny, nz, fa, fb, n = _take_answer(s, t, tri, triangles, normals, active, best, nx, ny, nz, fa, fb,
+                                                   n, pts, deep, ids)
+    return best, nx, ny, nz, fa, fb, n
+
+
+@njit
+def _merge_hull(hull, vertices, triangles, normals, active, cand, count, tri, work, pts, deep, ids):
+    """``_merge_round`` for a hull (``_hull_of``): convex_triangle's answers, each in tri."""
+    best, nx, ny, nz, fa, fb, n = np.inf, 0.0, 0.0, 0.0, np.int64(0), np.int64(0), np.int64(0)
+    for x in range(count):
+        t = cand[x]
+        a, b, c, nf = _triangle_of(vertices, triangles, normals, t)
+        s = convex_triangle(hull[0], hull[1], a, b, c, nf, tri, work)
+        best, nx, ny, nz, fa, fb, n = _take_answer(s, t, tri, triangles, normals, active, best, nx, ny, nz, fa, fb,
+                                                   n, pts, deep, ids)
     return best, nx, ny, nz, fa, fb, n
 
 
@@ -512,9 +533,11 @@ def mesh_contact_rows(mesh, bodies, shape, body, at, flip, rows, work):
             pts, deep, ids = np.empty((size, 3)), np.empty(size), np.empty(size, np.int64)
         if shape[q] == BODY_ROUND:
             merged = _merge_round(v, tr, nr, act, _round_of(bodies, i), cand, count, pts, deep, ids)
+        elif shape[q] == BODY_BOX:
+            merged = _merge_box(_box_of(bodies, i), v, tr, nr, act, cand, count, work.tri, work.scratch, pts, deep,
+                                ids)
         else:
-            merged = _merge_convex(shape[q], _box_of(bodies, i), _hull_of(bodies, i), v, tr, nr, act, cand, count,
-                                   work.tri, work, pts, deep, ids)
+            merged = _merge_hull(_hull_of(bodies, i), v, tr, nr, act, cand, count, work.tri, work, pts, deep, ids)
         best, nx, ny, nz, fa, fb, n = merged
         n = reduce_manifold(pts, deep, ids, n, nx, ny, nz, work.scratch)
         write_pair(rows, p, best, nx, ny, nz, fa, fb, n, flip[q])
