@@ -9,7 +9,9 @@ GJK's distance on apart pairs.
 Planted defects caught (each reverted): the pair kernels' candidates dropping their last triangle (the contact,
 closest-points, overlap/cast and sphere-depth properties fail); the merge keeping the first touching triangle
 instead of the deepest (the contact and sphere-depth properties fail); the face region's offset taken as +h n
-instead of −h n (the round-core-vs-GJK property fails: the point is on the wrong side).
+instead of −h n (the round-core-vs-GJK property fails: the point is on the wrong side); the distance search
+stopping once its reach passes half the best distance, without the radius (the far-bodies property fails; the
+near-body closest-points property did not notice).
 """
 from __future__ import annotations
 
@@ -29,6 +31,7 @@ from engine.narrowphase.mesh_contact import (
     fix_normal,
     mesh_work,
     triangle_answer,
+    triangle_distance,
 )
 from engine.narrowphase.status import OVERLAP
 from engine.narrowphase.time_of_impact import toi_kernel
@@ -59,9 +62,10 @@ def _scene(seed, scale, field: bool, n_bodies: int = 4, velocity: bool = False):
     return world, g, ids
 
 
-def _brute_triangles(world, g, body):
-    """Every triangle of surface g against body: (separation (nt,), normals (nt, 3) after the active-edge fix,
-    body feature (nt,), triangle feature type (nt,), per triangle the list of (point, depth))."""
+def _brute_triangles(world, g, body, kernel=triangle_answer):
+    """Every triangle of surface g against body by ``kernel`` (triangle_answer, or triangle_distance: apart, the
+    exact distance): (separation (nt,), normals (nt, 3) after the active-edge fix, body feature (nt,), triangle
+    feature type (nt,), per triangle the list of (point, depth))."""
     view = world._store.view()
     mesh = world.shape(g).mesh
     work = mesh_work(mesh, view.points.shape[1])
@@ -71,7 +75,7 @@ def _brute_triangles(world, g, body):
     sep, normal = np.empty(nt), np.empty((nt, 3))
     fa, fb, points = np.empty(nt, np.int64), np.empty(nt, np.int64), []
     for t in range(nt):
-        sep[t] = triangle_answer(view, code, body, mesh, t, out, work)
+        sep[t] = kernel(view, code, body, mesh, t, out, work)
         fix_normal(mesh, t, out)
         normal[t], fa[t], fb[t] = out.normal, out.body_feature[0], out.tri_feature[0]
         points.append([(out.points[v].copy(), out.depths[v]) for v in range(out.count[0])])
@@ -146,7 +150,7 @@ def test_closest_points_equal_the_nearest_triangle(case):
     body = np.array(ids)
     distance, point_a, point_b = world.closest_points(body, np.full(len(ids), g))
     for k, b in enumerate(ids):
-        sep = _brute_triangles(world, g, b)[0]
+        sep = _brute_triangles(world, g, b, triangle_distance)[0]
         best = sep.min()
         if best <= 0.0:
             assert distance[k] == best
@@ -154,6 +158,23 @@ def test_closest_points_equal_the_nearest_triangle(case):
             assert distance[k] == max(best, np.nextafter(0.0, 1.0))
         gap = np.linalg.norm(point_b[k] - point_a[k])
         assert gap == pytest.approx(abs(distance[k]), rel=1e-7, abs=1e-9 * scale)
+
+
+@settings(deadline=None)
+@given(surfaces, st.floats(0.5, 20.0))
+def test_closest_points_of_far_bodies_equal_the_nearest_triangle(case, lift):
+    """Bodies moved away from the surface (up to 20 sizes, sideways past its edge): the distance search must grow
+    its boxes until no farther triangle can be nearer."""
+    seed, scale, field = case
+    world, g, ids = _scene(seed, scale, field)
+    rng = np.random.default_rng(seed + 2)
+    centers = world.bodies().center[ids] + rng.uniform(-1.0, 1.0, (len(ids), 3)) * lift * scale
+    world.update(ids, centers)
+    distance, point_a, point_b = world.closest_points(np.array(ids), np.full(len(ids), g))
+    for k, b in enumerate(ids):
+        best = _brute_triangles(world, g, b, triangle_distance)[0].min()
+        assert distance[k] == (best if best <= 0.0 else max(best, np.nextafter(0.0, 1.0)))
+        assert np.linalg.norm(point_b[k] - point_a[k]) == pytest.approx(abs(distance[k]), rel=1e-7, abs=1e-9 * scale)
 
 
 @settings(deadline=None)

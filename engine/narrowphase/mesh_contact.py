@@ -5,9 +5,11 @@ contact, distance, time of impact — as compiled loops (``mesh_overlap_rows``, 
 
 Per pair, the body's AABB selects the candidate triangles (``candidate_triangles``: the BVH or the grid), then a
 per-triangle kernel answers each one by the body's shape (``BODY_ROUND``: a sphere's point or a capsule's
-segment, engine.narrowphase.triangle_contact.round_core_triangle; ``BODY_BOX``, ``BODY_HULL``: GJK/EPA on the
-body's corners against the triangle as a 3-point core, ``convex_triangle``, with an exact SAT over a superset of
-the Minkowski difference's face normals where EPA gives up on round-off), written into a ``TriangleContact``.
+segment, engine.narrowphase.triangle_contact.round_core_triangle; ``BODY_BOX``: the 13-axis SAT and clipped
+manifold of engine.narrowphase.box_triangle; ``BODY_HULL``: GJK/EPA on the hull's vertices against the triangle
+as a 3-point core, ``convex_triangle``, with an exact SAT over a superset of the Minkowski difference's face
+normals where EPA gives up on round-off), written into a ``TriangleContact``. The kernels read the triangle's
+corners and the core's ends as 3-tuples of scalars (``_triangle_of``, ``_round_of``).
 
 - Active edges (Jolt's ``ActiveEdges::FixNormal``): when the triangle feature that touches is an inactive edge,
   or a corner whose two edges in that triangle (``VERTEX_EDGES``) are both inactive, the normal becomes the
@@ -22,10 +24,14 @@ the Minkowski difference's face normals where EPA gives up on round-off), writte
   (contacts.feature_key): past 2^20 triangles (or 2^20 / 3 for edges, 2^20 vertices) two features of the surface
   may share an index; two points of one pair never share an id (reduce_manifold bumps a repeat).
 - Distance: the candidates under the body's box first (a touching triangle must meet it): if one touches, the
-  contact's separation; else every triangle in order of its box's distance to the body's box, until that lower
-  bound passes the nearest distance found (the closest triangle, exactly). Witness points: the triangle kernel's
-  closest points (a round core: its point halfway ∓ separation / 2 · normal; a box or hull: GJK's / EPA's); the
-  normal is the computed one (no active-edge fix: point_b − point_a = distance · normal).
+  contact's separation; else the nearest triangle among those whose AABBs meet the body's box grown by a reach
+  that doubles (from the body's size) until it passes the nearest distance found plus the body's radius: every
+  triangle outside is then farther (its box distance, a lower bound, exceeds the reach); a triangle whose box
+  distance already exceeds that bound is skipped unanswered. Apart, a box's answer is GJK's exact distance (its
+  SAT gives only a lower bound). Ties: the lowest triangle id (whatever order the BVH or grid gives). Witness
+  points: a round core's (or a touching box's deepest manifold point's) halfway point ∓ separation / 2 · normal;
+  a box apart or a hull: GJK's / EPA's; the normal is the computed one (no active-edge fix: point_b − point_a =
+  distance · normal).
 - Impact: conservative advancement (engine.narrowphase.time_of_impact.toi_kernel) of the translating body against
   each triangle under its swept box, the static triangle a 3-point core; the earliest time wins.
 
@@ -40,6 +46,7 @@ from collections import namedtuple
 import numpy as np
 
 from .._config import njit
+from .box_triangle import box_triangle
 from .contact_manifold import FEATURE_TOL, contact_points, feature_scratch
 from .contacts import (
     APART,
@@ -49,6 +56,7 @@ from .contacts import (
     VERTEX,
     feature_key,
     kernel_scratch,
+    key_kind,
     point_id,
     reduce_manifold,
     swap_point_id,
@@ -61,12 +69,12 @@ from .signed_distance import SMALLEST_GAP
 from .status import OVERLAP, SEPARATED
 from .time_of_impact import toi_kernel
 from .touching_normal import unit_vector
-from .triangle_contact import MAX_TRIANGLE_POINTS, round_core_triangle, triangle_contact
+from .triangle_contact import MAX_TRIANGLE_POINTS, round_core_answer, round_core_triangle, triangle_contact
 from .triangle_mesh import VERTEX_EDGES, candidate_triangles
 
 __all__ = ["BODY_ROUND", "BODY_BOX", "BODY_HULL", "MeshWork", "mesh_work", "convex_triangle", "fix_normal",
-           "surface_key", "triangle_answer", "mesh_overlap_rows", "mesh_contact_rows", "mesh_distance_rows",
-           "mesh_impact_times", "IMPACT_TOL", "IMPACT_ITERATIONS"]
+           "surface_key", "triangle_answer", "triangle_distance", "mesh_overlap_rows",
+           "mesh_contact_rows", "mesh_distance_rows", "mesh_impact_times", "IMPACT_TOL", "IMPACT_ITERATIONS"]
 
 #: the body's shape, as the kernels dispatch on it: a round core (sphere, capsule), a box, a hull
 BODY_ROUND, BODY_BOX, BODY_HULL = 0, 1, 2
@@ -80,10 +88,10 @@ _INDEX_MASK = (1 << 20) - 1
 #: ``pts`` (P, 3), ``deep`` (P,), ``ids`` (P,) int64 and ``scratch`` (contacts.kernel_scratch) of
 #: reduce_manifold; the GJK/EPA fallback's ``gjk`` (gjk_scratch), ``poly`` (epa_polytope), ``g`` (7,), ``res``
 #: (10,), ``feat`` (feature_scratch), ``corners`` (3, 3) the triangle, ``cpts`` (2 m + 8, 3) its contact points;
-#: the impact's ``poses`` (2, m, 3), ``toi`` (4,); the distance's ``lower`` (nt,) box distances, ``wit`` (2, 3)
-#: the witnesses of the last triangle
+#: the impact's ``poses`` (2, m, 3), ``toi`` (4,); the distance's ``wit`` (2, 3) the witnesses of the last
+#: triangle
 MeshWork = namedtuple("MeshWork", "stack cand tri pts deep ids scratch gjk poly g res feat corners cpts poses toi "
-                                  "lower wit")
+                                  "wit")
 
 
 def mesh_work(mesh, m: int) -> MeshWork:
@@ -94,8 +102,7 @@ def mesh_work(mesh, m: int) -> MeshWork:
     return MeshWork(np.empty(nodes + 1, np.int64), np.empty(64, np.int64), triangle_contact(),
                     np.empty((n_pts, 3)), np.empty(n_pts), np.empty(n_pts, np.int64), kernel_scratch(m),
                     gjk_scratch(m), epa_polytope(), np.empty(7), np.empty(10), feature_scratch(m), np.empty((3, 3)),
-                    np.empty((2 * m + 8, 3)), np.empty((2, m, 3)), np.empty(4), np.empty(mesh.triangles.shape[0]),
-                    np.empty((2, 3)))
+                    np.empty((2 * m + 8, 3)), np.empty((2, m, 3)), np.empty(4), np.empty((2, 3)))
 
 
 # -- one body against one triangle ----------------------------------------------------------------------------
@@ -184,12 +191,11 @@ def _triangle_feature(tri, nx, ny, nz, tol):
 
 
 @njit
-def convex_triangle(pa, radius, a, b, c, n_face, out, work):
-    """The GJK/EPA answer of hull(pa) ((n, 3) core points, swept by ``radius``) against the triangle (a, b, c) as
-    a 3-point core, into the TriangleContact ``out``: the penetration chain (engine.narrowphase.penetration; SAT
-    where EPA gives up), then the contact features and points of engine.narrowphase.contact_manifold (the body's
-    feature per point at its nearest support vertex, as engine.narrowphase.convex_cores). Returns the
-    separation."""
+def _convex_separation(pa, radius, a, b, c, n_face, work):
+    """The penetration chain of hull(pa) ((n, 3) core points, swept by ``radius``) against the triangle (a, b, c)
+    as a 3-point core (engine.narrowphase.penetration: GJK's distance apart, EPA's depth overlapping; SAT where EPA
+    gives up): its answer in work.res (distance, normal, the two witnesses of the cores), the corners in
+    work.corners, the witnesses of the shapes in work.wit; returns the separation."""
     tri = work.corners
     for k in range(3):
         tri[0, k], tri[1, k], tri[2, k] = a[k], b[k], c[k]
@@ -207,10 +213,22 @@ def convex_triangle(pa, radius, a, b, c, n_face, out, work):
             res[7 + k] = tri[_support_vertex(tri, nx, ny, nz, -1.0, 0.0, tri[0]), k]
     separation = res[0] - radius
     nx, ny, nz = res[1], res[2], res[3]
-    out.separation[0] = separation
-    out.normal[0], out.normal[1], out.normal[2] = nx, ny, nz
     work.wit[0, 0], work.wit[0, 1], work.wit[0, 2] = res[4] + radius * nx, res[5] + radius * ny, res[6] + radius * nz
     work.wit[1, 0], work.wit[1, 1], work.wit[1, 2] = res[7], res[8], res[9]
+    return separation
+
+
+@njit
+def convex_triangle(pa, radius, a, b, c, n_face, out, work):
+    """The GJK/EPA answer of hull(pa) ((n, 3) core points, swept by ``radius``) against the triangle (a, b, c) as
+    a 3-point core, into the TriangleContact ``out``: the penetration chain (``_convex_separation``), then the
+    contact features and points of engine.narrowphase.contact_manifold (the body's feature per point at its
+    nearest support vertex, as engine.narrowphase.convex_cores). Returns the separation."""
+    separation = _convex_separation(pa, radius, a, b, c, n_face, work)
+    tri, res = work.corners, work.res
+    nx, ny, nz = res[1], res[2], res[3]
+    out.separation[0] = separation
+    out.normal[0], out.normal[1], out.normal[2] = nx, ny, nz
     ka, kb, count = contact_points(pa, tri, radius, 0.0, res[1:4], res[4:7], res[7:10], FEATURE_TOL, work.feat,
                                    work.cpts, 0)
     size = 0.0
@@ -237,52 +255,131 @@ def convex_triangle(pa, radius, a, b, c, n_face, out, work):
 
 
 @njit(inline="always")
-def _core(bodies, body):
-    return bodies.points[body, :bodies.count[body]]
+def _corner_of(vertices, triangles, t, j):
+    """Corner j of triangle t as a 3-tuple (no array view per triangle)."""
+    i = triangles[t, j]
+    return vertices[i, 0], vertices[i, 1], vertices[i, 2]
+
+
+@njit(inline="always")
+def _triangle_of(vertices, triangles, normals, t):
+    """Triangle t's corners and unit normal, 3-tuples of scalars."""
+    return (_corner_of(vertices, triangles, t, 0), _corner_of(vertices, triangles, t, 1),
+            _corner_of(vertices, triangles, t, 2), (normals[t, 0], normals[t, 1], normals[t, 2]))
+
+
+# What the per-triangle kernels read of body i, by its shape: a round core's ends (3-tuples) and radius; a box's
+# centre, rotation, half extents and corners; a hull's points and radius.
+@njit(inline="always")
+def _round_of(bodies, i):
+    m = bodies.count[i] - 1
+    p = bodies.points
+    return (p[i, 0, 0], p[i, 0, 1], p[i, 0, 2]), (p[i, m, 0], p[i, m, 1], p[i, m, 2]), bodies.radius[i]
+
+
+@njit(inline="always")
+def _box_of(bodies, i):
+    return bodies.center[i], bodies.rotation[i], bodies.half[i], bodies.points[i, :bodies.count[i]]
+
+
+@njit(inline="always")
+def _hull_of(bodies, i):
+    return bodies.points[i, :bodies.count[i]], bodies.radius[i]
+
+
+@njit(inline="always")
+def _convex_answer(shape, box, hull, vertices, triangles, normals, t, out, work):
+    """A box's (box_triangle) or a hull's (convex_triangle) answer against triangle t, into ``out``."""
+    a, b, c, n = _triangle_of(vertices, triangles, normals, t)
+    if shape == BODY_BOX:
+        return box_triangle(box[0], box[1], box[2], a, b, c, n, out, work.scratch)
+    return convex_triangle(hull[0], hull[1], a, b, c, n, out, work)
+
+
+@njit(inline="always")
+def _halfway_witnesses(s, out, wit):
+    """The witnesses of an answer by points halfway between the surfaces (a round core's one point, a touching
+    box's deepest manifold point): that point ∓ s / 2 · normal, into wit (2, 3)."""
+    deepest = 0
+    for v in range(1, out.count[0]):
+        if out.depths[v] > out.depths[deepest]:
+            deepest = v
+    for k in range(3):
+        wit[0, k] = out.points[deepest, k] - 0.5 * s * out.normal[k]
+        wit[1, k] = out.points[deepest, k] + 0.5 * s * out.normal[k]
+
+
+@njit
+def _distance_answer(shape, core, box, hull, vertices, triangles, normals, t, out, work):
+    """The distance question's answer against triangle t: the contact answer, witnesses in work.wit (the body's,
+    the triangle's), and apart the exact distance (a box: GJK's, its SAT giving only a lower bound)."""
+    a, b, c, n = _triangle_of(vertices, triangles, normals, t)
+    if shape == BODY_ROUND:
+        s = round_core_triangle(core[0], core[1], core[2], a, b, c, n, out)
+    else:
+        s = _convex_answer(shape, box, hull, vertices, triangles, normals, t, out, work)
+        if shape == BODY_HULL:
+            return s  # convex_triangle wrote GJK's / EPA's witnesses
+        if s > 0.0:
+            return max(_convex_separation(box[3], 0.0, a, b, c, n, work), SMALLEST_GAP)
+    _halfway_witnesses(s, out, work.wit)
+    return s
 
 
 @njit
 def triangle_answer(bodies, shape, body, mesh, t, out, work):
     """Body ``body`` of the store ``bodies`` (engine.world.bodies.BodyArrays; ``shape`` BODY_ROUND / BOX / HULL)
     against triangle t of ``mesh``, into the TriangleContact ``out`` (before the active-edge fix); returns the
-    separation. The body's witness is work.wit[0], the triangle's work.wit[1]."""
-    v = mesh.vertices
-    ia, ib, ic = mesh.triangles[t, 0], mesh.triangles[t, 1], mesh.triangles[t, 2]
-    a, b, c, n = v[ia], v[ib], v[ic], mesh.normals[t]
-    r = bodies.radius[body]
+    separation: a round core's closed form (round_core_triangle), a box's 13-axis SAT and clipped manifold
+    (engine.narrowphase.box_triangle: apart, a lower bound of the distance), a hull's GJK/EPA
+    (``convex_triangle``)."""
+    v, tr, nr = mesh.vertices, mesh.triangles, mesh.normals
     if shape == BODY_ROUND:
-        s = round_core_triangle(bodies.points[body, 0], bodies.points[body, bodies.count[body] - 1], r, a, b, c, n,
-                                out)
-        for k in range(3):
-            work.wit[0, k] = out.points[0, k] - 0.5 * s * out.normal[k]
-            work.wit[1, k] = out.points[0, k] + 0.5 * s * out.normal[k]
-        return s
-    return convex_triangle(_core(bodies, body), r, a, b, c, n, out, work)
+        core = _round_of(bodies, body)
+        a, b, c, n = _triangle_of(v, tr, nr, t)
+        return round_core_triangle(core[0], core[1], core[2], a, b, c, n, out)
+    return _convex_answer(shape, _box_of(bodies, body), _hull_of(bodies, body), v, tr, nr, t, out, work)
+
+
+@njit
+def triangle_distance(bodies, shape, body, mesh, t, out, work):
+    """``triangle_answer`` as the distance question takes it: apart, the exact distance (a box's by GJK);
+    witnesses in work.wit[0] (the body's) and work.wit[1] (the triangle's)."""
+    return _distance_answer(shape, _round_of(bodies, body), _box_of(bodies, body), _hull_of(bodies, body),
+                            mesh.vertices, mesh.triangles, mesh.normals, t, out, work)
 
 
 @njit(inline="always")
-def _edge_inactive(mesh, t, ft, fi):
+def _edge_inactive(active, t, ft, fi):
     if ft == EDGE:
-        return not mesh.active[t, fi]
+        return not active[t, fi]
     if ft == VERTEX:
-        return not mesh.active[t, VERTEX_EDGES[fi, 0]] and not mesh.active[t, VERTEX_EDGES[fi, 1]]
+        return not active[t, VERTEX_EDGES[fi, 0]] and not active[t, VERTEX_EDGES[fi, 1]]
     return False
+
+
+@njit(inline="always")
+def _fixed_normal(active, normals, t, ft, fi, nx, ny, nz):
+    """Jolt's ActiveEdges::FixNormal: the normal n of triangle t's answer touching at feature (ft, fi) — the face
+    normal in n's hemisphere (+ the face normal when they are perpendicular) where that feature is an inactive
+    edge or a corner whose two edges are inactive, else n."""
+    if not _edge_inactive(active, t, ft, fi):
+        return nx, ny, nz
+    fx, fy, fz = normals[t, 0], normals[t, 1], normals[t, 2]
+    sign = -1.0 if fx * nx + fy * ny + fz * nz < 0.0 else 1.0
+    return sign * fx, sign * fy, sign * fz
 
 
 @njit
 def fix_normal(mesh, t, out):
-    """Jolt's ActiveEdges::FixNormal on triangle t's answer ``out``: an inactive edge, or a corner whose two edges
-    are inactive, takes the face normal in the hemisphere of the computed one (+ the face normal when they are
-    perpendicular)."""
-    if _edge_inactive(mesh, t, out.tri_feature[0], out.tri_feature[1]):
-        nx, ny, nz = mesh.normals[t, 0], mesh.normals[t, 1], mesh.normals[t, 2]
-        sign = -1.0 if nx * out.normal[0] + ny * out.normal[1] + nz * out.normal[2] < 0.0 else 1.0
-        out.normal[0], out.normal[1], out.normal[2] = sign * nx, sign * ny, sign * nz
+    """``_fixed_normal`` (Jolt's ActiveEdges::FixNormal) on triangle t's answer ``out``."""
+    out.normal[0], out.normal[1], out.normal[2] = _fixed_normal(mesh.active, mesh.normals, t, out.tri_feature[0],
+                                                                out.tri_feature[1], out.normal[0], out.normal[1],
+                                                                out.normal[2])
 
 
 @njit(inline="always")
-def surface_key(mesh, t, key):
-    """Triangle t's local feature key in the surface's numbering (module docstring)."""
+def _surface_key(triangles, t, key):
     kind = key >> 20
     local = key & _INDEX_MASK
     if kind == FACE:
@@ -290,8 +387,14 @@ def surface_key(mesh, t, key):
     elif kind == EDGE:
         index = 3 * np.int64(t) + local
     else:
-        index = mesh.triangles[t, local]
+        index = triangles[t, local]
     return feature_key(kind, index & _INDEX_MASK)
+
+
+@njit
+def surface_key(mesh, t, key):
+    """Triangle t's local feature key in the surface's numbering (module docstring)."""
+    return _surface_key(mesh.triangles, t, key)
 
 
 @njit(inline="always")
@@ -301,58 +404,118 @@ def _candidates(mesh, bodies, body, work, cand):
 
 # -- the batched questions ----------------------------------------------------------------------------------------
 @njit
+def _round_touches(vertices, triangles, normals, core, cand, count):
+    """Whether the round core (``_round_of``) touches some candidate triangle cand[:count]."""
+    for x in range(count):
+        a, b, c, n = _triangle_of(vertices, triangles, normals, cand[x])
+        if round_core_answer(core[0], core[1], core[2], a, b, c, n)[0] <= 0.0:
+            return True
+    return False
+
+
+@njit
+def _convex_touches(shape, box, hull, vertices, triangles, normals, cand, count, out, work):
+    """Whether the box or hull touches some candidate triangle cand[:count]."""
+    for x in range(count):
+        if _convex_answer(shape, box, hull, vertices, triangles, normals, cand[x], out, work) <= 0.0:
+            return True
+    return False
+
+
+@njit
 def mesh_overlap_rows(mesh, bodies, shape, body, at, flip, rows, work):
     """The overlap question for the pairs at rows ``at`` (k,) of ``rows`` (ContactRows), body ``body[q]`` (k,) of
     shape ``shape[q]`` against this surface: TOUCHING at the first candidate triangle at separation <= 0."""
     cand = work.cand
+    v, tr, nr = mesh.vertices, mesh.triangles, mesh.normals
     for q in range(at.shape[0]):
         p, i = at[q], body[q]
         cand, count = _candidates(mesh, bodies, i, work, cand)
-        rows.status[p] = APART
-        for x in range(count):
-            if triangle_answer(bodies, shape[q], i, mesh, cand[x], work.tri, work) <= 0.0:
-                rows.status[p] = TOUCHING
-                break
+        if shape[q] == BODY_ROUND:
+            hit = _round_touches(v, tr, nr, _round_of(bodies, i), cand, count)
+        else:
+            hit = _convex_touches(shape[q], _box_of(bodies, i), _hull_of(bodies, i), v, tr, nr, cand, count,
+                                  work.tri, work)
+        rows.status[p] = TOUCHING if hit else APART
+
+
+@njit(inline="always")
+def _insert_point(pts, deep, ids, n, x, y, z, d, key):
+    """Insert the point (x, y, z) of depth d and id key among the n points sorted deepest first (after its equals:
+    the triangle order breaks ties)."""
+    j = n
+    while j > 0 and d > deep[j - 1]:
+        pts[j, 0], pts[j, 1], pts[j, 2] = pts[j - 1, 0], pts[j - 1, 1], pts[j - 1, 2]
+        deep[j], ids[j] = deep[j - 1], ids[j - 1]
+        j -= 1
+    pts[j, 0], pts[j, 1], pts[j, 2] = x, y, z
+    deep[j], ids[j] = d, key
 
 
 @njit
-def _merge_contact(mesh, bodies, shape, i, cand, count, work, pts, deep, ids):
-    """The merged contact of body i over the candidate triangles cand[:count] (module docstring): (separation,
-    normal, body feature, triangle feature type, points count, the deepest triangle or −1); the points in pts,
-    deep, ids."""
-    tri = work.tri
-    best, best_t, n = np.inf, np.int64(-1), np.int64(0)
+def _merge_round(vertices, triangles, normals, active, core, cand, count, pts, deep, ids):
+    """The merged contact of the round core (``_round_of``) over the candidate triangles cand[:count] (module
+    docstring): (separation, normal, body feature, triangle feature type, points count); the points in pts, deep,
+    ids, deepest first."""
+    best, n = np.inf, np.int64(0)
     nx = ny = nz = 0.0
     fa = fb = np.int64(0)
     for x in range(count):
         t = cand[x]
-        s = triangle_answer(bodies, shape, i, mesh, t, tri, work)
-        fix_normal(mesh, t, tri)
+        a, b, c, nf = _triangle_of(vertices, triangles, normals, t)
+        s, mx, my, mz, ft, fi, key, px, py, pz = round_core_answer(core[0], core[1], core[2], a, b, c, nf)
         if s < best:
-            best, best_t = s, t
-            nx, ny, nz = tri.normal[0], tri.normal[1], tri.normal[2]
-            fa, fb = tri.body_feature[0], tri.tri_feature[0]
+            best = s
+            nx, ny, nz = _fixed_normal(active, normals, t, ft, fi, mx, my, mz)
+            fa, fb = key_kind(key), ft
         if s <= 0.0:
-            for v in range(tri.count[0]):
-                for k in range(3):
-                    pts[n, k] = tri.points[v, k]
-                deep[n] = tri.depths[v]
-                ids[n] = point_id(tri.body_keys[v], surface_key(mesh, t, tri.tri_keys[v]))
-                n += 1
-    return best, nx, ny, nz, fa, fb, n, best_t
+            _insert_point(pts, deep, ids, n, px, py, pz, max(-s, 0.0),
+                          point_id(key, _surface_key(triangles, t, feature_key(ft, fi))))
+            n += 1
+    return best, nx, ny, nz, fa, fb, n
+
+
+@njit(inline="always")
+def _take_answer(s, t, tri, triangles, normals, active, best, nx, ny, nz, fa, fb, n, pts, deep, ids):
+    """Merge triangle t's answer ``tri`` (separation s) into the pair's: the deepest triangle's normal (active-edge
+    fixed) and features, every touching triangle's points (``_merge_round``)."""
+    if s < best:
+        best = s
+        nx, ny, nz = _fixed_normal(active, normals, t, tri.tri_feature[0], tri.tri_feature[1], tri.normal[0],
+                                   tri.normal[1], tri.normal[2])
+        fa, fb = tri.body_feature[0], tri.tri_feature[0]
+    if s <= 0.0:
+        for v in range(tri.count[0]):
+            _insert_point(pts, deep, ids, n, tri.points[v, 0], tri.points[v, 1], tri.points[v, 2], tri.depths[v],
+                          point_id(tri.body_keys[v], _surface_key(triangles, t, tri.tri_keys[v])))
+            n += 1
+    return best, nx, ny, nz, fa, fb, n
 
 
 @njit
-def _sort_deepest_first(pts, deep, ids, n):
-    """Insertion sort of the n points by depth, deepest first (stable: the triangle order breaks ties)."""
-    for i in range(1, n):
-        j = i
-        while j > 0 and deep[j] > deep[j - 1]:
-            for k in range(3):
-                pts[j, k], pts[j - 1, k] = pts[j - 1, k], pts[j, k]
-            deep[j], deep[j - 1] = deep[j - 1], deep[j]
-            ids[j], ids[j - 1] = ids[j - 1], ids[j]
-            j -= 1
+def _merge_box(box, vertices, triangles, normals, active, cand, count, tri, scratch, pts, deep, ids):
+    """``_merge_round`` for a box (``_box_of``): box_triangle's answers, each in tri."""
+    best, nx, ny, nz, fa, fb, n = np.inf, 0.0, 0.0, 0.0, np.int64(0), np.int64(0), np.int64(0)
+    for x in range(count):
+        t = cand[x]
+        a, b, c, nf = _triangle_of(vertices, triangles, normals, t)
+        s = box_triangle(box[0], box[1], box[2], a, b, c, nf, tri, scratch)
+        best, nx, ny, nz, fa, fb, n = _take_answer(s, t, tri, triangles, normals, active, best, nx, ny, nz, fa, fb,
+                                                   n, pts, deep, ids)
+    return best, nx, ny, nz, fa, fb, n
+
+
+@njit
+def _merge_hull(hull, vertices, triangles, normals, active, cand, count, tri, work, pts, deep, ids):
+    """``_merge_round`` for a hull (``_hull_of``): convex_triangle's answers, each in tri."""
+    best, nx, ny, nz, fa, fb, n = np.inf, 0.0, 0.0, 0.0, np.int64(0), np.int64(0), np.int64(0)
+    for x in range(count):
+        t = cand[x]
+        a, b, c, nf = _triangle_of(vertices, triangles, normals, t)
+        s = convex_triangle(hull[0], hull[1], a, b, c, nf, tri, work)
+        best, nx, ny, nz, fa, fb, n = _take_answer(s, t, tri, triangles, normals, active, best, nx, ny, nz, fa, fb,
+                                                   n, pts, deep, ids)
+    return best, nx, ny, nz, fa, fb, n
 
 
 @njit
@@ -361,21 +524,27 @@ def mesh_contact_rows(mesh, bodies, shape, body, at, flip, rows, work):
     shape ``shape[q]`` against this surface, ``flip[q]``: the pair's first shape is the surface (module
     docstring: the merge)."""
     cand, pts, deep, ids = work.cand, work.pts, work.deep, work.ids
+    v, tr, nr, act = mesh.vertices, mesh.triangles, mesh.normals, mesh.active
     for q in range(at.shape[0]):
         p, i = at[q], body[q]
         cand, count = _candidates(mesh, bodies, i, work, cand)
         if count * MAX_TRIANGLE_POINTS > pts.shape[0]:
             size = 2 * count * MAX_TRIANGLE_POINTS
             pts, deep, ids = np.empty((size, 3)), np.empty(size), np.empty(size, np.int64)
-        best, nx, ny, nz, fa, fb, n, _ = _merge_contact(mesh, bodies, shape[q], i, cand, count, work, pts, deep,
-                                                        ids)
-        _sort_deepest_first(pts, deep, ids, n)
+        if shape[q] == BODY_ROUND:
+            merged = _merge_round(v, tr, nr, act, _round_of(bodies, i), cand, count, pts, deep, ids)
+        elif shape[q] == BODY_BOX:
+            merged = _merge_box(_box_of(bodies, i), v, tr, nr, act, cand, count, work.tri, work.scratch, pts, deep,
+                                ids)
+        else:
+            merged = _merge_hull(_hull_of(bodies, i), v, tr, nr, act, cand, count, work.tri, work, pts, deep, ids)
+        best, nx, ny, nz, fa, fb, n = merged
         n = reduce_manifold(pts, deep, ids, n, nx, ny, nz, work.scratch)
         write_pair(rows, p, best, nx, ny, nz, fa, fb, n, flip[q])
-        for v in range(n):
+        for m in range(n):
             for k in range(3):
-                rows.points[p, v, k] = pts[v, k]
-            rows.ids[p, v] = swap_point_id(ids[v]) if flip[q] else ids[v]
+                rows.points[p, m, k] = pts[m, k]
+            rows.ids[p, m] = swap_point_id(ids[m]) if flip[q] else ids[m]
 
 
 @njit(inline="always")
@@ -404,36 +573,79 @@ def _write_distance(out, p, flip, s, nx, ny, nz, wit):
 
 
 @njit
+def _surface_box(mesh):
+    """The AABB of the surface's vertices: (lo (3,), hi (3,))."""
+    lo, hi = np.full(3, np.inf), np.full(3, -np.inf)
+    for v in range(mesh.vertices.shape[0]):
+        for k in range(3):
+            lo[k], hi[k] = min(lo[k], mesh.vertices[v, k]), max(hi[k], mesh.vertices[v, k])
+    return lo, hi
+
+
+@njit
+def _nearest(mesh, shape, core, box, hull, radius, lo, hi, reach, work, cand, best_w, best, best_t, nx, ny, nz):
+    """The nearest triangle to the body (``_round_of``, …; its box [lo, hi]) among those whose
+    AABBs meet [lo − reach[0], hi + reach[0]], skipping, once best > 0, any whose box distance exceeds best + radius
+    + reach[1] (round-off): it cannot be nearer (its core is that far, or it would touch and meet the box).
+    Ties: the lowest triangle id. Returns (best, best_t, normal, cand)."""
+    g = reach[0]
+    glo = np.empty(3)
+    ghi = np.empty(3)
+    for k in range(3):
+        glo[k], ghi[k] = lo[k] - g, hi[k] + g
+    cand, count = candidate_triangles(mesh, glo, ghi, work.stack, cand)
+    tri = work.tri
+    for x in range(count):
+        t = cand[x]
+        if t == best_t or (best > 0.0 and _box_gap(lo, hi, mesh, t) > best + radius + reach[1]):
+            continue
+        s = _distance_answer(shape, core, box, hull, mesh.vertices, mesh.triangles, mesh.normals, t, tri, work)
+        if s < best or (s == best and t < best_t):
+            best, best_t, nx, ny, nz = s, t, tri.normal[0], tri.normal[1], tri.normal[2]
+            best_w[:] = work.wit
+    return best, best_t, nx, ny, nz, cand
+
+
+@njit
+def _nearest_triangle(mesh, shape, core, box, hull, radius, lo, hi, s_lo, s_hi, reach, work, cand, best_w):
+    """The signed distance of the body (``_round_of``, …; radius, box [lo, hi]) to the surface
+    (its box [s_lo, s_hi]; reach (2,) scratch): (distance, normal, candidates); witnesses in best_w."""
+    big, size = 0.0, 0.0
+    for k in range(3):
+        big = max(big, abs(lo[k]), abs(hi[k]), abs(s_lo[k]), abs(s_hi[k]))
+        size = max(size, hi[k] - lo[k])
+    reach[0], reach[1] = 0.0, 1e-12 * big  # a touching triangle meets the body's box
+    best, best_t, bx, by, bz, cand = _nearest(mesh, shape, core, box, hull, radius, lo, hi, reach, work, cand,
+                                              best_w, np.inf, np.int64(-1), 1.0, 0.0, 0.0)
+    if best <= 0.0:
+        return best, bx, by, bz, cand
+    reach[0] = max(size, 1e-300)  # apart: the nearest triangle, in boxes grown until they hold every nearer one
+    while True:
+        best, best_t, bx, by, bz, cand = _nearest(mesh, shape, core, box, hull, radius, lo, hi, reach, work,
+                                                  cand, best_w, best, best_t, bx, by, bz)
+        whole = True
+        for k in range(3):
+            whole = whole and lo[k] - reach[0] <= s_lo[k] and hi[k] + reach[0] >= s_hi[k]
+        if whole or reach[0] > best + radius + reach[1]:  # a triangle outside is farther than reach
+            break
+        reach[0] = 2.0 * reach[0] if best == np.inf else max(2.0 * reach[0], best + radius + 2.0 * reach[1])
+    return max(best, SMALLEST_GAP), bx, by, bz, cand  # no candidate touches: apart, as the overlap question says
+
+
+@njit
 def mesh_distance_rows(mesh, bodies, shape, body, at, flip, out, work):
     """The distance question (DistanceRows ``out``, rows ``at``) for body ``body[q]`` against this surface: the
     signed distance to the nearest triangle and its witnesses (module docstring)."""
-    cand, tri, lower = work.cand, work.tri, work.lower
-    nt = mesh.triangles.shape[0]
-    order = np.empty(nt, np.int64)
     best_w = np.empty((2, 3))
+    cand = work.cand
+    s_lo, s_hi = _surface_box(mesh)
+    reach = np.zeros(2)
     for q in range(at.shape[0]):
         p, i = at[q], body[q]
-        cand, count = _candidates(mesh, bodies, i, work, cand)
-        best, bx, by, bz = np.inf, 1.0, 0.0, 0.0
-        for x in range(count):  # a touching triangle meets the body's box
-            s = triangle_answer(bodies, shape[q], i, mesh, cand[x], tri, work)
-            if s < best:
-                best, bx, by, bz = s, tri.normal[0], tri.normal[1], tri.normal[2]
-                best_w[:] = work.wit
-        if not best <= 0.0:  # apart: the nearest triangle, by increasing box distance
-            best = np.inf
-            for t in range(nt):
-                lower[t] = _box_gap(bodies.lo[i], bodies.hi[i], mesh, t)
-            order[:] = np.argsort(lower, kind="mergesort")
-            for x in range(nt):
-                t = order[x]
-                if lower[t] > best + bodies.radius[i]:  # the core is radius inside the box: d − r >= gap − r
-                    break
-                s = triangle_answer(bodies, shape[q], i, mesh, t, tri, work)
-                if s < best:
-                    best, bx, by, bz = s, tri.normal[0], tri.normal[1], tri.normal[2]
-                    best_w[:] = work.wit
-            best = max(best, SMALLEST_GAP)  # no candidate touches: apart, as the overlap question says
+        lo, hi, r = bodies.lo[i], bodies.hi[i], bodies.radius[i]
+        found = _nearest_triangle(mesh, shape[q], _round_of(bodies, i), _box_of(bodies, i), _hull_of(bodies, i), r,
+                                  lo, hi, s_lo, s_hi, reach, work, cand, best_w)
+        best, bx, by, bz, cand = found
         _write_distance(out, p, flip[q], best, bx, by, bz, best_w)
 
 
@@ -461,7 +673,7 @@ def mesh_impact_times(mesh, bodies, body, dt, times, at, status):
             lo[k] = bodies.lo[i, k] + min(step, 0.0)
             hi[k] = bodies.hi[i, k] + max(step, 0.0)
         work_cand, count = candidate_triangles(mesh, lo, hi, stack, work_cand)
-        pa = _core(bodies, i)
+        pa = bodies.points[i, :bodies.count[i]]
         center = bodies.center[i]
         earliest = np.inf
         status[q] = SEPARATED

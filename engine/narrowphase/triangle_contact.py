@@ -14,7 +14,7 @@ from .segment_segment import closest_segment_parameters
 from .touching_normal import unit_vector
 
 __all__ = ["TriangleContact", "triangle_contact", "MAX_TRIANGLE_POINTS", "closest_on_triangle",
-           "round_core_triangle", "MEET"]
+           "round_core_answer", "round_core_triangle", "MEET"]
 
 #: the most candidate points one body–triangle contact writes (a box face clipped by a triangle: up to 7)
 MAX_TRIANGLE_POINTS = 8
@@ -206,10 +206,11 @@ def _magnitude(p0, p1, a, b, c):
 
 
 @njit
-def round_core_triangle(p0, p1, radius, a, b, c, n_face, out):
-    """One round core — the segment p0–p1 ((3,) each; p0 == p1 for a sphere) swept by ``radius`` — against the
-    triangle (a, b, c) of unit normal ``n_face``, into the ``TriangleContact`` ``out`` (see the comment above:
-    the closest points, or the meeting answer). Returns the separation."""
+def round_core_answer(p0, p1, radius, a, b, c, n_face):
+    """One round core — the segment p0–p1 ((3,) arrays or 3-tuples; p0 == p1 for a sphere) swept by ``radius`` —
+    against the triangle (a, b, c) of unit normal ``n_face`` (see the comment above: the closest points, or the
+    meeting answer): (separation, normal (3 floats), the triangle's feature (type, index), the body's feature key,
+    the contact point (3 floats))."""
     is_point = p0[0] == p1[0] and p0[1] == p1[1] and p0[2] == p1[2]
     s, vx, vy, vz, ft, fi = _closest_core_triangle(p0, p1, a, b, c, n_face)
     cx, cy, cz = p0[0] + s * (p1[0] - p0[0]), p0[1] + s * (p1[1] - p0[1]), p0[2] + s * (p1[2] - p0[2])
@@ -236,12 +237,19 @@ def round_core_triangle(p0, p1, radius, a, b, c, n_face, out):
         separation = -(radius + h)
         ft, fi = FACE, 0
     lift = radius + 0.5 * separation  # from the core point to halfway between the surfaces
+    return separation, nx, ny, nz, ft, fi, key, cx + lift * nx, cy + lift * ny, cz + lift * nz
+
+
+@njit
+def round_core_triangle(p0, p1, radius, a, b, c, n_face, out):
+    """``round_core_answer`` into the ``TriangleContact`` ``out`` (one point). Returns the separation."""
+    separation, nx, ny, nz, ft, fi, key, px, py, pz = round_core_answer(p0, p1, radius, a, b, c, n_face)
     out.separation[0] = separation
     out.normal[0], out.normal[1], out.normal[2] = nx, ny, nz
     out.tri_feature[0], out.tri_feature[1] = ft, fi
     out.body_feature[0] = key_kind(key)
     out.count[0] = 1
-    out.points[0, 0], out.points[0, 1], out.points[0, 2] = cx + lift * nx, cy + lift * ny, cz + lift * nz
+    out.points[0, 0], out.points[0, 1], out.points[0, 2] = px, py, pz
     out.depths[0] = max(-separation, 0.0)
     out.body_keys[0] = key
     out.tri_keys[0] = feature_key(ft, fi)

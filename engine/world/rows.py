@@ -300,7 +300,8 @@ MESH_OVERLAP = Kernel("candidate triangles: the first touching one", _mesh_answe
 MESH_CONTACT = Kernel("candidate triangles, active edges, the deepest triangle's normal",
                       _mesh_answers(mesh_contact_rows))
 MESH_SWEEP = Kernel("conservative advancement against the triangles under the swept box", _mesh_times)
-MESH_DISTANCE = Kernel("the nearest triangle (best first by box distance)", _mesh_answers(mesh_distance_rows))
+MESH_DISTANCE = Kernel("the nearest triangle (boxes grown until no farther one can be nearer)",
+                       _mesh_answers(mesh_distance_rows))
 _MESH = {"overlap": MESH_OVERLAP, "contact": MESH_CONTACT, "impact": MESH_SWEEP, "distance": MESH_DISTANCE}
 
 _GJK = {"overlap": GJK_DISTANCE, "contact": GJK_EPA, "impact": ADVANCEMENT, "distance": GJK_EPA_DISTANCE}
