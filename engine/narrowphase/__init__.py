@@ -90,9 +90,9 @@ module: kernels                   what they compute (shapes)
 ``ray_capsule``,                  [0, tmax]) with a closed solid sphere, oriented box, capsule, half-space, convex
 ``ray_halfspace``, ``ray_hull``   polyhedron given by planes (F, 4) (``hull_planes`` of a point set); (0, −d) from
                                   inside, (inf, nan, nan, nan) for a miss
-``triangle_mesh``: ``MeshArrays``, a static triangle surface as arrays (world vertices (nv, 3), triangles (nt, 3),
-``candidate_triangles``           face normals, active edges (nt, 3), a BVH or a heightfield's grid); the triangles
-                                  whose boxes meet a box, ascending
+``triangle_mesh``:                a static triangle surface as arrays (world vertices (nv, 3), triangles (nt, 3),
+``MeshArrays``,                   face normals, active edges (nt, 3), a BVH or a heightfield's grid); the triangles
+``candidate_triangles``           whose boxes meet a box, ascending
 ``triangle_contact``:             one round core (a sphere's point, a capsule's segment) against one triangle:
 ``round_core_answer``,            closest points, the triangle's feature, a ``TriangleContact`` (Ericson 5.1.5,
 ``round_core_triangle``           5.1.10)
