@@ -91,7 +91,7 @@ def _active_edges(vertices, triangles, normals):
 def _as_triangles(triangles, nv, name):
     arr = np.asarray(triangles)
     if arr.dtype == object or arr.dtype.kind not in "iu":
-        if arr.dtype.kind == "f" and arr.size and np.array_equal(arr, np.round(arr)):
+        if arr.dtype.kind == "f" and arr.size and np.isfinite(arr).all() and np.array_equal(arr, np.round(arr)):
             arr = arr.astype(np.int64)
         else:
             raise TypeError(f"{name} must be an integer array of vertex indices, got dtype {arr.dtype}")
