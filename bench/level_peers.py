@@ -626,19 +626,3 @@ class CoalDistance:
             coal.distance(coal.CollisionObject(shape, coal.Transform3s(r, c)), self.surface, self.request, result)
             out[k] = result.min_distance
         return out
-
-
-def time_frame(frame, poses, clock) -> dict:
-    """The fastest frame over ``poses`` (upload + detect + read) and its stages, in seconds."""
-    best = {"frame": np.inf}
-    for centers, quats in poses:
-        t0 = clock()
-        frame.upload(centers, quats)
-        t1 = clock()
-        frame.detect()
-        t2 = clock()
-        frame.read()
-        t3 = clock()
-        if t3 - t0 < best["frame"]:
-            best = {"upload": t1 - t0, "detect": t2 - t1, "read": t3 - t2, "frame": t3 - t0}
-    return best

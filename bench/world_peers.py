@@ -29,6 +29,7 @@ boundary of the Minkowski difference A − B (Qhull on the differences of the co
 """
 from __future__ import annotations
 
+import importlib
 import time
 
 import numpy as np
@@ -265,22 +266,65 @@ def frame_peers(scene: FrameScene, broad_phase: str = "tree"):
     return [EngineFrame(scene, broad_phase), MuJoCoFrame(scene), BulletFrame(scene)]
 
 
+def frame_stages(frame, centers, quaternions, clock=time.perf_counter) -> dict:
+    """One frame at the given poses, timed stage by stage in ``clock``'s seconds: ``{"upload": s, "detect": s,
+    "read": s, "frame": s}`` (MuJoCo's and Bullet's "detect" is their broad and narrow phase, "read" the reading
+    of their contacts; the engine's "detect" is ``contacts()``, which returns them)."""
+    t0 = clock()
+    frame.upload(centers, quaternions)
+    t1 = clock()
+    frame.detect()
+    t2 = clock()
+    frame.read()
+    t3 = clock()
+    return {"upload": t1 - t0, "detect": t2 - t1, "read": t3 - t2, "frame": t3 - t0}
+
+
 def time_stages(frame, poses, clock=time.perf_counter) -> dict:
-    """Minimum over the poses of each stage of one frame: ``{"upload": s, "detect": s, "read": s, "frame": s}``
-    (MuJoCo's and Bullet's "detect" is their broad and narrow phase, "read" the reading of their contacts; the
-    engine's "detect" is ``contacts()``, which returns them)."""
+    """Minimum over the poses of each stage of one frame (``frame_stages``): ``{"upload": s, "detect": s,
+    "read": s, "frame": s}``."""
     best = {"upload": np.inf, "detect": np.inf, "read": np.inf, "frame": np.inf}
     for centers, quats in poses:
-        t0 = clock()
-        frame.upload(centers, quats)
-        t1 = clock()
-        frame.detect()
-        t2 = clock()
-        frame.read()
-        t3 = clock()
-        for key, value in (("upload", t1 - t0), ("detect", t2 - t1), ("read", t3 - t2), ("frame", t3 - t0)):
+        for key, value in frame_stages(frame, centers, quats, clock).items():
             best[key] = min(best[key], value)
     return best
+
+
+def benchmark_clock(request):
+    """The clock pytest-benchmark times with (``--benchmark-timer``; ``time.perf_counter`` by default), so that a
+    benchmark's stages are in the clock of its statistics."""
+    name = request.config.getoption("benchmark_timer", None)
+    if not name:
+        return time.perf_counter
+    module, _, attr = str(name).rpartition(".")
+    return getattr(importlib.import_module(module or "time"), attr)
+
+
+def benchmark_frames(benchmark, frame, poses, warmup: int, rounds: int, clock=time.perf_counter,
+                     more_stages=None) -> dict:
+    """``warmup`` untimed frames (upload + detect) at the first poses, then ``rounds`` frames at the next ones,
+    each timed by pytest-benchmark (``benchmark.pedantic``). Returns the stages of the fastest frame
+    (``frame_stages``, plus what ``more_stages(frame, detect seconds)`` adds, e.g. a split of detect) as
+    ``stage_<name>``, and ``detection_min``: the fastest detect + read on its own (a peer whose upload dominates
+    its frame, pybullet's loop of resets, has its fastest frame chosen by the upload's noise)."""
+    for centers, quats in poses[:warmup]:
+        frame.upload(centers, quats)
+        frame.detect()
+    todo = iter(poses[warmup:])
+    fastest: dict = {}
+    detection = []
+
+    def one_frame():
+        times = frame_stages(frame, *next(todo), clock)
+        detection.append(times["detect"] + times["read"])
+        if more_stages is not None:
+            times.update(more_stages(frame, times["detect"]))
+        if times["frame"] < fastest.get("frame", np.inf):  # the stages of the fastest frame, which add up to it
+            fastest.clear()
+            fastest.update(times)
+
+    benchmark.pedantic(one_frame, rounds=rounds, iterations=1, warmup_rounds=0)
+    return {**{f"stage_{k}": v for k, v in fastest.items()}, "detection_min": min(detection)}
 
 
 # ---------------------------------------------------------------------------------------------------------------
@@ -318,7 +362,8 @@ def exact_depth(shape_a, pose_a, shape_b, pose_b) -> float:
     return float(np.min(-hull.equations[:, 3]) + radius)
 
 
-__all__ = ["EngineFrame", "MuJoCoFrame", "BulletFrame", "frame_peers", "time_stages", "exact_depth",
+__all__ = ["EngineFrame", "MuJoCoFrame", "BulletFrame", "frame_peers", "frame_stages", "time_stages",
+           "benchmark_clock", "benchmark_frames", "exact_depth",
            "core_points", "MUJOCO_MAX_BODIES", "agreement", "disagreements", "AGREEMENT_BAND"]
 
 
