@@ -47,6 +47,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from bench.world_peers import WorldFrame
 from engine.world import Box, HeightField, Sphere, TriangleMesh, World
 
 TERRAIN_SAMPLES = 128
@@ -417,7 +418,7 @@ def deepest_per_body(bodies, depth):
 # the peers
 # ---------------------------------------------------------------------------------------------------------------
 
-class LevelWorldFrame:
+class LevelWorldFrame(WorldFrame):
     """The engine's World: the bodies (ids 0 .. n − 1), then the surface (a HeightField or its TriangleMesh)."""
 
     def __init__(self, scene: LevelScene, surface: str = "field", broad_phase: str = "tree"):
@@ -429,16 +430,6 @@ class LevelWorldFrame:
         self.world.set_filter([self.surface], category=TERRAIN_CATEGORY, mask=BODY_CATEGORY)
         self.upload(scene.centers, scene.quaternions)
         self.last = None
-
-    def upload(self, centers, quaternions):
-        self.world.update(self.ids, centers, rotations=quaternions)
-
-    def detect(self):
-        self.last = self.world.contacts()
-        return self.last
-
-    def read(self):
-        return self.last
 
     def touching(self):
         c = self.last if self.last is not None else self.detect()

@@ -52,7 +52,23 @@ def _per_pair_max(pairs: np.ndarray, depth: np.ndarray, threshold: float):
     return p[keep], d[keep]
 
 
-class EngineFrame:
+class WorldFrame:
+    """What every frame on the engine's World shares: the subclass sets ``self.world``, the moving bodies' ids
+    ``self.ids`` and ``self.last = None``; ``upload`` is ``World.update`` of their poses, ``detect`` is
+    ``World.contacts()`` (kept as ``self.last``), ``read`` returns it."""
+
+    def upload(self, centers, quaternions):
+        self.world.update(self.ids, centers, rotations=quaternions)
+
+    def detect(self):
+        self.last = self.world.contacts()
+        return self.last
+
+    def read(self):
+        return self.last
+
+
+class EngineFrame(WorldFrame):
     """The engine's World on a scene; body i has id i, the ground (if any) id n."""
 
     name = "engine"
@@ -72,16 +88,6 @@ class EngineFrame:
                 self.world.set_filter(self.ids[(category == cat) & (mask == msk)], category=cat, mask=msk)
         self.upload(scene.centers, scene.quaternions)
         self.last = None
-
-    def upload(self, centers, quaternions):
-        self.world.update(self.ids, centers, rotations=quaternions)
-
-    def detect(self):
-        self.last = self.world.contacts()
-        return self.last
-
-    def read(self):
-        return self.last
 
     def penetrating(self, threshold: float = 1e-6):
         c = self.last if self.last is not None else self.detect()
@@ -362,7 +368,7 @@ def exact_depth(shape_a, pose_a, shape_b, pose_b) -> float:
     return float(np.min(-hull.equations[:, 3]) + radius)
 
 
-__all__ = ["EngineFrame", "MuJoCoFrame", "BulletFrame", "frame_peers", "frame_stages", "time_stages",
+__all__ = ["WorldFrame", "EngineFrame", "MuJoCoFrame", "BulletFrame", "frame_peers", "frame_stages", "time_stages",
            "benchmark_clock", "benchmark_frames", "exact_depth",
            "core_points", "MUJOCO_MAX_BODIES", "agreement", "disagreements", "AGREEMENT_BAND"]
 
