@@ -71,15 +71,21 @@ def _scene(n):
     return _scenes[n]
 
 
+def _world_frame(peer, scene, query):
+    """The World frame of ``peer`` ("World field" or "World mesh") once ``query(frame)`` has run; a World that
+    cannot answer a body against a surface (``UnsupportedQuery``) skips the benchmark."""
+    frame = LevelWorldFrame(scene, peer.split()[1])
+    try:
+        query(frame)
+    except UnsupportedQuery as e:
+        pytest.skip(f"World has no body-surface kernel yet: {e}")
+    return frame
+
+
 def _make(peer, scene):
-    """The peer's frame; a World frame that cannot answer a body against a surface skips the benchmark."""
+    """The peer's frame; a World frame that cannot detect a body against a surface skips the benchmark."""
     if peer.startswith("World"):
-        frame = LevelWorldFrame(scene, peer.split()[1])
-        try:
-            frame.detect()
-        except UnsupportedQuery as e:
-            pytest.skip(f"World has no body-surface kernel yet: {e}")
-        return frame
+        return _world_frame(peer, scene, LevelWorldFrame.detect)
     if peer == "MuJoCo hfield":
         return LevelMuJoCoFrame(scene)
     return LevelBulletFrame(scene, "field" if peer == "pybullet heightfield" else "mesh")
@@ -107,12 +113,7 @@ def test_bench_level_frame(benchmark, request, quick, peer, n):
 def _distance_peer(peer, scene):
     if peer == "coal BVH":
         return CoalDistance(scene)
-    frame = LevelWorldFrame(scene, peer.split()[1])
-    try:
-        frame.distances()
-    except UnsupportedQuery as e:
-        pytest.skip(f"World has no body-surface kernel yet: {e}")
-    return frame
+    return _world_frame(peer, scene, LevelWorldFrame.distances)
 
 
 def _coal_reference(n):
