@@ -47,7 +47,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from bench.world_peers import WorldFrame
+from bench.world_peers import BulletMultiBodyFrame, MuJoCoFreeBodyFrame, WorldFrame
 from engine.world import Box, HeightField, Sphere, TriangleMesh, World
 
 TERRAIN_SAMPLES = 128
@@ -468,7 +468,7 @@ def _mjcf_level(scene: LevelScene) -> str:
             f'{"".join(bodies)}</worldbody></mujoco>')
 
 
-class LevelMuJoCoFrame:
+class LevelMuJoCoFrame(MuJoCoFreeBodyFrame):
     """MuJoCo: the terrain as an hfield geom, free bodies; ``mj_kinematics`` + ``mj_collision`` per frame."""
 
     name = "MuJoCo hfield"
@@ -483,14 +483,6 @@ class LevelMuJoCoFrame:
         self.data = mujoco.MjData(self.model)
         self.qpos = self.data.qpos.reshape(len(scene.shapes), 7)
         self.upload(scene.centers, scene.quaternions)
-
-    def upload(self, centers, quaternions):
-        self.qpos[:, :3] = centers
-        self.qpos[:, 3:] = quaternions
-
-    def detect(self):
-        self.mujoco.mj_kinematics(self.model, self.data)
-        self.mujoco.mj_collision(self.model, self.data)
 
     def read(self):
         con = self.data.contact
@@ -507,7 +499,7 @@ class LevelMuJoCoFrame:
         return pos, self.model.geom_bodyid[geom.max(axis=1)] - 1
 
 
-class LevelBulletFrame:
+class LevelBulletFrame(BulletMultiBodyFrame):
     """pybullet (DIRECT): the terrain as a static heightfield or concave mesh, one multibody per body;
     ``performCollisionDetection`` per frame."""
 
@@ -551,18 +543,6 @@ class LevelBulletFrame:
                                                                                    math.sqrt(0.5)],
                                  physicsClientId=c)
 
-    def upload(self, centers, quaternions):
-        xyzw = np.roll(quaternions, -1, axis=1).tolist()
-        reset = self.p.resetBasePositionAndOrientation
-        for b, c, q in zip(self.bodies, centers.tolist(), xyzw):
-            reset(b, c, q, physicsClientId=self.client)
-
-    def detect(self):
-        self.p.performCollisionDetection(physicsClientId=self.client)
-
-    def read(self):
-        return self.p.getContactPoints(physicsClientId=self.client)
-
     def _rows(self):
         """(body (m,), depth (m,), point on the terrain (m, 3)) of the contact points with the terrain."""
         points = [c for c in self.read() if self.terrain in (c[1], c[2])]
@@ -580,9 +560,6 @@ class LevelBulletFrame:
     def contact_points(self):
         body, depth, point = self._rows()
         return point[depth >= 0.0], body[depth >= 0.0]
-
-    def close(self):
-        self.p.disconnect(physicsClientId=self.client)
 
 
 class CoalDistance:

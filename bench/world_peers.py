@@ -151,7 +151,42 @@ def _mjcf(scene: FrameScene, level: StaticBoxes | None = None, filters=None) -> 
 MUJOCO_MAX_BODIES = 20_000
 
 
-class MuJoCoFrame:
+class MuJoCoFreeBodyFrame:
+    """What the MuJoCo frames share: one free body per moving body, the subclass sets ``self.mujoco``,
+    ``self.model``, ``self.data`` and ``self.qpos`` (the free bodies' ``qpos`` as (n, 7)); ``upload`` writes
+    position and quaternion (w x y z), ``detect`` is ``mj_kinematics`` + ``mj_collision``."""
+
+    def upload(self, centers, quaternions):
+        self.qpos[:, :3] = centers
+        self.qpos[:, 3:] = quaternions
+
+    def detect(self):
+        self.mujoco.mj_kinematics(self.model, self.data)
+        self.mujoco.mj_collision(self.model, self.data)
+
+
+class BulletMultiBodyFrame:
+    """What the pybullet frames share: one multibody per moving body (``self.bodies``) in the DIRECT client
+    ``self.client`` of ``self.p`` (the subclass sets them); ``upload`` is ``resetBasePositionAndOrientation`` per
+    body (quaternion x y z w), ``detect`` ``performCollisionDetection``, ``read`` ``getContactPoints``."""
+
+    def upload(self, centers, quaternions):
+        xyzw = np.roll(quaternions, -1, axis=1).tolist()
+        reset = self.p.resetBasePositionAndOrientation
+        for b, c, q in zip(self.bodies, centers.tolist(), xyzw):
+            reset(b, c, q, physicsClientId=self.client)
+
+    def detect(self):
+        self.p.performCollisionDetection(physicsClientId=self.client)
+
+    def read(self):
+        return self.p.getContactPoints(physicsClientId=self.client)
+
+    def close(self):
+        self.p.disconnect(physicsClientId=self.client)
+
+
+class MuJoCoFrame(MuJoCoFreeBodyFrame):
     """MuJoCo on a scene: free bodies, ``mj_kinematics`` + ``mj_collision`` per frame."""
 
     name = "MuJoCo"
@@ -170,14 +205,6 @@ class MuJoCoFrame:
         self.qpos = self.data.qpos.reshape(n, 7)
         self.upload(scene.centers, scene.quaternions)
 
-    def upload(self, centers, quaternions):
-        self.qpos[:, :3] = centers
-        self.qpos[:, 3:] = quaternions
-
-    def detect(self):
-        self.mujoco.mj_kinematics(self.model, self.data)
-        self.mujoco.mj_collision(self.model, self.data)
-
     def read(self):
         con = self.data.contact
         return self.geom_body[con.geom], -np.asarray(con.dist)
@@ -187,7 +214,7 @@ class MuJoCoFrame:
         return _per_pair_max(pairs, depth, threshold)
 
 
-class BulletFrame:
+class BulletFrame(BulletMultiBodyFrame):
     """pybullet (DIRECT) on a scene: one multibody per shape, ``performCollisionDetection`` per frame."""
 
     name = "pybullet"
@@ -243,18 +270,6 @@ class BulletFrame:
                                           physicsClientId=self.client)
         return p.createCollisionShape(p.GEOM_MESH, vertices=s.local.tolist(), physicsClientId=self.client)
 
-    def upload(self, centers, quaternions):
-        xyzw = np.roll(quaternions, -1, axis=1).tolist()
-        reset = self.p.resetBasePositionAndOrientation
-        for b, c, q in zip(self.bodies, centers.tolist(), xyzw):
-            reset(b, c, q, physicsClientId=self.client)
-
-    def detect(self):
-        self.p.performCollisionDetection(physicsClientId=self.client)
-
-    def read(self):
-        return self.p.getContactPoints(physicsClientId=self.client)
-
     def penetrating(self, threshold: float = 1e-6):
         points = self.read()
         if not points:
@@ -262,9 +277,6 @@ class BulletFrame:
         pairs = np.array([(self.index[c[1]], self.index[c[2]]) for c in points], np.int64)
         depth = -np.array([c[8] for c in points])
         return _per_pair_max(pairs, depth, threshold)
-
-    def close(self):
-        self.p.disconnect(physicsClientId=self.client)
 
 
 def frame_peers(scene: FrameScene, broad_phase: str = "tree"):
@@ -368,8 +380,8 @@ def exact_depth(shape_a, pose_a, shape_b, pose_b) -> float:
     return float(np.min(-hull.equations[:, 3]) + radius)
 
 
-__all__ = ["WorldFrame", "EngineFrame", "MuJoCoFrame", "BulletFrame", "frame_peers", "frame_stages", "time_stages",
-           "benchmark_clock", "benchmark_frames", "exact_depth",
+__all__ = ["WorldFrame", "MuJoCoFreeBodyFrame", "BulletMultiBodyFrame", "EngineFrame", "MuJoCoFrame", "BulletFrame",
+           "frame_peers", "frame_stages", "time_stages", "benchmark_clock", "benchmark_frames", "exact_depth",
            "core_points", "MUJOCO_MAX_BODIES", "agreement", "disagreements", "AGREEMENT_BAND"]
 
 
