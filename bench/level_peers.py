@@ -47,6 +47,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from bench.world_peers import BulletMultiBodyFrame, MuJoCoFreeBodyFrame, WorldFrame
 from engine.world import Box, HeightField, Sphere, TriangleMesh, World
 
 TERRAIN_SAMPLES = 128
@@ -417,7 +418,7 @@ def deepest_per_body(bodies, depth):
 # the peers
 # ---------------------------------------------------------------------------------------------------------------
 
-class LevelWorldFrame:
+class LevelWorldFrame(WorldFrame):
     """The engine's World: the bodies (ids 0 .. n − 1), then the surface (a HeightField or its TriangleMesh)."""
 
     def __init__(self, scene: LevelScene, surface: str = "field", broad_phase: str = "tree"):
@@ -429,16 +430,6 @@ class LevelWorldFrame:
         self.world.set_filter([self.surface], category=TERRAIN_CATEGORY, mask=BODY_CATEGORY)
         self.upload(scene.centers, scene.quaternions)
         self.last = None
-
-    def upload(self, centers, quaternions):
-        self.world.update(self.ids, centers, rotations=quaternions)
-
-    def detect(self):
-        self.last = self.world.contacts()
-        return self.last
-
-    def read(self):
-        return self.last
 
     def touching(self):
         c = self.last if self.last is not None else self.detect()
@@ -477,7 +468,7 @@ def _mjcf_level(scene: LevelScene) -> str:
             f'{"".join(bodies)}</worldbody></mujoco>')
 
 
-class LevelMuJoCoFrame:
+class LevelMuJoCoFrame(MuJoCoFreeBodyFrame):
     """MuJoCo: the terrain as an hfield geom, free bodies; ``mj_kinematics`` + ``mj_collision`` per frame."""
 
     name = "MuJoCo hfield"
@@ -492,14 +483,6 @@ class LevelMuJoCoFrame:
         self.data = mujoco.MjData(self.model)
         self.qpos = self.data.qpos.reshape(len(scene.shapes), 7)
         self.upload(scene.centers, scene.quaternions)
-
-    def upload(self, centers, quaternions):
-        self.qpos[:, :3] = centers
-        self.qpos[:, 3:] = quaternions
-
-    def detect(self):
-        self.mujoco.mj_kinematics(self.model, self.data)
-        self.mujoco.mj_collision(self.model, self.data)
 
     def read(self):
         con = self.data.contact
@@ -516,7 +499,7 @@ class LevelMuJoCoFrame:
         return pos, self.model.geom_bodyid[geom.max(axis=1)] - 1
 
 
-class LevelBulletFrame:
+class LevelBulletFrame(BulletMultiBodyFrame):
     """pybullet (DIRECT): the terrain as a static heightfield or concave mesh, one multibody per body;
     ``performCollisionDetection`` per frame."""
 
@@ -560,18 +543,6 @@ class LevelBulletFrame:
                                                                                    math.sqrt(0.5)],
                                  physicsClientId=c)
 
-    def upload(self, centers, quaternions):
-        xyzw = np.roll(quaternions, -1, axis=1).tolist()
-        reset = self.p.resetBasePositionAndOrientation
-        for b, c, q in zip(self.bodies, centers.tolist(), xyzw):
-            reset(b, c, q, physicsClientId=self.client)
-
-    def detect(self):
-        self.p.performCollisionDetection(physicsClientId=self.client)
-
-    def read(self):
-        return self.p.getContactPoints(physicsClientId=self.client)
-
     def _rows(self):
         """(body (m,), depth (m,), point on the terrain (m, 3)) of the contact points with the terrain."""
         points = [c for c in self.read() if self.terrain in (c[1], c[2])]
@@ -589,9 +560,6 @@ class LevelBulletFrame:
     def contact_points(self):
         body, depth, point = self._rows()
         return point[depth >= 0.0], body[depth >= 0.0]
-
-    def close(self):
-        self.p.disconnect(physicsClientId=self.client)
 
 
 class CoalDistance:
@@ -626,19 +594,3 @@ class CoalDistance:
             coal.distance(coal.CollisionObject(shape, coal.Transform3s(r, c)), self.surface, self.request, result)
             out[k] = result.min_distance
         return out
-
-
-def time_frame(frame, poses, clock) -> dict:
-    """The fastest frame over ``poses`` (upload + detect + read) and its stages, in seconds."""
-    best = {"frame": np.inf}
-    for centers, quats in poses:
-        t0 = clock()
-        frame.upload(centers, quats)
-        t1 = clock()
-        frame.detect()
-        t2 = clock()
-        frame.read()
-        t3 = clock()
-        if t3 - t0 < best["frame"]:
-            best = {"upload": t1 - t0, "detect": t2 - t1, "read": t3 - t2, "frame": t3 - t0}
-    return best

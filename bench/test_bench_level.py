@@ -32,9 +32,6 @@ Run: ``python -m pytest bench/test_bench_level.py --benchmark-only -q`` (``--qui
 """
 from __future__ import annotations
 
-import importlib
-import time
-
 import numpy as np
 import pytest
 
@@ -50,6 +47,7 @@ from bench.level_peers import (
     sphere_distances,
     wrong_against_exact,
 )
+from bench.world_peers import benchmark_clock, benchmark_frames
 from engine.world import UnsupportedQuery
 
 WARMUP = 3
@@ -73,54 +71,24 @@ def _scene(n):
     return _scenes[n]
 
 
-def _clock(request):
-    name = request.config.getoption("benchmark_timer", None)
-    if not name:
-        return time.perf_counter
-    module, _, attr = str(name).rpartition(".")
-    return getattr(importlib.import_module(module or "time"), attr)
+def _world_frame(peer, scene, query):
+    """The World frame of ``peer`` ("World field" or "World mesh") once ``query(frame)`` has run; a World that
+    cannot answer a body against a surface (``UnsupportedQuery``) skips the benchmark."""
+    frame = LevelWorldFrame(scene, peer.split()[1])
+    try:
+        query(frame)
+    except UnsupportedQuery as e:
+        pytest.skip(f"World has no body-surface kernel yet: {e}")
+    return frame
 
 
 def _make(peer, scene):
-    """The peer's frame; a World frame that cannot answer a body against a surface skips the benchmark."""
+    """The peer's frame; a World frame that cannot detect a body against a surface skips the benchmark."""
     if peer.startswith("World"):
-        frame = LevelWorldFrame(scene, peer.split()[1])
-        try:
-            frame.detect()
-        except UnsupportedQuery as e:
-            pytest.skip(f"World has no body-surface kernel yet: {e}")
-        return frame
+        return _world_frame(peer, scene, LevelWorldFrame.detect)
     if peer == "MuJoCo hfield":
         return LevelMuJoCoFrame(scene)
     return LevelBulletFrame(scene, "field" if peer == "pybullet heightfield" else "mesh")
-
-
-def _time_frames(benchmark, clock, frame, poses) -> dict:
-    """``WARMUP`` untimed frames, then ``ROUNDS`` timed by pytest-benchmark: the stages of the fastest frame and
-    the fastest detect + read."""
-    for centers, quats in poses[:WARMUP]:
-        frame.upload(centers, quats)
-        frame.detect()
-    todo = iter(poses[WARMUP:])
-    stages: dict = {}
-    detection = []
-
-    def one_frame():
-        centers, quats = next(todo)
-        t0 = clock()
-        frame.upload(centers, quats)
-        t1 = clock()
-        frame.detect()
-        t2 = clock()
-        frame.read()
-        t3 = clock()
-        detection.append(t3 - t1)
-        if t3 - t0 < stages.get("frame", np.inf):
-            stages.clear()
-            stages.update(upload=t1 - t0, detect=t2 - t1, read=t3 - t2, frame=t3 - t0)
-
-    benchmark.pedantic(one_frame, rounds=ROUNDS, iterations=1, warmup_rounds=0)
-    return {**{f"stage_{k}": v for k, v in stages.items()}, "detection_min": min(detection)}
 
 
 @pytest.mark.parametrize("n", _sizes())
@@ -131,7 +99,7 @@ def test_bench_level_frame(benchmark, request, quick, peer, n):
     scene, poses, touching, depth = _scene(n)
     frame = _make(peer, scene)
     benchmark.group = f"Level frame: N = {n:,}"
-    stages = _time_frames(benchmark, _clock(request), frame, poses)
+    stages = benchmark_frames(benchmark, frame, poses, WARMUP, ROUNDS, benchmark_clock(request))
     frame.upload(scene.centers, scene.quaternions)
     frame.detect()
     bodies, found_depth = frame.touching()
@@ -145,12 +113,7 @@ def test_bench_level_frame(benchmark, request, quick, peer, n):
 def _distance_peer(peer, scene):
     if peer == "coal BVH":
         return CoalDistance(scene)
-    frame = LevelWorldFrame(scene, peer.split()[1])
-    try:
-        frame.distances()
-    except UnsupportedQuery as e:
-        pytest.skip(f"World has no body-surface kernel yet: {e}")
-    return frame
+    return _world_frame(peer, scene, LevelWorldFrame.distances)
 
 
 def _coal_reference(n):

@@ -45,7 +45,6 @@ Run: ``python -m pytest bench/test_bench_world.py --benchmark-only -q`` (``--qui
 """
 from __future__ import annotations
 
-import importlib
 import time
 
 import numpy as np
@@ -58,6 +57,8 @@ from bench.world_peers import (
     EngineFrame,
     MuJoCoFrame,
     agreement,
+    benchmark_clock,
+    benchmark_frames,
     disagreements,
     exact_depth,
 )
@@ -84,14 +85,6 @@ def _scene(name, n):
         scene = frame_scene(name, n)
         _scenes[(name, n)] = (scene, frame_motion(scene, WARMUP + ROUNDS))
     return _scenes[(name, n)]
-
-
-def _clock(request):
-    name = request.config.getoption("benchmark_timer", None)
-    if not name:
-        return time.perf_counter
-    module, _, attr = str(name).rpartition(".")
-    return getattr(importlib.import_module(module or "time"), attr)
 
 
 def _make(peer, scene):
@@ -145,36 +138,13 @@ def _stage_split(wall: dict, detect: float) -> dict:
 
 
 def _time_frames(benchmark, clock, frame, poses) -> dict:
-    """``WARMUP`` untimed frames, then ``ROUNDS`` frames timed by pytest-benchmark; returns the stages of the
-    fastest frame (``upload``, ``detect``, ``read``, ``frame``; and World's ``broad``, ``narrow``, ``contacts``)."""
-    for centers, quats in poses[:WARMUP]:
-        frame.upload(centers, quats)
-        frame.detect()
-    todo = iter(poses[WARMUP:])
-    stages: dict = {}
-    detection = []
-
-    def one_frame():
-        centers, quats = next(todo)
-        t0 = clock()
-        frame.upload(centers, quats)
-        t1 = clock()
-        frame.detect()
-        t2 = clock()
-        frame.read()
-        t3 = clock()
-        times = {"upload": t1 - t0, "detect": t2 - t1, "read": t3 - t2}
-        detection.append(t3 - t1)
-        if isinstance(frame, EngineFrame):
-            times.update(_stage_split(frame.world.stats.seconds, t2 - t1))
-        if t3 - t0 < stages.get("frame", np.inf):  # the stages of the fastest frame, which add up to it
-            stages.clear()
-            stages.update(times, frame=t3 - t0)
-
-    benchmark.pedantic(one_frame, rounds=ROUNDS, iterations=1, warmup_rounds=0)
-    # the fastest detection on its own: a peer whose upload dominates its frame (pybullet's loop of resets) has
-    # its fastest frame chosen by the upload's noise
-    return {**{f"stage_{k}": v for k, v in stages.items()}, "detection_min": min(detection)}
+    """``benchmark_frames`` (``WARMUP`` untimed frames, then ``ROUNDS`` timed; the stages of the fastest frame and
+    the fastest detection), World's detect split into ``broad``, ``narrow``, ``contacts`` (``_stage_split``)."""
+    split = None
+    if isinstance(frame, EngineFrame):
+        def split(engine, detect):
+            return _stage_split(engine.world.stats.seconds, detect)
+    return benchmark_frames(benchmark, frame, poses, WARMUP, ROUNDS, clock, split)
 
 
 def _agreement_info(reference, pairs, depth) -> dict:
@@ -222,7 +192,7 @@ def test_bench_frame(benchmark, request, quick, peer, scene_name, n):
     scene, poses = _scene(scene_name, n)
     frame = _make(peer, scene)
     benchmark.group = f"World frame: {scene_name}, N = {n:,}"
-    stages = _time_frames(benchmark, _clock(request), frame, poses)
+    stages = _time_frames(benchmark, benchmark_clock(request), frame, poses)
     pairs, depth = frame.penetrating()
     info = {"scene": scene_name, "n": n, "peer": peer, "warmup_frames": WARMUP, "penetrating_pairs": len(pairs),
             **stages}
@@ -232,7 +202,7 @@ def test_bench_frame(benchmark, request, quick, peer, scene_name, n):
         info.update({f"vs_world_{k}": v for k, v in agreement(ref, (pairs, depth)).items()})
     if peer.startswith("World"):
         info.update(_world_counts(frame))
-        info.update(_impact_time(frame, _clock(request), poses))
+        info.update(_impact_time(frame, benchmark_clock(request), poses))
     benchmark.extra_info.update(info)
     if isinstance(frame, BulletFrame):
         frame.close()
@@ -324,7 +294,7 @@ def test_bench_static_level(benchmark, request, quick, peer, size):
     scene, level, poses = _level(size)
     frame = _make_level(peer, scene, level)
     benchmark.group = f"World static level: {n_static:,} static boxes, {n_moving:,} moving bodies"
-    stages = _time_frames(benchmark, _clock(request), frame, poses)
+    stages = _time_frames(benchmark, benchmark_clock(request), frame, poses)
     pairs, depth = frame.penetrating()
     on_level = pairs[:, 1] >= n_moving  # the level's boxes follow the moving bodies
     info = {"suite": "static_level", "n_static": n_static, "n_moving": n_moving, "peer": peer,
@@ -382,7 +352,7 @@ def test_bench_masked(benchmark, request, quick, peer, masked, n):
     scene, poses = _scene("mixed", n)
     frame = _make_filtered(peer, scene, category_masks(n) if masked else None)
     benchmark.group = f"World masked: mixed, N = {n:,}"
-    stages = _time_frames(benchmark, _clock(request), frame, poses)
+    stages = _time_frames(benchmark, benchmark_clock(request), frame, poses)
     pairs, depth = frame.penetrating()
     info = {"suite": "masked", "n": n, "peer": peer, "masked": masked, "warmup_frames": WARMUP,
             "penetrating_pairs": len(pairs), **stages}

@@ -29,6 +29,7 @@ boundary of the Minkowski difference A − B (Qhull on the differences of the co
 """
 from __future__ import annotations
 
+import importlib
 import time
 
 import numpy as np
@@ -51,7 +52,23 @@ def _per_pair_max(pairs: np.ndarray, depth: np.ndarray, threshold: float):
     return p[keep], d[keep]
 
 
-class EngineFrame:
+class WorldFrame:
+    """What every frame on the engine's World shares: the subclass sets ``self.world``, the moving bodies' ids
+    ``self.ids`` and ``self.last = None``; ``upload`` is ``World.update`` of their poses, ``detect`` is
+    ``World.contacts()`` (kept as ``self.last``), ``read`` returns it."""
+
+    def upload(self, centers, quaternions):
+        self.world.update(self.ids, centers, rotations=quaternions)
+
+    def detect(self):
+        self.last = self.world.contacts()
+        return self.last
+
+    def read(self):
+        return self.last
+
+
+class EngineFrame(WorldFrame):
     """The engine's World on a scene; body i has id i, the ground (if any) id n."""
 
     name = "engine"
@@ -71,16 +88,6 @@ class EngineFrame:
                 self.world.set_filter(self.ids[(category == cat) & (mask == msk)], category=cat, mask=msk)
         self.upload(scene.centers, scene.quaternions)
         self.last = None
-
-    def upload(self, centers, quaternions):
-        self.world.update(self.ids, centers, rotations=quaternions)
-
-    def detect(self):
-        self.last = self.world.contacts()
-        return self.last
-
-    def read(self):
-        return self.last
 
     def penetrating(self, threshold: float = 1e-6):
         c = self.last if self.last is not None else self.detect()
@@ -144,7 +151,42 @@ def _mjcf(scene: FrameScene, level: StaticBoxes | None = None, filters=None) -> 
 MUJOCO_MAX_BODIES = 20_000
 
 
-class MuJoCoFrame:
+class MuJoCoFreeBodyFrame:
+    """What the MuJoCo frames share: one free body per moving body, the subclass sets ``self.mujoco``,
+    ``self.model``, ``self.data`` and ``self.qpos`` (the free bodies' ``qpos`` as (n, 7)); ``upload`` writes
+    position and quaternion (w x y z), ``detect`` is ``mj_kinematics`` + ``mj_collision``."""
+
+    def upload(self, centers, quaternions):
+        self.qpos[:, :3] = centers
+        self.qpos[:, 3:] = quaternions
+
+    def detect(self):
+        self.mujoco.mj_kinematics(self.model, self.data)
+        self.mujoco.mj_collision(self.model, self.data)
+
+
+class BulletMultiBodyFrame:
+    """What the pybullet frames share: one multibody per moving body (``self.bodies``) in the DIRECT client
+    ``self.client`` of ``self.p`` (the subclass sets them); ``upload`` is ``resetBasePositionAndOrientation`` per
+    body (quaternion x y z w), ``detect`` ``performCollisionDetection``, ``read`` ``getContactPoints``."""
+
+    def upload(self, centers, quaternions):
+        xyzw = np.roll(quaternions, -1, axis=1).tolist()
+        reset = self.p.resetBasePositionAndOrientation
+        for b, c, q in zip(self.bodies, centers.tolist(), xyzw):
+            reset(b, c, q, physicsClientId=self.client)
+
+    def detect(self):
+        self.p.performCollisionDetection(physicsClientId=self.client)
+
+    def read(self):
+        return self.p.getContactPoints(physicsClientId=self.client)
+
+    def close(self):
+        self.p.disconnect(physicsClientId=self.client)
+
+
+class MuJoCoFrame(MuJoCoFreeBodyFrame):
     """MuJoCo on a scene: free bodies, ``mj_kinematics`` + ``mj_collision`` per frame."""
 
     name = "MuJoCo"
@@ -163,14 +205,6 @@ class MuJoCoFrame:
         self.qpos = self.data.qpos.reshape(n, 7)
         self.upload(scene.centers, scene.quaternions)
 
-    def upload(self, centers, quaternions):
-        self.qpos[:, :3] = centers
-        self.qpos[:, 3:] = quaternions
-
-    def detect(self):
-        self.mujoco.mj_kinematics(self.model, self.data)
-        self.mujoco.mj_collision(self.model, self.data)
-
     def read(self):
         con = self.data.contact
         return self.geom_body[con.geom], -np.asarray(con.dist)
@@ -180,7 +214,7 @@ class MuJoCoFrame:
         return _per_pair_max(pairs, depth, threshold)
 
 
-class BulletFrame:
+class BulletFrame(BulletMultiBodyFrame):
     """pybullet (DIRECT) on a scene: one multibody per shape, ``performCollisionDetection`` per frame."""
 
     name = "pybullet"
@@ -236,18 +270,6 @@ class BulletFrame:
                                           physicsClientId=self.client)
         return p.createCollisionShape(p.GEOM_MESH, vertices=s.local.tolist(), physicsClientId=self.client)
 
-    def upload(self, centers, quaternions):
-        xyzw = np.roll(quaternions, -1, axis=1).tolist()
-        reset = self.p.resetBasePositionAndOrientation
-        for b, c, q in zip(self.bodies, centers.tolist(), xyzw):
-            reset(b, c, q, physicsClientId=self.client)
-
-    def detect(self):
-        self.p.performCollisionDetection(physicsClientId=self.client)
-
-    def read(self):
-        return self.p.getContactPoints(physicsClientId=self.client)
-
     def penetrating(self, threshold: float = 1e-6):
         points = self.read()
         if not points:
@@ -256,31 +278,71 @@ class BulletFrame:
         depth = -np.array([c[8] for c in points])
         return _per_pair_max(pairs, depth, threshold)
 
-    def close(self):
-        self.p.disconnect(physicsClientId=self.client)
-
 
 def frame_peers(scene: FrameScene, broad_phase: str = "tree"):
     """The three frames on one scene: ``[EngineFrame, MuJoCoFrame, BulletFrame]``."""
     return [EngineFrame(scene, broad_phase), MuJoCoFrame(scene), BulletFrame(scene)]
 
 
+def frame_stages(frame, centers, quaternions, clock=time.perf_counter) -> dict:
+    """One frame at the given poses, timed stage by stage in ``clock``'s seconds: ``{"upload": s, "detect": s,
+    "read": s, "frame": s}`` (MuJoCo's and Bullet's "detect" is their broad and narrow phase, "read" the reading
+    of their contacts; the engine's "detect" is ``contacts()``, which returns them)."""
+    t0 = clock()
+    frame.upload(centers, quaternions)
+    t1 = clock()
+    frame.detect()
+    t2 = clock()
+    frame.read()
+    t3 = clock()
+    return {"upload": t1 - t0, "detect": t2 - t1, "read": t3 - t2, "frame": t3 - t0}
+
+
 def time_stages(frame, poses, clock=time.perf_counter) -> dict:
-    """Minimum over the poses of each stage of one frame: ``{"upload": s, "detect": s, "read": s, "frame": s}``
-    (MuJoCo's and Bullet's "detect" is their broad and narrow phase, "read" the reading of their contacts; the
-    engine's "detect" is ``contacts()``, which returns them)."""
+    """Minimum over the poses of each stage of one frame (``frame_stages``): ``{"upload": s, "detect": s,
+    "read": s, "frame": s}``."""
     best = {"upload": np.inf, "detect": np.inf, "read": np.inf, "frame": np.inf}
     for centers, quats in poses:
-        t0 = clock()
-        frame.upload(centers, quats)
-        t1 = clock()
-        frame.detect()
-        t2 = clock()
-        frame.read()
-        t3 = clock()
-        for key, value in (("upload", t1 - t0), ("detect", t2 - t1), ("read", t3 - t2), ("frame", t3 - t0)):
+        for key, value in frame_stages(frame, centers, quats, clock).items():
             best[key] = min(best[key], value)
     return best
+
+
+def benchmark_clock(request):
+    """The clock pytest-benchmark times with (``--benchmark-timer``; ``time.perf_counter`` by default), so that a
+    benchmark's stages are in the clock of its statistics."""
+    name = request.config.getoption("benchmark_timer", None)
+    if not name:
+        return time.perf_counter
+    module, _, attr = str(name).rpartition(".")
+    return getattr(importlib.import_module(module or "time"), attr)
+
+
+def benchmark_frames(benchmark, frame, poses, warmup: int, rounds: int, clock=time.perf_counter,
+                     more_stages=None) -> dict:
+    """``warmup`` untimed frames (upload + detect) at the first poses, then ``rounds`` frames at the next ones,
+    each timed by pytest-benchmark (``benchmark.pedantic``). Returns the stages of the fastest frame
+    (``frame_stages``, plus what ``more_stages(frame, detect seconds)`` adds, e.g. a split of detect) as
+    ``stage_<name>``, and ``detection_min``: the fastest detect + read on its own (a peer whose upload dominates
+    its frame, pybullet's loop of resets, has its fastest frame chosen by the upload's noise)."""
+    for centers, quats in poses[:warmup]:
+        frame.upload(centers, quats)
+        frame.detect()
+    todo = iter(poses[warmup:])
+    fastest: dict = {}
+    detection = []
+
+    def one_frame():
+        times = frame_stages(frame, *next(todo), clock)
+        detection.append(times["detect"] + times["read"])
+        if more_stages is not None:
+            times.update(more_stages(frame, times["detect"]))
+        if times["frame"] < fastest.get("frame", np.inf):  # the stages of the fastest frame, which add up to it
+            fastest.clear()
+            fastest.update(times)
+
+    benchmark.pedantic(one_frame, rounds=rounds, iterations=1, warmup_rounds=0)
+    return {**{f"stage_{k}": v for k, v in fastest.items()}, "detection_min": min(detection)}
 
 
 # ---------------------------------------------------------------------------------------------------------------
@@ -318,7 +380,8 @@ def exact_depth(shape_a, pose_a, shape_b, pose_b) -> float:
     return float(np.min(-hull.equations[:, 3]) + radius)
 
 
-__all__ = ["EngineFrame", "MuJoCoFrame", "BulletFrame", "frame_peers", "time_stages", "exact_depth",
+__all__ = ["WorldFrame", "MuJoCoFreeBodyFrame", "BulletMultiBodyFrame", "EngineFrame", "MuJoCoFrame", "BulletFrame",
+           "frame_peers", "frame_stages", "time_stages", "benchmark_clock", "benchmark_frames", "exact_depth",
            "core_points", "MUJOCO_MAX_BODIES", "agreement", "disagreements", "AGREEMENT_BAND"]
 
 
