@@ -72,8 +72,8 @@ from .touching_normal import unit_vector
 from .triangle_contact import MAX_TRIANGLE_POINTS, round_core_answer, round_core_triangle, triangle_contact
 from .triangle_mesh import VERTEX_EDGES, candidate_triangles
 
-__all__ = ["BODY_ROUND", "BODY_BOX", "BODY_HULL", "MeshWork", "mesh_work", "convex_triangle", "fix_normal",
-           "surface_key", "triangle_answer", "triangle_distance", "mesh_overlap_rows",
+__all__ = ["BODY_ROUND", "BODY_BOX", "BODY_HULL", "MeshWork", "mesh_work", "convex_triangle", "sat_hull_triangle",
+           "fix_normal", "surface_key", "triangle_answer", "triangle_distance", "mesh_overlap_rows",
            "mesh_contact_rows", "mesh_distance_rows", "mesh_impact_times", "IMPACT_TOL", "IMPACT_ITERATIONS"]
 
 #: the body's shape, as the kernels dispatch on it: a round core (sphere, capsule), a box, a hull
@@ -128,11 +128,12 @@ def _axis_depth(pa, tri, ux, uy, uz, best):
 
 
 @njit
-def _sat_depth(pa, tri, n_face, best):
-    """The penetration depth and normal (body towards triangle) of hull(pa) and the triangle ``tri`` (3, 3) into
-    best (4,), by SAT over a superset of the Minkowski difference's face normals (Ericson 5.2.1, 4.4.1): the
-    triangle's normal, every body point pair × triangle edge, the plane of every triple of body points (its faces
-    among them). The exact answer where EPA gave up on round-off (many coplanar support points)."""
+def sat_hull_triangle(pa, tri, n_face, best):
+    """The penetration depth and unit normal (body towards triangle) of hull(pa) ((n, 3)) and the triangle ``tri``
+    (3, 3) of unit normal ``n_face`` (3,) into best (4,), by SAT over a superset of the Minkowski difference's face
+    normals (Ericson 5.2.1, 4.4.1): the triangle's normal, every body point pair × triangle edge, the plane of every
+    triple of body points (its faces among them). The exact answer where EPA gave up on round-off (many coplanar
+    support points); apart, best[0] is minus the largest gap over those axes (a lower bound of the distance)."""
     n = pa.shape[0]
     best[0] = np.inf
     _axis_depth(pa, tri, n_face[0], n_face[1], n_face[2], best)
@@ -202,7 +203,7 @@ def _convex_separation(pa, radius, a, b, c, n_face, work):
     res = work.res
     status = penetration_kernel(pa, tri, np.int64(MAX_ITERATIONS), work.gjk, work.poly, work.g, res)
     if status != SEPARATED and status != OVERLAP:
-        _sat_depth(pa, tri, n_face, work.toi)
+        sat_hull_triangle(pa, tri, n_face, work.toi)
         res[0], nx, ny, nz = -work.toi[0], work.toi[1], work.toi[2], work.toi[3]
         res[1], res[2], res[3] = nx, ny, nz
         top = -np.inf
