@@ -62,6 +62,7 @@ from .contacts import (
     swap_point_id,
     write_pair,
 )
+from .convex_cores import nearest_support_vertex
 from .epa import epa_polytope
 from .gjk import MAX_ITERATIONS, gjk_scratch
 from .penetration import penetration_kernel
@@ -155,23 +156,6 @@ def _cross(ax, ay, az, bx, by, bz):
 
 
 @njit
-def _support_vertex(points, nx, ny, nz, sign, tol, x):
-    """The row of ``points`` in the support set along sign·n (within tol of its plane) nearest to x across n."""
-    top = -np.inf
-    for v in range(points.shape[0]):
-        top = max(top, sign * (points[v, 0] * nx + points[v, 1] * ny + points[v, 2] * nz))
-    best, pick = np.inf, 0
-    for v in range(points.shape[0]):
-        if sign * (points[v, 0] * nx + points[v, 1] * ny + points[v, 2] * nz) >= top - tol:
-            dx, dy, dz = x[0] - points[v, 0], x[1] - points[v, 1], x[2] - points[v, 2]
-            along = dx * nx + dy * ny + dz * nz
-            off = (dx - along * nx) ** 2 + (dy - along * ny) ** 2 + (dz - along * nz) ** 2
-            if off < best:
-                best, pick = off, v
-    return pick
-
-
-@njit
 def _triangle_feature(tri, nx, ny, nz, tol):
     """The triangle's supporting feature along −n: its corners within tol of min corner·n — one corner (VERTEX v),
     two (EDGE e, joining corners e and (e + 1) % 3) or three (FACE 0)."""
@@ -210,8 +194,8 @@ def _convex_separation(pa, radius, a, b, c, n_face, work):
         for v in range(pa.shape[0]):
             top = max(top, pa[v, 0] * nx + pa[v, 1] * ny + pa[v, 2] * nz)
         for k in range(3):  # a support point of each side: what contact_points falls back on
-            res[4 + k] = pa[_support_vertex(pa, nx, ny, nz, 1.0, 0.0, pa[0]), k]
-            res[7 + k] = tri[_support_vertex(tri, nx, ny, nz, -1.0, 0.0, tri[0]), k]
+            res[4 + k] = pa[nearest_support_vertex(pa, pa.shape[0], nx, ny, nz, 1.0, 0.0, pa[0]), k]
+            res[7 + k] = tri[nearest_support_vertex(tri, tri.shape[0], nx, ny, nz, -1.0, 0.0, tri[0]), k]
     separation = res[0] - radius
     nx, ny, nz = res[1], res[2], res[3]
     work.wit[0, 0], work.wit[0, 1], work.wit[0, 2] = res[4] + radius * nx, res[5] + radius * ny, res[6] + radius * nz
@@ -250,7 +234,8 @@ def convex_triangle(pa, radius, a, b, c, n_face, out, work):
         for k in range(3):
             out.points[q, k] = work.cpts[q, k]
         out.depths[q] = max(-separation, 0.0)
-        out.body_keys[q] = feature_key(ka, _support_vertex(pa, nx, ny, nz, 1.0, tol, work.cpts[q]))
+        vertex = nearest_support_vertex(pa, pa.shape[0], nx, ny, nz, 1.0, tol, work.cpts[q])
+        out.body_keys[q] = feature_key(ka, vertex)
         out.tri_keys[q] = feature_key(ft, fi)
     return separation
 
