@@ -14,7 +14,7 @@
 - A box lying flat on a triangle larger than its face, pressed in by any depth and turned by any yaw, in a scene
   turned by any rotation: 4 points, its bottom corners moved halfway up, normal = −(the triangle's normal).
 
-The hull–triangle kernel (engine/narrowphase/hull_triangle.py):
+The hull–triangle kernel (``convex_triangle`` of engine/narrowphase/mesh_contact.py, the World's, radius 0):
 
 - Separation: overlapping, minus the least overlap of an independent numpy SAT whose axes come from Qhull
   (scipy's ConvexHull of the vertices: its facet normals, its edges × the triangle's edges, the triangle's
@@ -22,7 +22,7 @@ The hull–triangle kernel (engine/narrowphase/hull_triangle.py):
   (``engine.gjk_distance``) and at least that SAT's largest gap. The touching decision equals the SAT's wherever
   it is farther than the tolerance from 0, at scales 1e-3 to 1e3.
 - ``sat_hull_triangle`` (the fallback where GJK or EPA do not converge) equals that SAT's depth within round-off
-  for overlapping pairs; apart, its gap lies between that SAT's and the GJK distance.
+  for overlapping pairs; apart, its gap (minus its best[0]) lies between that SAT's and the GJK distance.
 - A hull that is a box (its 8 corners) gives box_triangle's separation (overlapping: the same depth; apart:
   box_triangle's lower bound is at most the distance), and lying flat on a large triangle, 4 points (its bottom
   corners halfway up) with normal −(the triangle's normal).
@@ -40,8 +40,9 @@ from scipy.spatial.transform import Rotation
 from engine import epa_penetration, gjk_distance
 from engine.narrowphase.box_triangle import box_triangle
 from engine.narrowphase.contacts import EDGE, FACE, kernel_scratch
-from engine.narrowphase.hull_triangle import hull_triangle, hull_triangle_scratch, sat_hull_triangle
+from engine.narrowphase.mesh_contact import convex_triangle, mesh_work, sat_hull_triangle
 from engine.narrowphase.triangle_contact import MAX_TRIANGLE_POINTS, triangle_contact
+from engine.world.shapes import TriangleMesh
 
 SIGNS = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], float)
 #: the kernel's separation against the oracle's, and its depth against EPA's, relative to the scene's size
@@ -257,12 +258,13 @@ def test_a_box_lying_flat_on_a_large_triangle_touches_at_its_four_bottom_corners
 
 
 # ---------------------------------------------------------------------------------------------------------------
-# hull_triangle
+# convex_triangle (a hull against one triangle)
 # ---------------------------------------------------------------------------------------------------------------
 
 #: EPA's depth (epa.EPA_TOL = 1e-10 relative) and GJK's distance against the oracles, × the scene's size
 HULL_TOL = 1e-7
-SCRATCH = hull_triangle_scratch(16)
+#: the kernel's work space: mesh_work sizes its BVH stack by a surface, here a single triangle's
+WORK = mesh_work(TriangleMesh(np.eye(3), np.array([[0, 1, 2]])).mesh, 16)
 
 
 def hull_oracle(points, tri) -> float:
@@ -287,10 +289,8 @@ def run_hull(points, tri):
     out = triangle_contact()
     n = np.cross(tri[1] - tri[0], tri[2] - tri[0])
     n = n / np.linalg.norm(n)
-    pts = np.zeros((16, 3))
-    pts[:len(points)] = points
-    sep = hull_triangle(pts, len(points), tuple(map(float, tri[0])), tuple(map(float, tri[1])),
-                        tuple(map(float, tri[2])), tuple(map(float, n)), out, SCRATCH)
+    sep = convex_triangle(np.ascontiguousarray(points, float), 0.0, tuple(map(float, tri[0])),
+                          tuple(map(float, tri[1])), tuple(map(float, tri[2])), tuple(map(float, n)), out, WORK)
     assert sep == out.separation[0]
     return out
 
@@ -336,8 +336,10 @@ def test_the_sat_fallback_equals_the_qhull_sat(seed, scale):
     drawn = hull_scene(seed, scale)
     assume(drawn is not None)
     points, tri = drawn
+    n = np.cross(tri[1] - tri[0], tri[2] - tri[0])
     best = np.empty(4)
-    sat_hull_triangle(points, tri, best)
+    sat_hull_triangle(points, tri, n / np.linalg.norm(n), best)
+    best[0] = -best[0]  # the kernel writes the depth (minus the largest gap apart), the oracle the separation
     expected = hull_oracle(points, tri)
     tol = 1e-9 * hull_size(points, tri)
     if expected <= 0.0:  # the least overlap over a superset of Qhull's axes: the same exact depth
@@ -373,8 +375,8 @@ def test_hull_contact_points_lie_in_both_shapes_and_the_normal_separates(seed, s
     assume(drawn is not None)
     points, tri = drawn
     out = run_hull(points, tri)
-    if out.separation[0] > 0.0:
-        assert out.count[0] == 0
+    if out.separation[0] > 0.0:  # apart: the points (where contact would begin) have no depth
+        assert np.all(out.depths[:out.count[0]] == 0.0)
         return
     check_hull_manifold(points, tri, out)
 

@@ -36,7 +36,7 @@ _E = 1100  # every float64 is an integer times 2^-1074; times 2^1100 every one u
 
 
 def _unit(d):
-    """The unit directions exactly as the kernels' callers compute them (engine.world.ray_cast.as_rays)."""
+    """The unit directions exactly as the kernels' callers compute them (engine.narrowphase.ray_mesh.as_rays)."""
     d = np.asarray(d, float)
     return d / np.sqrt((d * d).sum(axis=-1, keepdims=True))
 
@@ -391,7 +391,7 @@ def test_world_rays_with_surfaces_equal_the_brute_force(seed, scale, threads, ma
     every = world.cast_rays(o, d, t_max, mask=mask, all_hits=True)
     expected_every = []
     for r in range(o.shape[0]):
-        du = _unit(d[r])  # as the World's rays (engine.world.ray_cast.as_rays)
+        du = _unit(d[r])  # as the World's rays (engine.narrowphase.ray_mesh.as_rays)
         want = _brute(world, o[r], du, t_max[r], mask)
         expected_every += [(r, h[1], h[0], h[2]) for h in want]
         if not want:

@@ -49,6 +49,21 @@ def link_neighbours(fv, n_faces, fadj):
                         fadj[f, e] = g
 
 
+@njit(inline="always")
+def _visit(sees, g, e, h, fv, stamp, mark, stack, top, horizon, n_horizon):
+    """One step of the search from visible face g across its edge e to face h: a face that p sees is stamped and
+    pushed; else edge e of g is a horizon edge (its two vertices in g's winding, and h). Returns the new
+    (top, n_horizon)."""
+    if sees:
+        stamp[h] = mark
+        stack[top] = h
+        return top + 1, n_horizon
+    horizon[n_horizon, 0] = fv[g, e]
+    horizon[n_horizon, 1] = fv[g, (e + 1) % 3]
+    horizon[n_horizon, 2] = h
+    return top, n_horizon + 1
+
+
 @njit
 def visible_faces_and_horizon(start, px, py, pz, eps, fv, fadj, fn, fd, stamp, mark, stack, visible, horizon):
     """The faces seen from p = (px, py, pz), found depth-first from face ``start`` (which p must see), into
@@ -69,15 +84,8 @@ def visible_faces_and_horizon(start, px, py, pz, eps, fv, fadj, fn, fd, stamp, m
             h = fadj[g, e]
             if stamp[h] == mark:
                 continue
-            if fd[h] == np.inf or fn[h, 0] * px + fn[h, 1] * py + fn[h, 2] * pz - fd[h] > eps:
-                stamp[h] = mark
-                stack[top] = h
-                top += 1
-            else:
-                horizon[n_horizon, 0] = fv[g, e]
-                horizon[n_horizon, 1] = fv[g, (e + 1) % 3]
-                horizon[n_horizon, 2] = h
-                n_horizon += 1
+            sees = fd[h] == np.inf or fn[h, 0] * px + fn[h, 1] * py + fn[h, 2] * pz - fd[h] > eps
+            top, n_horizon = _visit(sees, g, e, h, fv, stamp, mark, stack, top, horizon, n_horizon)
     return n_visible, _drop_stale_edges(horizon, n_horizon, stamp, mark)
 
 
@@ -100,15 +108,8 @@ def visible_faces_and_horizon_exact(start, p, points, fv, fadj, stamp, mark, sta
             h = fadj[g, e]
             if stamp[h] == mark:
                 continue
-            if orient3d(points, fv[h, 0], fv[h, 1], fv[h, 2], p) > 0.0:
-                stamp[h] = mark
-                stack[top] = h
-                top += 1
-            else:
-                horizon[n_horizon, 0] = fv[g, e]
-                horizon[n_horizon, 1] = fv[g, (e + 1) % 3]
-                horizon[n_horizon, 2] = h
-                n_horizon += 1
+            sees = orient3d(points, fv[h, 0], fv[h, 1], fv[h, 2], p) > 0.0
+            top, n_horizon = _visit(sees, g, e, h, fv, stamp, mark, stack, top, horizon, n_horizon)
     return n_visible, _drop_stale_edges(horizon, n_horizon, stamp, mark)
 
 

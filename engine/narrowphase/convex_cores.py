@@ -21,7 +21,8 @@ from .contact_manifold import FEATURE_TOL, contact_feature_pairs
 from .contacts import APART, TOUCHING, feature_key, kernel_scratch, point_id, reduce_manifold
 from .gjk import gjk_distance_pairs
 
-__all__ = ["Cores", "pack_cores", "gjk_overlap_rows", "gjk_contact_rows", "feature_point_ids"]
+__all__ = ["Cores", "pack_cores", "gjk_overlap_rows", "gjk_contact_rows", "feature_point_ids",
+           "nearest_support_vertex"]
 
 #: n convex shapes as swept cores: ``points`` (n, M, 3) world core points (rows past ``count[s]`` repeat the
 #: first), ``count`` (n,) int64, ``radius`` (n,), ``lo``, ``hi`` (n, 3) their AABBs
@@ -71,9 +72,9 @@ def gjk_contact_rows(cores, pairs, sel, rows) -> None:
 
 
 @njit
-def _support_vertex(points, count, nx, ny, nz, sign, tol, x):
-    """The vertex of points[:count] in the support set along sign·n (within tol of the support plane) nearest to
-    x in the plane ⊥ n."""
+def nearest_support_vertex(points, count, nx, ny, nz, sign, tol, x):
+    """The row of points[:count] ((m, 3)) in the support set along sign·n (within tol of the support plane) nearest
+    to x (3,) in the plane ⊥ n: the vertex that names a contact point's feature."""
     top = -np.inf
     for v in range(count):
         top = max(top, sign * (points[v, 0] * nx + points[v, 1] * ny + points[v, 2] * nz))
@@ -107,8 +108,8 @@ def feature_point_ids(cores, pairs, rows_of, separation, normal, feature_a, feat
         n = np.int64(0)  # typed int64 from the start: reduce_manifold is compiled for one count type
         scratch_d[:] = 0.0  # the points lie on one plane: the reduction keeps the first as the deepest
         for x in range(offsets[q], offsets[q + 1]):
-            va = _support_vertex(cores.points[i], cores.count[i], nx, ny, nz, 1.0, tol, points[x])
-            vb = _support_vertex(cores.points[j], cores.count[j], nx, ny, nz, -1.0, tol, points[x])
+            va = nearest_support_vertex(cores.points[i], cores.count[i], nx, ny, nz, 1.0, tol, points[x])
+            vb = nearest_support_vertex(cores.points[j], cores.count[j], nx, ny, nz, -1.0, tol, points[x])
             for c in range(3):  # coordinate by coordinate: no shape check to compile
                 scratch_p[n, c] = points[x, c]
             scratch_i[n] = point_id(feature_key(feature_a[q], va), feature_key(feature_b[q], vb))

@@ -62,6 +62,7 @@ from .contacts import (
     swap_point_id,
     write_pair,
 )
+from .convex_cores import nearest_support_vertex
 from .epa import epa_polytope
 from .gjk import MAX_ITERATIONS, gjk_scratch
 from .penetration import penetration_kernel
@@ -72,8 +73,8 @@ from .touching_normal import unit_vector
 from .triangle_contact import MAX_TRIANGLE_POINTS, round_core_answer, round_core_triangle, triangle_contact
 from .triangle_mesh import VERTEX_EDGES, candidate_triangles
 
-__all__ = ["BODY_ROUND", "BODY_BOX", "BODY_HULL", "MeshWork", "mesh_work", "convex_triangle", "fix_normal",
-           "surface_key", "triangle_answer", "triangle_distance", "mesh_overlap_rows",
+__all__ = ["BODY_ROUND", "BODY_BOX", "BODY_HULL", "MeshWork", "mesh_work", "convex_triangle", "sat_hull_triangle",
+           "fix_normal", "surface_key", "triangle_answer", "triangle_distance", "mesh_overlap_rows",
            "mesh_contact_rows", "mesh_distance_rows", "mesh_impact_times", "IMPACT_TOL", "IMPACT_ITERATIONS"]
 
 #: the body's shape, as the kernels dispatch on it: a round core (sphere, capsule), a box, a hull
@@ -128,11 +129,12 @@ def _axis_depth(pa, tri, ux, uy, uz, best):
 
 
 @njit
-def _sat_depth(pa, tri, n_face, best):
-    """The penetration depth and normal (body towards triangle) of hull(pa) and the triangle ``tri`` (3, 3) into
-    best (4,), by SAT over a superset of the Minkowski difference's face normals (Ericson 5.2.1, 4.4.1): the
-    triangle's normal, every body point pair × triangle edge, the plane of every triple of body points (its faces
-    among them). The exact answer where EPA gave up on round-off (many coplanar support points)."""
+def sat_hull_triangle(pa, tri, n_face, best):
+    """The penetration depth and unit normal (body towards triangle) of hull(pa) ((n, 3)) and the triangle ``tri``
+    (3, 3) of unit normal ``n_face`` (3,) into best (4,), by SAT over a superset of the Minkowski difference's face
+    normals (Ericson 5.2.1, 4.4.1): the triangle's normal, every body point pair × triangle edge, the plane of every
+    triple of body points (its faces among them). The exact answer where EPA gave up on round-off (many coplanar
+    support points); apart, best[0] is minus the largest gap over those axes (a lower bound of the distance)."""
     n = pa.shape[0]
     best[0] = np.inf
     _axis_depth(pa, tri, n_face[0], n_face[1], n_face[2], best)
@@ -151,23 +153,6 @@ def _sat_depth(pa, tri, n_face, best):
 @njit(inline="always")
 def _cross(ax, ay, az, bx, by, bz):
     return ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
-
-
-@njit
-def _support_vertex(points, nx, ny, nz, sign, tol, x):
-    """The row of ``points`` in the support set along sign·n (within tol of its plane) nearest to x across n."""
-    top = -np.inf
-    for v in range(points.shape[0]):
-        top = max(top, sign * (points[v, 0] * nx + points[v, 1] * ny + points[v, 2] * nz))
-    best, pick = np.inf, 0
-    for v in range(points.shape[0]):
-        if sign * (points[v, 0] * nx + points[v, 1] * ny + points[v, 2] * nz) >= top - tol:
-            dx, dy, dz = x[0] - points[v, 0], x[1] - points[v, 1], x[2] - points[v, 2]
-            along = dx * nx + dy * ny + dz * nz
-            off = (dx - along * nx) ** 2 + (dy - along * ny) ** 2 + (dz - along * nz) ** 2
-            if off < best:
-                best, pick = off, v
-    return pick
 
 
 @njit
@@ -202,15 +187,15 @@ def _convex_separation(pa, radius, a, b, c, n_face, work):
     res = work.res
     status = penetration_kernel(pa, tri, np.int64(MAX_ITERATIONS), work.gjk, work.poly, work.g, res)
     if status != SEPARATED and status != OVERLAP:
-        _sat_depth(pa, tri, n_face, work.toi)
+        sat_hull_triangle(pa, tri, n_face, work.toi)
         res[0], nx, ny, nz = -work.toi[0], work.toi[1], work.toi[2], work.toi[3]
         res[1], res[2], res[3] = nx, ny, nz
         top = -np.inf
         for v in range(pa.shape[0]):
             top = max(top, pa[v, 0] * nx + pa[v, 1] * ny + pa[v, 2] * nz)
         for k in range(3):  # a support point of each side: what contact_points falls back on
-            res[4 + k] = pa[_support_vertex(pa, nx, ny, nz, 1.0, 0.0, pa[0]), k]
-            res[7 + k] = tri[_support_vertex(tri, nx, ny, nz, -1.0, 0.0, tri[0]), k]
+            res[4 + k] = pa[nearest_support_vertex(pa, pa.shape[0], nx, ny, nz, 1.0, 0.0, pa[0]), k]
+            res[7 + k] = tri[nearest_support_vertex(tri, tri.shape[0], nx, ny, nz, -1.0, 0.0, tri[0]), k]
     separation = res[0] - radius
     nx, ny, nz = res[1], res[2], res[3]
     work.wit[0, 0], work.wit[0, 1], work.wit[0, 2] = res[4] + radius * nx, res[5] + radius * ny, res[6] + radius * nz
@@ -249,7 +234,8 @@ def convex_triangle(pa, radius, a, b, c, n_face, out, work):
         for k in range(3):
             out.points[q, k] = work.cpts[q, k]
         out.depths[q] = max(-separation, 0.0)
-        out.body_keys[q] = feature_key(ka, _support_vertex(pa, nx, ny, nz, 1.0, tol, work.cpts[q]))
+        vertex = nearest_support_vertex(pa, pa.shape[0], nx, ny, nz, 1.0, tol, work.cpts[q])
+        out.body_keys[q] = feature_key(ka, vertex)
         out.tri_keys[q] = feature_key(ft, fi)
     return separation
 

@@ -30,7 +30,7 @@ from .._validate import as_float_array
 from ..broadphase.ray_aabb import inverse_direction, ray_row_interval
 from .ray_triangle import ray_triangle_side
 
-__all__ = ["SurfaceSet", "surface_set", "ray_surface", "ray_mesh", "RAY_SLACK"]
+__all__ = ["SurfaceSet", "surface_set", "ray_surface", "ray_mesh", "as_rays", "RAY_SLACK"]
 
 #: the relative slack of every pruning test (of the surface's diagonal and of the distance)
 RAY_SLACK = 1e-9
@@ -273,6 +273,31 @@ def _ray_mesh_batch(sf, origins, directions, t_max, out_t, out_n, out_tri):
         out_tri[r] = tri if t < math.inf else -1
 
 
+def as_rays(origins, directions, max_distance):
+    """(origins (k, 3), unit directions (k, 3), t_max (k,)) checked: finite origins and directions, no zero
+    direction, max_distance >= 0 (inf allowed) as a scalar or (k,) — else ValueError / TypeError naming the
+    argument and the first bad index."""
+    o = as_float_array(origins, "origins", shape=(None, 3))
+    d = as_float_array(directions, "directions", shape=(None, 3))
+    if d.shape[0] != o.shape[0]:
+        raise ValueError(f"directions must have as many rows as origins ({o.shape[0]}), got {d.shape[0]}")
+    length = np.sqrt((d * d).sum(axis=1))
+    bad = np.flatnonzero(~(length > 0.0) | ~np.isfinite(length))
+    if bad.size:
+        raise ValueError(f"directions[{bad[0]}] = {d[bad[0]].tolist()} has no usable length (zero or overflowing)")
+    t_max = np.asarray(max_distance)
+    if t_max.dtype.kind not in "iuf":
+        raise TypeError(f"max_distance must be a real number or array, got dtype {t_max.dtype}")
+    if t_max.ndim > 1 or (t_max.ndim == 1 and t_max.shape[0] != o.shape[0]):
+        raise ValueError(f"max_distance must be a scalar or have shape ({o.shape[0]},), got {t_max.shape}")
+    t_max = np.broadcast_to(t_max.astype(np.float64), (o.shape[0],)).copy()
+    bad = np.flatnonzero(~(t_max >= 0.0))
+    if bad.size:
+        where = f"max_distance[{bad[0]}]" if np.ndim(max_distance) else "max_distance"
+        raise ValueError(f"{where} must be >= 0 (inf allowed), got {t_max[bad[0]]}")
+    return o, d / length[:, None], t_max
+
+
 def ray_mesh(mesh, origins, directions, max_distance=np.inf):
     """The nearest triangle of one surface each ray meets.
 
@@ -297,26 +322,10 @@ def ray_mesh(mesh, origins, directions, max_distance=np.inf):
     Raises
     ------
     ValueError, TypeError
-        As ``World.cast_rays`` for the rays (engine.world.ray_cast.as_rays's rules), naming the argument.
+        As ``as_rays`` (the rules of ``World.cast_rays``), naming the argument.
     """
-    o = as_float_array(origins, "origins", shape=(None, 3))
-    d = as_float_array(directions, "directions", shape=(None, 3))
-    if d.shape[0] != o.shape[0]:
-        raise ValueError(f"directions must have as many rows as origins ({o.shape[0]}), got {d.shape[0]}")
-    length = np.sqrt((d * d).sum(axis=1))
-    bad = np.flatnonzero(~(length > 0.0) | ~np.isfinite(length))
-    if bad.size:
-        raise ValueError(f"directions[{bad[0]}] has no usable length (zero or overflowing)")
-    t_max = np.asarray(max_distance)
-    if t_max.dtype.kind not in "iuf":
-        raise TypeError(f"max_distance must be a real number or array, got dtype {t_max.dtype}")
-    if t_max.shape not in ((), (o.shape[0],)):
-        raise ValueError(f"max_distance must be a scalar or have shape ({o.shape[0]},), got {t_max.shape}")
-    t_max = np.broadcast_to(t_max.astype(np.float64), (o.shape[0],)).copy()
-    bad = np.flatnonzero(~(t_max >= 0.0))
-    if bad.size:
-        raise ValueError(f"max_distance must be >= 0 (inf allowed), got {t_max[bad[0]]}")
+    o, d, t_max = as_rays(origins, directions, max_distance)
     k = o.shape[0]
     out_t, out_n, out_tri = np.empty(k), np.empty((k, 3)), np.empty(k, np.int64)
-    _ray_mesh_batch(surface_set([mesh]), o, d / length[:, None], t_max, out_t, out_n, out_tri)
+    _ray_mesh_batch(surface_set([mesh]), o, d, t_max, out_t, out_n, out_tri)
     return out_t, out_n, out_tri

@@ -26,11 +26,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from engine._config import MAX_THREADS, njit
-from engine._validate import as_float_array
 from engine.broadphase.pairs import split_even
 from engine.broadphase.ray_aabb import inverse_direction, ray_aabb_interval, ray_row_interval
 from engine.broadphase.ray_grid import dda_start, dda_step
 from engine.broadphase.thread_pool import run_parts
+from engine.narrowphase.ray_mesh import as_rays
 
 from .ray_rows import RAY_ROWS, ray_hit
 
@@ -129,31 +129,6 @@ def check_threads(threads) -> int:
     if not 1 <= int(threads) <= MAX_THREADS:
         raise ValueError(f"threads must be in [1, {MAX_THREADS}], got {threads}")
     return int(threads)
-
-
-def as_rays(origins, directions, max_distance):
-    """(origins (k, 3), unit directions (k, 3), t_max (k,)) checked: finite origins and directions, no zero
-    direction, max_distance >= 0 (inf allowed) as a scalar or (k,) — else ValueError / TypeError naming the
-    argument and the first bad index."""
-    o = as_float_array(origins, "origins", shape=(None, 3))
-    d = as_float_array(directions, "directions", shape=(None, 3))
-    if d.shape[0] != o.shape[0]:
-        raise ValueError(f"directions must have as many rows as origins ({o.shape[0]}), got {d.shape[0]}")
-    length = np.sqrt((d * d).sum(axis=1))
-    bad = np.flatnonzero(~(length > 0.0) | ~np.isfinite(length))
-    if bad.size:
-        raise ValueError(f"directions[{bad[0]}] = {d[bad[0]].tolist()} has no usable length (zero or overflowing)")
-    t_max = np.asarray(max_distance)
-    if t_max.dtype.kind not in "iuf":
-        raise TypeError(f"max_distance must be a real number or array, got dtype {t_max.dtype}")
-    if t_max.ndim > 1 or (t_max.ndim == 1 and t_max.shape[0] != o.shape[0]):
-        raise ValueError(f"max_distance must be a scalar or have shape ({o.shape[0]},), got {t_max.shape}")
-    t_max = np.broadcast_to(t_max.astype(np.float64), (o.shape[0],)).copy()
-    bad = np.flatnonzero(~(t_max >= 0.0))
-    if bad.size:
-        where = f"max_distance[{bad[0]}]" if np.ndim(max_distance) else "max_distance"
-        raise ValueError(f"{where} must be >= 0 (inf allowed), got {t_max[bad[0]]}")
-    return o, d / length[:, None], t_max
 
 
 # -- the compiled walk ------------------------------------------------------------------------------------------
