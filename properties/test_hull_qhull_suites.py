@@ -15,7 +15,6 @@ float32 cloud on which floating-point quickhull could not build a horizon.
 from __future__ import annotations
 
 from fractions import Fraction
-
 from pathlib import Path
 
 import numpy as np
