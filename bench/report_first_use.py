@@ -112,7 +112,9 @@ def _cell(value) -> str:
 
 def first_use_markdown(df: pd.DataFrame, info: dict, command: str) -> str:
     """One row per block and per warm-up: before and after, cold and warm, wall and CPU seconds."""
-    before, after = (df[df.version == v].set_index("item") for v in ("before", "after"))
+    # a block is matched by its first line (README gains and reorders blocks between versions), a warm-up by name
+    df = df.assign(key=[f"{d}".strip() if i.startswith("block") else i for i, d in zip(df["item"], df["detail"])])
+    before, after = (df[df.version == v].set_index("key") for v in ("before", "after"))
     items = list(dict.fromkeys([*after.index, *before.index]))
     lines = [
         "# First use: README's blocks and `colldet warmup` on an empty kernel cache", "",
@@ -135,8 +137,9 @@ def first_use_markdown(df: pd.DataFrame, info: dict, command: str) -> str:
             cells.append("—" if row is None else f"{_cell(row.cold_wall_s)} ({_cell(row.cold_cpu_s)})")
             cells.append("—" if row is None else _cell(row.warm_wall_s))
         ok = all(side.loc[item].ok for side in (before, after) if item in side.index)
-        detail = after.loc[item].detail if item in after.index else before.loc[item].detail
-        name = f"{item} `{detail}`" if detail and item.startswith("block") else f"{item} {detail}".strip()
+        row = after.loc[item] if item in after.index else before.loc[item]
+        label, detail = row["item"], row.detail
+        name = f"{label} `{detail}`" if detail and label.startswith("block") else f"{label} {detail}".strip()
         lines.append(f"| {name} | {' | '.join(cells)} | {'yes' if ok else 'no'} |")
     return "\n".join(lines) + "\n"
 
