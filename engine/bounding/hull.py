@@ -11,7 +11,7 @@ the object — and "Objet convexe" — a line meets a convex shape in at most tw
 ``convex_hull(points)`` never returns a wrong hull and never refuses a full-dimensional one. Every visibility
 decision of quickhull is the exact sign of orient3d (engine.bounding.predicates, Shewchuk 1997), so the mesh stays
 exactly convex and every horizon is one loop, whatever the round-off. Points within MERGE_TOL s of a face (s = the
-largest |coordinate|) are not outside it (quickhull's thick planes), and faces within MERGE_TOL of each other's
+largest absolute coordinate) are not outside it (quickhull's thick planes), and faces within MERGE_TOL of each other's
 planes are one facet (Qhull's merge of coplanar facets): a vertex on one or two facets (inside a flat region, on
 an edge) is not a corner, and the hull is rebuilt from the corners. The result is certified — a closed
 triangulated sphere, every input point (past FULL_CERTIFY_WORK point-face pairs: every removed non-corner) at
@@ -41,7 +41,7 @@ __all__ = ["ConvexHull", "convex_hull", "is_convex", "monotone_chain", "HULL_EPS
 
 #: 2-D: an area below HULL_EPS × extent × scale counts as zero (the monotone chain's collinearity test)
 HULL_EPS = 1e-12
-#: 3-D, relative to s = the largest |coordinate|: quickhull's thick planes and the merge of coplanar faces (a
+#: 3-D, relative to s = the largest absolute coordinate: quickhull's thick planes and the merge of coplanar faces (a
 #: point within MERGE_TOL s of a face's plane is not outside it; faces whose far vertices are that close to each
 #: other's planes are one facet) — 64 ulps of 1, the order of Qhull's own premerge tolerance (a few times its
 #: DISTround ~ 10 ε max|x|), so that round-off-flat vertices (lattices after a decimal scaling) are not corners
@@ -588,7 +588,7 @@ def _dist2(pts, i, j):
 
 def _hull_3d(pts: np.ndarray) -> ConvexHull:
     """Quickhull on ``pts`` (n, 3), |coordinates| < 1: with thick planes of MERGE_TOL s (s = the largest
-    |coordinate|) and certified (every point at most CERTIFY_TOL s above every face plane in floating point, so
+    absolute coordinate) and certified (every point at most CERTIFY_TOL s above every face plane in floating point, so
     at most HULL_TOL s exactly); when the certificate fails, the exact hull of the points' corners."""
     n = pts.shape[0]
     if n < 4:
@@ -598,7 +598,7 @@ def _hull_3d(pts: np.ndarray) -> ConvexHull:
     if status != 0:
         raise ValueError(f"points: {_DEGENERATE_3D[status]}")
     built = _corner_hull(pts, simplex, MERGE_TOL * s)
-    if built is None or not _certified(pts, *built, CERTIFY_TOL * s):
+    if built is None or not _certified(pts, built[0], built[1], CERTIFY_TOL * s):
         built = _corner_hull(pts, simplex, -np.inf)  # exact: every point exactly inside every face plane
     faces = built[0]
     normals, offsets, twice_area = _face_planes(pts, faces)
@@ -640,7 +640,7 @@ def convex_hull(points) -> ConvexHull:
     ------
     ValueError
         For fewer than d + 1 points, NaN or ±inf, or input of lower dimension (all points equal, collinear, or
-        coplanar in 3-D; in 3-D to MERGE_TOL × the largest |coordinate|): such input has no d-dimensional hull.
+        coplanar in 3-D; in 3-D to MERGE_TOL × the largest absolute coordinate): such input has no d-dimensional hull.
 
     Examples
     --------

@@ -25,8 +25,8 @@ def inverse_direction(d):
     return ix, iy, iz
 
 
-#: the slab's widening, in units of |lo| + |hi|: a body's exact ray kernel works on o − c (c its centre), whose
-#: rounding (half an ulp of the larger of |o| and |c|) can put an origin a hair outside the box inside the body;
+#: the slab's widening, in units of abs(lo) + abs(hi): a body's exact ray kernel works on o − c (c its centre), whose
+#: rounding (half an ulp of the larger of abs(o) and abs(c)) can put an origin a hair outside the box inside the body;
 #: the box test must not be stricter than the kernel it guards (2 ε covers o − c and the box's own c ± r)
 SLAB_SLACK = 4.0 * np.finfo(np.float64).eps
 

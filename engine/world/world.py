@@ -617,10 +617,10 @@ class World:
         st = self._store
         codes = [kind.code for kind in SURFACE_KINDS]
         ids = np.flatnonzero(np.isin(st.kind, codes) & (st.owner < 0))
-        meshes = [self._shapes[int(b)].mesh for b in ids]
+        meshes = [self._shapes[int(b)].mesh for b in ids]  # type: ignore[attr-defined]  # surfaces only
         kept = self._ray_surface_state
         same = kept is not None and len(kept[0]) == len(meshes) and all(a is b for a, b in zip(kept[0], meshes))
-        surfaces = ray_surfaces(ids, meshes, st.kind.shape[0], kept[1] if same else None)
+        surfaces = ray_surfaces(ids, meshes, st.kind.shape[0], kept[1] if same and kept is not None else None)
         self._ray_surface_state = (meshes, surfaces[1])
         return surfaces
 
