@@ -30,6 +30,7 @@ from engine.narrowphase.mesh_contact import (
     BODY_BOX,
     BODY_HULL,
     BODY_ROUND,
+    IMPACT_ITERATIONS,
     mesh_contact_rows,
     mesh_distance_rows,
     mesh_impact_times,
@@ -259,7 +260,7 @@ def _mesh_times(ctx, pairs, sel, times) -> None:
     for mesh, at, body, _, _ in _by_surface(ctx, pairs, sel):
         status = np.zeros(at.shape[0], np.int64)
         mesh_impact_times(mesh, ctx.bodies, body, float(ctx.dt), times, at, status)
-        raise_for_status(status, 256, "pairs")
+        raise_for_status(status, IMPACT_ITERATIONS, "pairs")
 
 
 # -- the kernels ------------------------------------------------------------------------------------------
